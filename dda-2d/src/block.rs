@@ -1,0 +1,108 @@
+//! A Shi polygon block: its geometry, integrals, stress and accumulated motion.
+
+use nalgebra::{Matrix2, Point2, Rotation2, Vector3, Vector6};
+
+use crate::kinematics::{mass_matrix, move_point, strain_tensor, Matrix6, RotationUpdate};
+use crate::polygon::{self, central_moments, CentralMoments, PolygonError};
+
+/// One polygonal block (convex or concave, counter-clockwise vertices).
+#[derive(Debug, Clone)]
+pub struct Block {
+    vertices: Vec<Point2<f64>>,
+    moments: CentralMoments,
+    angles: Vec<f64>,
+    /// Index of the block's material.
+    pub material: usize,
+    /// Mass per unit thickness; constant while the area changes with strain.
+    pub mass: f64,
+    /// Stress (σx, σy, τxy), tension positive.
+    pub stress: Vector3<f64>,
+    /// Accumulated strain (εx, εy, γxy) in the global frame.
+    pub strain: Vector3<f64>,
+    /// Accumulated rotation in radians (counter-clockwise positive).
+    pub rotation: f64,
+}
+
+impl Block {
+    /// Validates the polygon and builds the block.
+    pub fn new(vertices: &[Point2<f64>], material: usize, density: f64) -> Result<Self, PolygonError> {
+        let vertices = polygon::validate(vertices)?;
+        let moments = central_moments(&vertices);
+        let angles = polygon::interior_angles(&vertices);
+        Ok(Self {
+            mass: density * moments.area,
+            vertices,
+            moments,
+            angles,
+            material,
+            stress: Vector3::zeros(),
+            strain: Vector3::zeros(),
+            rotation: 0.0,
+        })
+    }
+
+    pub fn vertices(&self) -> &[Point2<f64>] {
+        &self.vertices
+    }
+
+    /// Interior angle at each vertex (radians; above π at reflex vertices).
+    pub fn angles(&self) -> &[f64] {
+        &self.angles
+    }
+
+    pub fn centroid(&self) -> Point2<f64> {
+        self.moments.centroid
+    }
+
+    pub fn area(&self) -> f64 {
+        self.moments.area
+    }
+
+    /// Current density: mass over current area.
+    pub fn density(&self) -> f64 {
+        self.mass / self.moments.area
+    }
+
+    /// ∫ρTᵀT dA about the centroid.
+    pub fn mass_matrix(&self) -> Matrix6 {
+        mass_matrix(&self.moments, self.density())
+    }
+
+    /// Where a point of this block goes for step displacement `d`.
+    pub fn move_point(&self, p: &Point2<f64>, d: &Vector6<f64>, update: RotationUpdate) -> Point2<f64> {
+        move_point(p, &self.moments.centroid, d, update)
+    }
+
+    /// Applies an accepted step: vertices, stress (co-rotated), strain and
+    /// rotation. `stress` is the stress after the step's strain increment, in
+    /// the frame at the start of the step.
+    pub fn commit(&mut self, d: &Vector6<f64>, stress: Vector3<f64>, update: RotationUpdate) {
+        let c = self.moments.centroid;
+        for v in &mut self.vertices {
+            *v = move_point(v, &c, d, update);
+        }
+        self.moments = central_moments(&self.vertices);
+        self.angles = polygon::interior_angles(&self.vertices);
+        let rotate = |s: Matrix2<f64>| {
+            let r = Rotation2::new(d[2]).into_inner();
+            r * s * r.transpose()
+        };
+        let s = rotate(Matrix2::new(stress.x, stress.z, stress.z, stress.y));
+        self.stress = Vector3::new(s[(0, 0)], s[(1, 1)], s[(0, 1)]);
+        let e = self.strain;
+        let e = rotate(Matrix2::new(e.x, e.z / 2.0, e.z / 2.0, e.y) + strain_tensor(d));
+        self.strain = Vector3::new(e[(0, 0)], e[(1, 1)], 2.0 * e[(0, 1)]);
+        self.rotation += d[2];
+    }
+
+    /// Axis-aligned bounds (min, max).
+    pub fn bounds(&self) -> (Point2<f64>, Point2<f64>) {
+        let mut lo = Point2::new(f64::INFINITY, f64::INFINITY);
+        let mut hi = Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
+        for v in &self.vertices {
+            lo = lo.inf(v);
+            hi = hi.sup(v);
+        }
+        (lo, hi)
+    }
+}

@@ -1,0 +1,184 @@
+//! Narrow phase: vertex-edge and vertex-vertex contacts between two polygons,
+//! linearised about the start of the step (Shi 1988).
+//!
+//! * Vertex-edge: a convex vertex near the interior of an edge of the other
+//!   block, whose wedge lies outside that edge (it can only enter through it).
+//! * Vertex-vertex: two vertices within range. Every edge at either vertex
+//!   that the other vertex could enter through is an entrance; the driver uses
+//!   the one with the largest gap at each pass (Shi's entrance-line choice).
+//!   Edge-to-edge contacts are the two vertex contacts at their ends.
+
+use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
+use nalgebra::{Matrix2x6, Point2, Vector2, Vector6};
+
+use crate::block::Block;
+use crate::kinematics::t_matrix;
+
+/// Angle tolerance for parallel edges and wedge tests (Shi's h1 = 3°).
+const ANGLE_TOLERANCE: f64 = 3.0 * std::f64::consts::PI / 180.0;
+
+/// Marks `feature_b` of a vertex-vertex contact (a vertex, not an edge).
+const VERTEX: u32 = 1 << 31;
+
+/// A 2D contact: 6 DOF per block, one tangential direction.
+pub type Contact2 = Contact<6, 1>;
+
+/// Contacts between blocks `i` and `j` within `range`, with law index `law`.
+pub fn pair_contacts(blocks: &[Block], i: usize, j: usize, range: f64, law: usize) -> Vec<Contact2> {
+    let (a, b) = (&blocks[i], &blocks[j]);
+    let mut out = Vec::new();
+    let near = |p: &Point2<f64>, q: &Point2<f64>| (p - q).norm() < range;
+    // Vertex-vertex groups.
+    for (p, pv) in a.vertices().iter().enumerate() {
+        for (q, qv) in b.vertices().iter().enumerate() {
+            if !near(pv, qv) {
+                continue;
+            }
+            let mut entrances = Vec::new();
+            let mut length = 0.0;
+            for e in [prev(q, b), q] {
+                if let Some(en) = entrance(a, p, b, e, range, false) {
+                    length = f64::max(length, contact_length(a, p, b, e));
+                    entrances.push(en);
+                }
+            }
+            for e in [prev(p, a), p] {
+                if let Some(en) = entrance(b, q, a, e, range, true) {
+                    length = f64::max(length, contact_length(b, q, a, e));
+                    entrances.push(en);
+                }
+            }
+            if !entrances.is_empty() {
+                out.push(contact(i, p, j, VERTEX | q as u32, law, length, entrances));
+            }
+        }
+    }
+    // Vertex-edge, both ways, skipping vertices already in a vertex group
+    // with an end of the edge. The contact's first block owns the vertex.
+    for (x, y, bx, by) in [(i, j, a, b), (j, i, b, a)] {
+        for (p, pv) in bx.vertices().iter().enumerate() {
+            for e in 0..by.vertices().len() {
+                let (q1, q2) = (by.vertices()[e], by.vertices()[next(e, by)]);
+                if near(pv, &q1) || near(pv, &q2) {
+                    continue;
+                }
+                if let Some(en) = entrance(bx, p, by, e, range, false) {
+                    let length = contact_length(bx, p, by, e);
+                    out.push(contact(x, p, y, e as u32, law, length, vec![en]));
+                }
+            }
+        }
+    }
+    out
+}
+
+fn contact(
+    i: usize,
+    feature_a: usize,
+    j: usize,
+    feature_b: u32,
+    law: usize,
+    length: f64,
+    entrances: Vec<Entrance<6, 1>>,
+) -> Contact2 {
+    Contact {
+        key: ContactKey {
+            block_a: i as u32,
+            feature_a: feature_a as u32,
+            block_b: j as u32,
+            feature_b,
+        },
+        blocks: [i, j],
+        law,
+        length,
+        entrances,
+        record: ContactRecord::default(),
+    }
+}
+
+fn next(k: usize, b: &Block) -> usize {
+    (k + 1) % b.vertices().len()
+}
+
+fn prev(k: usize, b: &Block) -> usize {
+    (k + b.vertices().len() - 1) % b.vertices().len()
+}
+
+/// The entrance of vertex `p` of block `v` through edge `e` of block `w`, if
+/// the vertex can enter there. Rows are for the contact's blocks in the order
+/// (vertex block, edge block), or the reverse with `swap`.
+fn entrance(v: &Block, p: usize, w: &Block, e: usize, range: f64, swap: bool) -> Option<Entrance<6, 1>> {
+    // Only convex (or flat) vertices enter; a reflex vertex is entered instead.
+    if v.angles()[p] > std::f64::consts::PI + ANGLE_TOLERANCE {
+        return None;
+    }
+    let p1 = v.vertices()[p];
+    let (q1, q2) = (w.vertices()[e], w.vertices()[next(e, w)]);
+    let edge = q2 - q1;
+    let l = edge.norm();
+    let tangent = edge / l;
+    // Outward normal of a counter-clockwise polygon's edge.
+    let normal = Vector2::new(tangent.y, -tangent.x);
+    let gap = normal.dot(&(p1 - q1));
+    if gap.abs() >= range {
+        return None;
+    }
+    let along = tangent.dot(&(p1 - q1)) / l;
+    let slack = range / l;
+    if !(-slack..=1.0 + slack).contains(&along) {
+        return None;
+    }
+    // The vertex's wedge must lie outside the edge's line.
+    let before = v.vertices()[prev(p, v)] - p1;
+    let after = v.vertices()[next(p, v)] - p1;
+    let sin_tol = ANGLE_TOLERANCE.sin();
+    if normal.dot(&before.normalize()) < -sin_tol || normal.dot(&after.normalize()) < -sin_tol {
+        return None;
+    }
+    // Shi's linearised distance: gap = −Δ/l with Δ = (q2 − q1) × (p1 − q1).
+    let tv = t_matrix(&p1, &v.centroid());
+    let t1 = t_matrix(&q1, &w.centroid());
+    let t2 = t_matrix(&q2, &w.centroid());
+    let n_vertex = -cross_row(&edge, &tv) / l;
+    let n_edge = -(cross_row(&(p1 - q2), &t1) - cross_row(&(p1 - q1), &t2)) / l;
+    // Tangential motion of the vertex relative to its projection on the edge.
+    let foot = q1 + edge * along.clamp(0.0, 1.0);
+    let s_vertex = tv.transpose() * tangent;
+    let s_edge = -(t_matrix(&foot, &w.centroid()).transpose() * tangent);
+    let (normal_rows, tangent_rows) = if swap {
+        ([n_edge, n_vertex], [s_edge, s_vertex])
+    } else {
+        ([n_vertex, n_edge], [s_vertex, s_edge])
+    };
+    Some(Entrance {
+        gap,
+        normal: normal_rows,
+        tangents: [tangent_rows],
+    })
+}
+
+/// Row r with r·D = a × (T·D) for a 2D cross product.
+fn cross_row(a: &Vector2<f64>, t: &Matrix2x6<f64>) -> Vector6<f64> {
+    (t.row(1) * a.x - t.row(0) * a.y).transpose()
+}
+
+/// Boundary length a vertex stands for against an edge: half of each of its
+/// edges that runs along the entered edge, clipped to that edge.
+fn contact_length(v: &Block, p: usize, w: &Block, e: usize) -> f64 {
+    let p1 = v.vertices()[p];
+    let (q1, q2) = (w.vertices()[e], w.vertices()[next(e, w)]);
+    let l = (q2 - q1).norm();
+    let tangent = (q2 - q1) / l;
+    let mut total = 0.0;
+    for other in [v.vertices()[prev(p, v)], v.vertices()[next(p, v)]] {
+        let half = (other - p1) / 2.0;
+        if half.norm() == 0.0 || (half.normalize().dot(&tangent)).abs() < ANGLE_TOLERANCE.cos() {
+            continue;
+        }
+        let s0 = tangent.dot(&(p1 - q1));
+        let s1 = s0 + tangent.dot(&half);
+        let (lo, hi) = (s0.min(s1).max(0.0), s0.max(s1).min(l));
+        total += (hi - lo).max(0.0);
+    }
+    total
+}

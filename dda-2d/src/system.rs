@@ -1,0 +1,198 @@
+//! The 2D block system the driver runs: blocks, materials, loads, fixed
+//! points and contact search.
+
+use dda_core::{BlockMatrix, BlockSystem, BlockVector, ConstitutiveLaw};
+use nalgebra::{Matrix3, Point2, Vector2, Vector3, Vector6};
+
+use crate::block::Block;
+use crate::broad_phase::near_pairs;
+use crate::contact::{pair_contacts, Contact2};
+use crate::kinematics::{t_matrix, RotationUpdate};
+
+/// A force at a material point, constant or a time history.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Force {
+    Constant(Vector2<f64>),
+    /// (time, force) samples, linearly interpolated, held beyond the ends.
+    History(Vec<(f64, Vector2<f64>)>),
+}
+
+impl Force {
+    pub fn at(&self, t: f64) -> Vector2<f64> {
+        match self {
+            Force::Constant(f) => *f,
+            Force::History(samples) => {
+                let Some(first) = samples.first() else {
+                    return Vector2::zeros();
+                };
+                if t <= first.0 {
+                    return first.1;
+                }
+                for w in samples.windows(2) {
+                    let ((t0, f0), (t1, f1)) = (w[0], w[1]);
+                    if t <= t1 {
+                        let s = if t1 > t0 { (t - t0) / (t1 - t0) } else { 1.0 };
+                        return f0 + (f1 - f0) * s;
+                    }
+                }
+                samples.last().map(|s| s.1).unwrap_or_default()
+            }
+        }
+    }
+}
+
+/// A point load on a block; the point moves with the block.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointLoad {
+    pub block: usize,
+    pub point: Point2<f64>,
+    pub force: Force,
+}
+
+/// A point of a block held at `target` by a penalty spring.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FixedPoint {
+    pub block: usize,
+    pub point: Point2<f64>,
+    pub target: Point2<f64>,
+}
+
+/// Polygonal blocks in the plane (per unit thickness).
+pub struct Polygons {
+    pub blocks: Vec<Block>,
+    /// Constitutive law of each material.
+    pub materials: Vec<Box<dyn ConstitutiveLaw<3>>>,
+    /// Contact law index for each pair of materials (symmetric).
+    pub joint_laws: Vec<Vec<usize>>,
+    pub gravity: Vector2<f64>,
+    pub loads: Vec<PointLoad>,
+    pub fixed: Vec<FixedPoint>,
+    /// Stiffness of the fixed-point springs (force per length).
+    pub fixed_penalty: f64,
+    pub rotation_update: RotationUpdate,
+    /// Model length scale; `None` takes half the diagonal of the model's bounds.
+    pub length_scale: Option<f64>,
+}
+
+impl Polygons {
+    /// Blocks with one material law each, all joints using law 0, no loads.
+    pub fn new(blocks: Vec<Block>, materials: Vec<Box<dyn ConstitutiveLaw<3>>>) -> Self {
+        let n = materials.len();
+        let stiffest = materials.iter().map(|m| m.modulus()).fold(0.0, f64::max);
+        Self {
+            blocks,
+            materials,
+            joint_laws: vec![vec![0; n]; n],
+            gravity: Vector2::zeros(),
+            loads: Vec::new(),
+            fixed: Vec::new(),
+            fixed_penalty: stiffest,
+            rotation_update: RotationUpdate::Exact,
+            length_scale: None,
+        }
+    }
+
+    /// Holds every vertex of a block in place.
+    pub fn fix_block(&mut self, block: usize) {
+        for v in self.blocks[block].vertices().to_vec() {
+            self.fixed.push(FixedPoint { block, point: v, target: v });
+        }
+    }
+
+    fn stress_after(&self, block: &Block, d: &Vector6<f64>) -> (Vector3<f64>, Matrix3<f64>) {
+        let increment = Vector3::new(d[3], d[4], d[5]);
+        self.materials[block.material].stress(&block.stress, &increment)
+    }
+}
+
+impl BlockSystem<6, 1> for Polygons {
+    fn block_count(&self) -> usize {
+        self.blocks.len()
+    }
+
+    fn length_scale(&self) -> f64 {
+        if let Some(w) = self.length_scale {
+            return w;
+        }
+        let mut lo = Point2::new(f64::INFINITY, f64::INFINITY);
+        let mut hi = Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
+        for b in &self.blocks {
+            let (l, h) = b.bounds();
+            lo = lo.inf(&l);
+            hi = hi.sup(&h);
+        }
+        ((hi - lo).norm() / 2.0).max(f64::MIN_POSITIVE)
+    }
+
+    fn stiffness_scale(&self) -> f64 {
+        self.materials.iter().map(|m| m.modulus()).fold(0.0, f64::max)
+    }
+
+    fn mass(&self, block: usize) -> BlockMatrix<6> {
+        self.blocks[block].mass_matrix()
+    }
+
+    fn block_terms(
+        &self,
+        i: usize,
+        time: f64,
+        d: &BlockVector<6>,
+        k: &mut BlockMatrix<6>,
+        r: &mut BlockVector<6>,
+    ) {
+        let block = &self.blocks[i];
+        let area = block.area();
+        let (stress, tangent) = self.stress_after(block, d);
+        let mut elastic = k.fixed_view_mut::<3, 3>(3, 3);
+        elastic += tangent * area;
+        let mut strain_rows = r.fixed_rows_mut::<3>(3);
+        strain_rows -= stress * area;
+        r[0] += block.mass * self.gravity.x;
+        r[1] += block.mass * self.gravity.y;
+        let c = block.centroid();
+        for load in self.loads.iter().filter(|l| l.block == i) {
+            *r += t_matrix(&load.point, &c).transpose() * load.force.at(time);
+        }
+        for fp in self.fixed.iter().filter(|f| f.block == i) {
+            let t = t_matrix(&fp.point, &c);
+            let drift = fp.target - fp.point;
+            *k += t.transpose() * t * self.fixed_penalty;
+            *r += t.transpose() * (drift - t * d) * self.fixed_penalty;
+        }
+    }
+
+    fn find_contacts(&self, range: f64) -> Vec<Contact2> {
+        let outlines: Vec<&[Point2<f64>]> = self.blocks.iter().map(|b| b.vertices()).collect();
+        let mut contacts = Vec::new();
+        for (i, j) in near_pairs(&outlines, range) {
+            let law = self.joint_laws[self.blocks[i].material][self.blocks[j].material];
+            contacts.extend(pair_contacts(&self.blocks, i, j, range, law));
+        }
+        contacts
+    }
+
+    fn max_displacement(&self, d: &[BlockVector<6>]) -> f64 {
+        self.blocks
+            .iter()
+            .zip(d)
+            .flat_map(|(b, di)| {
+                let c = b.centroid();
+                b.vertices().iter().map(move |v| (t_matrix(v, &c) * di).norm())
+            })
+            .fold(0.0, f64::max)
+    }
+
+    fn commit(&mut self, d: &[BlockVector<6>], _dt: f64, _time: f64) {
+        let update = self.rotation_update;
+        for fp in &mut self.fixed {
+            fp.point = self.blocks[fp.block].move_point(&fp.point, &d[fp.block], update);
+        }
+        for load in &mut self.loads {
+            load.point = self.blocks[load.block].move_point(&load.point, &d[load.block], update);
+        }
+        for i in 0..self.blocks.len() {
+            let (stress, _) = self.stress_after(&self.blocks[i], &d[i]);
+            self.blocks[i].commit(&d[i], stress, update);
+        }
+    }
+}

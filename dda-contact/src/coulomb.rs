@@ -1,0 +1,229 @@
+//! Shi's penalty Coulomb joint: normal and shear penalty springs, friction,
+//! cohesion and tensile strength.
+//!
+//! * Normal force `σ = −k_n·gap` while closed (compression positive).
+//! * Locked: shear spring force `k_s·|shear|`; it slides once that exceeds the
+//!   strength `tan φ·max(σ, 0) + c·L` (L: the boundary length, or area in 3D,
+//!   the contact stands for).
+//! * Sliding: friction force of that strength, opposing the slip; it locks
+//!   again when the slip reverses.
+//! * A closed contact opens once the gap exceeds `T0·L / k_n`, i.e. when its
+//!   tension exceeds the tensile strength T0 (zero once the bond is broken).
+//! * Bonds (cohesion c and tensile strength T0) exist only on joints in
+//!   contact at the start, and break for good the first time the contact
+//!   opens or slides (Shi's rule).
+
+use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics};
+
+/// Shi's ratio of normal to shear penalty.
+pub const SHEAR_RATIO: f64 = 2.5;
+
+/// The penalty Coulomb law.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Coulomb {
+    /// Friction angle φ in degrees (rock joints 25–40°).
+    pub friction_angle: f64,
+    /// Cohesion c in stress units (Pa); 0 for dry joints.
+    pub cohesion: f64,
+    /// Tensile strength T0 in stress units (Pa); 0 for dry joints.
+    pub tensile_strength: f64,
+    /// Normal penalty k_n (force per length, per unit thickness in 2D); `None`
+    /// takes the driver's penalty.
+    pub normal_stiffness: Option<f64>,
+    /// Shear penalty k_s; `None` takes k_n / 2.5 (Shi's default).
+    pub shear_stiffness: Option<f64>,
+}
+
+impl Coulomb {
+    /// A dry frictional joint with automatic penalties.
+    pub fn frictional(friction_angle: f64) -> Self {
+        Self {
+            friction_angle,
+            cohesion: 0.0,
+            tensile_strength: 0.0,
+            normal_stiffness: None,
+            shear_stiffness: None,
+        }
+    }
+
+    fn stiffnesses(&self, kin: &LocalKinematics) -> (f64, f64) {
+        let kn = self.normal_stiffness.unwrap_or(kin.penalty);
+        let ks = self.shear_stiffness.unwrap_or(kn / SHEAR_RATIO);
+        (kn, ks)
+    }
+
+    /// Shear strength for a normal force, with or without the bond.
+    fn strength(&self, normal_force: f64, kin: &LocalKinematics, bonded: bool) -> f64 {
+        let cohesion = if bonded { self.cohesion * kin.length } else { 0.0 };
+        self.friction_angle.to_radians().tan() * normal_force.max(0.0) + cohesion
+    }
+}
+
+/// Whether the joint's bond (cohesion and tensile strength) still holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CoulombHistory {
+    pub bonded: bool,
+}
+
+impl ContactLaw for Coulomb {
+    type History = CoulombHistory;
+
+    fn initial_history(&self, at_start: bool) -> CoulombHistory {
+        CoulombHistory {
+            bonded: at_start && (self.cohesion > 0.0 || self.tensile_strength > 0.0),
+        }
+    }
+
+    fn response(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        history: &CoulombHistory,
+    ) -> ContactResponse {
+        let (kn, ks) = self.stiffnesses(kin);
+        let normal_force = -kn * kin.gap;
+        match state {
+            ContactState::Open => ContactResponse::default(),
+            ContactState::Locked => ContactResponse {
+                normal_force,
+                normal_stiffness: kn,
+                shear_force: ks * kin.shear,
+                shear_stiffness: ks,
+            },
+            ContactState::Sliding => ContactResponse {
+                normal_force,
+                normal_stiffness: kn,
+                shear_force: self.strength(normal_force, kin, history.bonded),
+                shear_stiffness: 0.0,
+            },
+        }
+    }
+
+    fn next_state(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        history: &CoulombHistory,
+    ) -> ContactState {
+        let (kn, ks) = self.stiffnesses(kin);
+        let normal_force = -kn * kin.gap;
+        let strength = self.strength(normal_force, kin, history.bonded);
+        let locked_or_sliding = if ks * kin.shear <= strength {
+            ContactState::Locked
+        } else {
+            ContactState::Sliding
+        };
+        match state {
+            ContactState::Open => {
+                if kin.gap < -kin.tolerance {
+                    locked_or_sliding
+                } else {
+                    ContactState::Open
+                }
+            }
+            _ => {
+                let tension = if history.bonded {
+                    self.tensile_strength * kin.length
+                } else {
+                    0.0
+                };
+                if kin.gap > tension / kn + kin.tolerance {
+                    ContactState::Open
+                } else if state == ContactState::Sliding {
+                    if kin.slip < -kin.tolerance {
+                        ContactState::Locked
+                    } else {
+                        ContactState::Sliding
+                    }
+                } else {
+                    locked_or_sliding
+                }
+            }
+        }
+    }
+
+    fn commit(&self, state: ContactState, _kin: &LocalKinematics, history: &mut CoulombHistory) {
+        if state != ContactState::Locked {
+            history.bonded = false;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kin(gap: f64, shear: f64, slip: f64) -> LocalKinematics {
+        LocalKinematics {
+            gap,
+            gap_start: 0.0,
+            shear,
+            slip,
+            slip_path: 0.0,
+            slip_rate: 0.0,
+            length: 0.5,
+            penalty: 1e9,
+            tolerance: 1e-9,
+            dt: 1e-3,
+        }
+    }
+
+    #[test]
+    fn locks_below_and_slides_above_the_coulomb_limit() {
+        let law = Coulomb::frictional(30.0);
+        let h = law.initial_history(true);
+        let gap = -1e-5; // normal force 1e4
+        let limit = 1e4 * 30f64.to_radians().tan();
+        let ks = 1e9 / SHEAR_RATIO;
+        let below = kin(gap, 0.99 * limit / ks, 0.0);
+        let above = kin(gap, 1.01 * limit / ks, 0.0);
+        assert_eq!(law.next_state(ContactState::Locked, &below, &h), ContactState::Locked);
+        assert_eq!(law.next_state(ContactState::Locked, &above, &h), ContactState::Sliding);
+        let r = law.response(ContactState::Sliding, &above, &h);
+        assert!((r.shear_force - limit).abs() < 1e-9 * limit);
+        assert!((r.normal_force - 1e4).abs() < 1e-9);
+        assert_eq!(r.shear_stiffness, 0.0);
+    }
+
+    #[test]
+    fn opens_in_tension_and_relocks_on_reversal() {
+        let law = Coulomb::frictional(30.0);
+        let h = law.initial_history(true);
+        assert_eq!(law.next_state(ContactState::Locked, &kin(1e-6, 0.0, 0.0), &h), ContactState::Open);
+        assert_eq!(law.next_state(ContactState::Open, &kin(1e-6, 0.0, 0.0), &h), ContactState::Open);
+        assert_eq!(law.next_state(ContactState::Sliding, &kin(-1e-5, 0.0, -1e-6), &h), ContactState::Locked);
+        assert_eq!(law.next_state(ContactState::Sliding, &kin(-1e-5, 0.0, 1e-6), &h), ContactState::Sliding);
+    }
+
+    #[test]
+    fn the_bond_holds_tension_until_it_breaks_for_good() {
+        let law = Coulomb {
+            tensile_strength: 1e5,
+            cohesion: 1e5,
+            ..Coulomb::frictional(30.0)
+        };
+        let mut h = law.initial_history(true);
+        assert!(h.bonded);
+        assert!(!law.initial_history(false).bonded, "new contacts have no bond");
+        // Tension capacity T0·L = 5e4 N: a gap of 4e-5 (4e4 N) holds, 6e-5 opens.
+        assert_eq!(law.next_state(ContactState::Locked, &kin(4e-5, 0.0, 0.0), &h), ContactState::Locked);
+        assert_eq!(law.next_state(ContactState::Locked, &kin(6e-5, 0.0, 0.0), &h), ContactState::Open);
+        law.commit(ContactState::Sliding, &kin(0.0, 0.0, 0.0), &mut h);
+        assert!(!h.bonded);
+        assert_eq!(law.next_state(ContactState::Locked, &kin(4e-5, 0.0, 0.0), &h), ContactState::Open);
+    }
+
+    #[test]
+    fn spring_forces_are_the_gradient_of_the_spring_energy() {
+        // Energy ½k_n·gap² + ½k_s·shear²: forces are −dE/dgap and dE/dshear.
+        let law = Coulomb::frictional(30.0);
+        let h = law.initial_history(true);
+        let energy = |g: f64, s: f64| 0.5 * 1e9 * g * g + 0.5 * (1e9 / SHEAR_RATIO) * s * s;
+        let (g, s, eps) = (-2e-5, 3e-6, 1e-9);
+        let r = law.response(ContactState::Locked, &kin(g, s, 0.0), &h);
+        let dn = (energy(g + eps, s) - energy(g - eps, s)) / (2.0 * eps);
+        let ds = (energy(g, s + eps) - energy(g, s - eps)) / (2.0 * eps);
+        assert!((r.normal_force + dn).abs() < 1e-6 * dn.abs());
+        assert!((r.shear_force - ds).abs() < 1e-6 * ds.abs());
+    }
+}

@@ -1,0 +1,174 @@
+//! Contact laws: what a contact does, seen in its local frame.
+//!
+//! A law never sees blocks, matrices or the dimension. The driver hands it the
+//! contact's normal gap and tangential displacement (scalars along the current
+//! shear or slip direction) and asks two questions:
+//!
+//! 1. [`ContactLaw::response`]: with the contact held in a given state, what are
+//!    the normal and shear forces and their stiffnesses at this trial
+//!    displacement? (Called at every Newton iteration of an open-close pass.)
+//! 2. [`ContactLaw::next_state`]: after the pass has converged, which state is
+//!    consistent with the result? (The open-close check.)
+//!
+//! A law may keep its own per-contact history (`ContactLaw::History`). It is
+//! read during trial passes and changed only in [`ContactLaw::commit`], which the
+//! driver calls once per accepted step: a rejected pass or step leaves no trace.
+
+use std::any::Any;
+use std::fmt;
+
+/// The three contact states of DDA.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum ContactState {
+    /// No springs: the blocks are apart.
+    #[default]
+    Open,
+    /// Normal and shear springs: no relative tangential motion.
+    Locked,
+    /// Normal spring and a friction force opposing the slip.
+    Sliding,
+}
+
+impl ContactState {
+    /// Whether the normal spring is on.
+    pub fn is_closed(self) -> bool {
+        self != ContactState::Open
+    }
+
+    /// The name used in output files.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactState::Open => "open",
+            ContactState::Locked => "locked",
+            ContactState::Sliding => "sliding",
+        }
+    }
+}
+
+impl fmt::Display for ContactState {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The contact's motion in its local frame at the trial displacement of a step.
+///
+/// Lengths are in the model's units; signs: `gap < 0` is penetration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalKinematics {
+    /// Normal gap at the trial displacement (negative: penetration).
+    pub gap: f64,
+    /// Normal gap at the start of the step.
+    pub gap_start: f64,
+    /// Magnitude of the elastic shear displacement measured from the lock
+    /// point (carried over from earlier locked steps plus this step's motion).
+    pub shear: f64,
+    /// This step's relative tangential displacement projected on the current
+    /// slip direction (negative: the slip has reversed).
+    pub slip: f64,
+    /// Sum of |slip| over accepted steps while the contact was closed.
+    pub slip_path: f64,
+    /// Slip rate of the last accepted step (length per time), so rate laws do
+    /// not chatter between open-close passes.
+    pub slip_rate: f64,
+    /// Boundary length (2D, per unit thickness) or area (3D) the contact stands for.
+    pub length: f64,
+    /// The driver's normal penalty (automatic or from the scene, raised when
+    /// penetration is too deep). Laws use it unless they set their own.
+    pub penalty: f64,
+    /// Distance tolerance for open-close decisions.
+    pub tolerance: f64,
+    /// Time step.
+    pub dt: f64,
+}
+
+/// Forces and stiffnesses of a contact in a given state.
+///
+/// Sign convention: `normal_force > 0` pushes the blocks apart (compression);
+/// a bonded contact may carry tension (`normal_force < 0`). `shear_force` is a
+/// magnitude that opposes the shear displacement (locked) or the slip (sliding).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ContactResponse {
+    pub normal_force: f64,
+    /// −d(normal_force)/d(gap): the normal spring stiffness.
+    pub normal_stiffness: f64,
+    pub shear_force: f64,
+    /// d(shear_force)/d(shear): the shear spring stiffness (zero when sliding).
+    pub shear_stiffness: f64,
+}
+
+/// A contact law. Implement this (one file is enough) and register it by name
+/// to use it from scenes.
+///
+/// * `response` and `next_state` must be pure: they may be called many times
+///   per step with trial kinematics that are later thrown away.
+/// * `commit` is called once per accepted step, with the accepted state and
+///   kinematics; it is the only place history changes.
+pub trait ContactLaw: Send + Sync + 'static {
+    /// What the law remembers about one contact between steps.
+    type History: Clone + Send + Sync + 'static;
+
+    /// History of a new contact. `at_start` is true for contacts found at the
+    /// first step of a run (joints that exist in the initial geometry, which is
+    /// where bonds such as cohesion and tensile strength live).
+    fn initial_history(&self, at_start: bool) -> Self::History;
+
+    /// Forces and stiffnesses with the contact held in `state`.
+    fn response(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        history: &Self::History,
+    ) -> ContactResponse;
+
+    /// The state consistent with the trial result of a pass that assumed `state`.
+    fn next_state(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        history: &Self::History,
+    ) -> ContactState;
+
+    /// Updates the history at the end of an accepted step.
+    fn commit(&self, state: ContactState, kin: &LocalKinematics, history: &mut Self::History);
+}
+
+/// Type-erased contact history, stored per contact by the driver.
+pub type History = Box<dyn Any + Send + Sync>;
+
+/// Object-safe form of [`ContactLaw`], so laws of different types can sit in one
+/// table. Implemented for every `ContactLaw`; users never implement it.
+pub trait DynContactLaw: Send + Sync {
+    fn initial_history(&self, at_start: bool) -> History;
+    fn response(&self, state: ContactState, kin: &LocalKinematics, h: &History) -> ContactResponse;
+    fn next_state(&self, state: ContactState, kin: &LocalKinematics, h: &History) -> ContactState;
+    fn commit(&self, state: ContactState, kin: &LocalKinematics, h: &mut History);
+}
+
+impl<L: ContactLaw> DynContactLaw for L {
+    fn initial_history(&self, at_start: bool) -> History {
+        Box::new(ContactLaw::initial_history(self, at_start))
+    }
+
+    fn response(&self, state: ContactState, kin: &LocalKinematics, h: &History) -> ContactResponse {
+        ContactLaw::response(self, state, kin, downcast::<L>(h))
+    }
+
+    fn next_state(&self, state: ContactState, kin: &LocalKinematics, h: &History) -> ContactState {
+        ContactLaw::next_state(self, state, kin, downcast::<L>(h))
+    }
+
+    fn commit(&self, state: ContactState, kin: &LocalKinematics, h: &mut History) {
+        let h = h
+            .downcast_mut::<L::History>()
+            .expect("contact history belongs to another law");
+        ContactLaw::commit(self, state, kin, h)
+    }
+}
+
+fn downcast<L: ContactLaw>(h: &History) -> &L::History {
+    // A contact keeps the law it was created with (the law index is part of the
+    // contact), so a mismatch is a programming error, not bad input.
+    h.downcast_ref::<L::History>()
+        .expect("contact history belongs to another law")
+}

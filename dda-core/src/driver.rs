@@ -1,0 +1,548 @@
+//! The Newmark (β = 1/2, γ = 1) time stepper with open-close iterations.
+//!
+//! One step: search contacts, then repeat open-close passes until no contact
+//! changes state; each pass solves the step's equations by Newton-Raphson on
+//! the residual with the contact states held fixed. A step that does not
+//! settle within the open-close limit is cut to a third, recursively down to a
+//! floor; a step that moves a point too far is cut; a step that penetrates too
+//! deep raises the penalty. Nothing is changed until the step is accepted.
+
+use std::time::{Duration, Instant};
+
+use nalgebra::SVector;
+
+use crate::assembly::BlockSparse;
+use crate::contact::{ContactResponse, ContactState, DynContactLaw, LocalKinematics};
+use crate::contacts::{transfer_records, BlockVector, Contact};
+use crate::error::DdaError;
+use crate::settings::Settings;
+use crate::solve::{LinearSolver, SparseCholesky};
+use crate::system::{BlockMatrix, BlockSystem};
+
+/// Counters of a run, reported in the summary.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Statistics {
+    pub steps: usize,
+    pub open_close_iterations: usize,
+    pub newton_iterations: usize,
+    pub factorizations: usize,
+    /// Steps cut to a third because open-close iterations did not settle.
+    pub open_close_cuts: usize,
+    /// Steps cut because a point moved farther than the bound.
+    pub displacement_cuts: usize,
+    pub penalty_raises: usize,
+    /// Steps accepted at the smallest time step without open-close agreement.
+    pub unconverged_steps: usize,
+    pub wall_time: Duration,
+}
+
+/// The trial solution of one step attempt.
+struct Trial<const T: usize> {
+    d: Vec<f64>,
+    states: Vec<ContactState>,
+    entrances: Vec<usize>,
+    directions: Vec<SVector<f64, T>>,
+    converged: bool,
+}
+
+/// Runs a [`BlockSystem`] in time.
+pub struct Driver<S, const N: usize, const T: usize> {
+    pub system: S,
+    laws: Vec<Box<dyn DynContactLaw>>,
+    contacts: Vec<Contact<N, T>>,
+    velocity: Vec<BlockVector<N>>,
+    settings: Settings,
+    solver: Box<dyn LinearSolver>,
+    matrix: BlockSparse<N>,
+    values: Vec<f64>,
+    factored: Option<Vec<f64>>,
+    time: f64,
+    dt: f64,
+    dt_next: f64,
+    penalty: f64,
+    length_scale: f64,
+    stats: Statistics,
+    notes: Vec<String>,
+}
+
+impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
+    /// A driver at time zero with the blocks at rest.
+    pub fn new(
+        system: S,
+        laws: Vec<Box<dyn DynContactLaw>>,
+        settings: Settings,
+    ) -> Result<Self, DdaError> {
+        settings.validate()?;
+        let blocks = system.block_count();
+        let mut notes = Vec::new();
+        let length_scale = settings.length_scale.unwrap_or_else(|| system.length_scale());
+        let penalty = match settings.penalty {
+            Some(p) => p,
+            None => {
+                let p = 0.1 * system.stiffness_scale();
+                notes.push(format!(
+                    "penalty {p:.4e}: a tenth of the stiffest block's modulus per unit length"
+                ));
+                p
+            }
+        };
+        if !(penalty.is_finite() && penalty > 0.0) {
+            return Err(DdaError::Settings(format!(
+                "the automatic penalty is {penalty}: give the blocks a positive Young's modulus or set a penalty"
+            )));
+        }
+        let dt = match settings.dt {
+            Some(dt) => dt,
+            None => {
+                let lightest = (0..blocks)
+                    .map(|i| system.mass(i)[(0, 0)])
+                    .fold(f64::INFINITY, f64::min);
+                let dt = if lightest.is_finite() {
+                    0.2 * (lightest / penalty).sqrt()
+                } else {
+                    1e-3
+                };
+                notes.push(format!(
+                    "time step {dt:.4e} s: 0.2 / sqrt(penalty / lightest block mass), so contact oscillations are resolved"
+                ));
+                dt
+            }
+        };
+        Ok(Self {
+            velocity: vec![BlockVector::<N>::zeros(); blocks],
+            matrix: BlockSparse::new(blocks, []),
+            system,
+            laws,
+            contacts: Vec::new(),
+            settings,
+            solver: Box::new(SparseCholesky::default()),
+            values: Vec::new(),
+            factored: None,
+            time: 0.0,
+            dt,
+            dt_next: dt,
+            penalty,
+            length_scale,
+            stats: Statistics::default(),
+            notes,
+        })
+    }
+
+    /// Replaces the linear solver.
+    pub fn with_solver(mut self, solver: Box<dyn LinearSolver>) -> Self {
+        self.solver = solver;
+        self.factored = None;
+        self
+    }
+
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// The nominal time step.
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// The current normal penalty (after any raises).
+    pub fn penalty(&self) -> f64 {
+        self.penalty
+    }
+
+    pub fn length_scale(&self) -> f64 {
+        self.length_scale
+    }
+
+    pub fn statistics(&self) -> &Statistics {
+        &self.stats
+    }
+
+    /// Why automatic values were chosen, for the user.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
+
+    /// Generalised velocities at the end of the last step.
+    pub fn velocities(&self) -> &[BlockVector<N>] {
+        &self.velocity
+    }
+
+    /// Sets a block's generalised velocity (initial conditions).
+    pub fn set_velocity(&mut self, block: usize, v: BlockVector<N>) {
+        self.velocity[block] = v;
+    }
+
+    /// Contacts of the last step, with their records.
+    pub fn contacts(&self) -> &[Contact<N, T>] {
+        &self.contacts
+    }
+
+    /// Steps until `time` is reached exactly.
+    pub fn advance_to(&mut self, time: f64) -> Result<(), DdaError> {
+        let started = Instant::now();
+        let result = (|| {
+            while time - self.time > 1e-9 * self.dt {
+                self.step(time - self.time)?;
+            }
+            Ok(())
+        })();
+        self.stats.wall_time += started.elapsed();
+        result
+    }
+
+    /// One accepted step of at most `dt_limit`.
+    pub fn step(&mut self, dt_limit: f64) -> Result<(), DdaError> {
+        let range = 2.5 * self.settings.max_displacement_ratio * self.length_scale;
+        let mut fresh = self.system.find_contacts(range);
+        transfer_records(&mut self.contacts, &mut fresh);
+        let at_start = self.stats.steps == 0;
+        for c in &mut fresh {
+            if c.record.history.is_none() {
+                c.record.history = Some(self.laws[c.law].initial_history(at_start));
+            }
+        }
+        self.contacts = fresh;
+        let pattern_changed = {
+            let pairs = self.contacts.iter().map(|c| (c.blocks[0], c.blocks[1]));
+            let matrix = BlockSparse::new(self.system.block_count(), pairs);
+            let changed = matrix.pattern() != self.matrix.pattern();
+            self.matrix = matrix;
+            changed
+        };
+        if pattern_changed {
+            self.factored = None;
+        }
+
+        let floor = self.dt * self.settings.min_dt_ratio;
+        let mut dt = self.dt_next.min(dt_limit);
+        let mut cut = false;
+        let trial = loop {
+            let trial = self.attempt(dt)?;
+            if !trial.converged {
+                if dt / 3.0 >= floor {
+                    dt /= 3.0;
+                    cut = true;
+                    self.stats.open_close_cuts += 1;
+                    continue;
+                }
+                self.stats.unconverged_steps += 1;
+            }
+            let d = split::<N>(&trial.d);
+            let bound = self.settings.max_displacement_ratio * self.length_scale;
+            let moved = self.system.max_displacement(&d);
+            if moved > bound && dt > floor {
+                dt = (0.9 * dt * bound / moved).max(floor);
+                cut = true;
+                self.stats.displacement_cuts += 1;
+                continue;
+            }
+            let limit = self.settings.max_penetration_ratio * self.length_scale;
+            if self.settings.raise_penalty
+                && self.stats.penalty_raises < 6
+                && self.max_penetration(&trial) > limit
+            {
+                self.penalty *= 10.0;
+                self.factored = None;
+                self.stats.penalty_raises += 1;
+                continue;
+            }
+            break trial;
+        };
+        self.commit(trial, dt);
+        if cut {
+            self.dt_next = (dt * 1.5).min(self.dt);
+        } else if dt >= self.dt_next {
+            self.dt_next = (self.dt_next * 1.5).min(self.dt);
+        }
+        Ok(())
+    }
+
+    /// Solves one step of length `dt` with open-close iterations.
+    fn attempt(&mut self, dt: f64) -> Result<Trial<T>, DdaError> {
+        let nb = self.system.block_count();
+        let mut trial = Trial {
+            d: vec![0.0; nb * N],
+            states: self.contacts.iter().map(|c| c.record.state).collect(),
+            entrances: Vec::new(),
+            directions: self
+                .contacts
+                .iter()
+                .map(|c| c.record.slip_direction)
+                .collect(),
+            converged: false,
+        };
+        trial.entrances = self
+            .contacts
+            .iter()
+            .map(|c| widest_entrance(c, &trial.d))
+            .collect();
+        let masses: Vec<BlockMatrix<N>> = (0..nb).map(|i| self.system.mass(i)).collect();
+        for _ in 0..self.settings.open_close_limit {
+            self.stats.open_close_iterations += 1;
+            self.newton(dt, &masses, &mut trial)?;
+            let mut changed = false;
+            for i in 0..self.contacts.len() {
+                let c = &self.contacts[i];
+                let e = trial.entrances[i];
+                let kin = self.kinematics(i, e, &trial, dt);
+                let law = &self.laws[c.law];
+                let history = c.record.history.as_ref().expect("history set at search");
+                let state = trial.states[i];
+                let next = law.next_state(state, &kin, history);
+                let ds = c.entrances[e].shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
+                if next == ContactState::Sliding {
+                    let shear = self.carried_shear(c, e) + ds;
+                    let basis = if state == ContactState::Sliding { ds } else { shear };
+                    if let Some(dir) = basis.try_normalize(1e-300) {
+                        if state != ContactState::Sliding || dir.dot(&trial.directions[i]) > 0.0 {
+                            trial.directions[i] = dir;
+                        }
+                    }
+                }
+                let entrance = widest_entrance(c, &trial.d);
+                if next != state || entrance != e {
+                    changed = true;
+                }
+                trial.states[i] = next;
+                trial.entrances[i] = entrance;
+            }
+            if !changed {
+                trial.converged = true;
+                break;
+            }
+        }
+        Ok(trial)
+    }
+
+    /// Newton-Raphson on the step's residual with the contact states fixed.
+    fn newton(
+        &mut self,
+        dt: f64,
+        masses: &[BlockMatrix<N>],
+        trial: &mut Trial<T>,
+    ) -> Result<(), DdaError> {
+        let mut first = 0.0;
+        let mut residual = vec![0.0; trial.d.len()];
+        for iteration in 0..self.settings.newton_limit {
+            self.assemble(dt, masses, trial, &mut residual);
+            let norm = residual.iter().map(|r| r * r).sum::<f64>().sqrt();
+            if iteration == 0 {
+                first = norm;
+            } else if norm <= self.settings.residual_tolerance * first {
+                break;
+            }
+            self.stats.newton_iterations += 1;
+            self.matrix.values_into(&mut self.values);
+            if self.factored.as_ref() != Some(&self.values) {
+                self.solver.factorize(&self.matrix.pattern(), &self.values)?;
+                self.stats.factorizations += 1;
+                self.factored = Some(self.values.clone());
+            }
+            self.solver.solve(&mut residual);
+            let mut largest: f64 = 0.0;
+            for (d, dd) in trial.d.iter_mut().zip(&residual) {
+                *d += dd;
+                largest = largest.max(dd.abs());
+            }
+            if !largest.is_finite() {
+                return Err(DdaError::NotFinite { time: self.time + dt });
+            }
+            if largest <= self.settings.increment_tolerance * self.length_scale {
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    /// Fills the matrix with the tangent and `residual` with applied minus
+    /// internal forces at the trial displacement.
+    fn assemble(&mut self, dt: f64, masses: &[BlockMatrix<N>], trial: &Trial<T>, residual: &mut [f64]) {
+        let mut matrix = std::mem::take(&mut self.matrix);
+        matrix.clear();
+        residual.fill(0.0);
+        let end = self.time + dt;
+        let ratio = self.settings.velocity_ratio;
+        for (i, m) in masses.iter().enumerate() {
+            let d = block(&trial.d, i);
+            let v0 = self.velocity[i] * ratio;
+            // Inertia of Newmark β = 1/2, γ = 1: a = 2(d − v0·dt)/dt².
+            let mut k = m * (2.0 / (dt * dt));
+            let mut r = m * (v0 * (2.0 / dt) - d * (2.0 / (dt * dt)));
+            self.system.block_terms(i, end, &d, &mut k, &mut r);
+            matrix.add(i, i, &k);
+            residual[i * N..(i + 1) * N].copy_from_slice(r.as_slice());
+        }
+        for (i, c) in self.contacts.iter().enumerate() {
+            let state = trial.states[i];
+            if !state.is_closed() {
+                continue;
+            }
+            let e = trial.entrances[i];
+            let entrance = &c.entrances[e];
+            let kin = self.kinematics(i, e, trial, dt);
+            let history = c.record.history.as_ref().expect("history set at search");
+            let response = self.laws[c.law].response(state, &kin, history);
+            let [a, b] = c.blocks;
+            let mut ra = BlockVector::<N>::zeros();
+            let mut rb = BlockVector::<N>::zeros();
+            // Normal spring: force along the gap gradient.
+            let [na, nb] = &entrance.normal;
+            add_spring(&mut matrix, a, b, na, nb, response.normal_stiffness);
+            ra += na * response.normal_force;
+            rb += nb * response.normal_force;
+            // Shear: a spring when locked, a friction force when sliding.
+            let direction = match state {
+                ContactState::Locked => {
+                    let ds = entrance.shear_at(&block(&trial.d, a), &block(&trial.d, b));
+                    (self.carried_shear(c, e) + ds)
+                        .try_normalize(1e-300)
+                        .unwrap_or_else(SVector::zeros)
+                }
+                _ => trial.directions[i],
+            };
+            for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
+                add_spring(&mut matrix, a, b, ta, tb, response.shear_stiffness);
+                let force = -response.shear_force * direction[k];
+                ra += ta * force;
+                rb += tb * force;
+            }
+            add_block(residual, a, &ra);
+            add_block(residual, b, &rb);
+        }
+        self.matrix = matrix;
+    }
+
+    /// Elastic shear displacement carried from earlier locked steps, valid
+    /// only on the entrance it was measured on.
+    fn carried_shear(&self, c: &Contact<N, T>, entrance: usize) -> SVector<f64, T> {
+        if c.record.state == ContactState::Locked && c.record.entrance == entrance {
+            c.record.shear
+        } else {
+            SVector::zeros()
+        }
+    }
+
+    fn kinematics(&self, i: usize, e: usize, trial: &Trial<T>, dt: f64) -> LocalKinematics {
+        let c = &self.contacts[i];
+        let entrance = &c.entrances[e];
+        let da = block(&trial.d, c.blocks[0]);
+        let db = block(&trial.d, c.blocks[1]);
+        let ds = entrance.shear_at(&da, &db);
+        LocalKinematics {
+            gap: entrance.gap_at(&da, &db),
+            gap_start: entrance.gap,
+            shear: (self.carried_shear(c, e) + ds).norm(),
+            slip: ds.dot(&trial.directions[i]),
+            slip_path: c.record.slip_path,
+            slip_rate: c.record.slip_rate,
+            length: c.length,
+            penalty: self.penalty,
+            tolerance: self.settings.contact_tolerance * self.length_scale,
+            dt,
+        }
+    }
+
+    fn max_penetration(&self, trial: &Trial<T>) -> f64 {
+        self.contacts
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| trial.states[*i].is_closed())
+            .map(|(i, c)| {
+                let e = &c.entrances[trial.entrances[i]];
+                -e.gap_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]))
+            })
+            .fold(0.0, f64::max)
+    }
+
+    fn commit(&mut self, trial: Trial<T>, dt: f64) {
+        for i in 0..self.contacts.len() {
+            let c = &self.contacts[i];
+            let kin = self.kinematics(i, trial.entrances[i], &trial, dt);
+            let history = c.record.history.as_ref().expect("history set at search");
+            let response = if trial.states[i].is_closed() {
+                self.laws[c.law].response(trial.states[i], &kin, history)
+            } else {
+                ContactResponse::default()
+            };
+            let e = trial.entrances[i];
+            let ds = c.entrances[e].shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
+            let shear = self.carried_shear(c, e) + ds;
+            let state = trial.states[i];
+            // Mutate after all reads of the old record.
+            let c = &mut self.contacts[i];
+            let law = &self.laws[c.law];
+            law.commit(state, &kin, c.record.history.as_mut().expect("history set at search"));
+            let record = &mut c.record;
+            record.state = state;
+            record.entrance = e;
+            record.shear = if state == ContactState::Locked { shear } else { SVector::zeros() };
+            record.slip_direction = trial.directions[i];
+            if state == ContactState::Sliding {
+                record.slip_path += ds.norm();
+                record.slip_rate = ds.norm() / dt;
+            } else {
+                record.slip_rate = 0.0;
+            }
+            record.normal_force = response.normal_force;
+            record.shear_force = response.shear_force;
+        }
+        let ratio = self.settings.velocity_ratio;
+        let d = split::<N>(&trial.d);
+        for (v, di) in self.velocity.iter_mut().zip(&d) {
+            // Newmark β = 1/2, γ = 1: v1 = 2d/dt − v0.
+            *v = di * (2.0 / dt) - *v * ratio;
+        }
+        self.time += dt;
+        self.system.commit(&d, dt, self.time);
+        self.stats.steps += 1;
+    }
+}
+
+/// Adds the spring k·g·gᵀ, with g = (ga on block a, gb on block b).
+fn add_spring<const N: usize>(
+    matrix: &mut BlockSparse<N>,
+    a: usize,
+    b: usize,
+    ga: &BlockVector<N>,
+    gb: &BlockVector<N>,
+    k: f64,
+) {
+    if k == 0.0 {
+        return;
+    }
+    matrix.add(a, a, &(ga * ga.transpose() * k));
+    matrix.add(b, b, &(gb * gb.transpose() * k));
+    matrix.add(a, b, &(ga * gb.transpose() * k));
+}
+
+fn block<const N: usize>(d: &[f64], i: usize) -> BlockVector<N> {
+    BlockVector::<N>::from_column_slice(&d[i * N..(i + 1) * N])
+}
+
+fn split<const N: usize>(d: &[f64]) -> Vec<BlockVector<N>> {
+    d.chunks_exact(N).map(BlockVector::<N>::from_column_slice).collect()
+}
+
+fn add_block<const N: usize>(r: &mut [f64], i: usize, v: &BlockVector<N>) {
+    for (x, y) in r[i * N..(i + 1) * N].iter_mut().zip(v.iter()) {
+        *x += y;
+    }
+}
+
+/// Shi's entrance choice: the entrance with the largest gap at the trial
+/// displacement (the line the vertex would cross first).
+fn widest_entrance<const N: usize, const T: usize>(c: &Contact<N, T>, d: &[f64]) -> usize {
+    let da = block::<N>(d, c.blocks[0]);
+    let db = block::<N>(d, c.blocks[1]);
+    let mut best = 0;
+    let mut widest = f64::NEG_INFINITY;
+    for (i, e) in c.entrances.iter().enumerate() {
+        let g = e.gap_at(&da, &db);
+        // A small margin keeps the choice from flipping on round-off.
+        if g > widest + 1e-14 * (1.0 + g.abs()) {
+            widest = g;
+            best = i;
+        }
+    }
+    best
+}

@@ -1,0 +1,24 @@
+//! Dimension-agnostic core of Discontinuous Deformation Analysis (DDA).
+//!
+//! The dimension crates implement [`BlockSystem`] (blocks with `N` DOF each,
+//! contacts with `T` tangential directions); the [`Driver`] runs any of them
+//! with Newmark (β = 1/2, γ = 1) steps and open-close iterations, calling
+//! [`ContactLaw`]s in the contacts' local frames.
+
+pub mod assembly;
+pub mod constitutive;
+pub mod contact;
+pub mod contacts;
+pub mod driver;
+pub mod error;
+pub mod settings;
+pub mod solve;
+pub mod system;
+
+pub use constitutive::ConstitutiveLaw;
+pub use contact::{ContactLaw, ContactResponse, ContactState, DynContactLaw, LocalKinematics};
+pub use contacts::{BlockVector, Contact, ContactKey, ContactRecord, Entrance};
+pub use driver::{Driver, Statistics};
+pub use error::DdaError;
+pub use settings::Settings;
+pub use system::{BlockMatrix, BlockSystem};

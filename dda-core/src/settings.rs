@@ -1,0 +1,102 @@
+//! Analysis settings of the driver.
+
+use crate::error::DdaError;
+
+/// Settings of one analysis. Lengths are fractions of the model length scale
+/// w0 where noted (Shi's control ratios).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    /// Velocity carry-over ratio k_dyn: 1 is fully dynamic, 0 static (each
+    /// step starts at rest), in between bleeds kinetic energy.
+    pub velocity_ratio: f64,
+    /// Nominal time step; `None` picks one from the contact frequency.
+    pub dt: Option<f64>,
+    /// Smallest time step as a fraction of the nominal one: the floor of
+    /// recursive cuts.
+    pub min_dt_ratio: f64,
+    /// Open-close passes before the step is cut to a third.
+    pub open_close_limit: usize,
+    /// Largest step displacement of any boundary point, as a fraction of w0
+    /// (Shi's g2). The contact search range is 2.5 times this.
+    pub max_displacement_ratio: f64,
+    /// Deepest penetration allowed, as a fraction of w0 (2.5·g3 in Shi).
+    pub max_penetration_ratio: f64,
+    /// Normal penalty; `None` takes a tenth of the stiffest block's modulus
+    /// per unit length.
+    pub penalty: Option<f64>,
+    /// Multiply the penalty by 10 and redo the step when penetration is too deep.
+    pub raise_penalty: bool,
+    /// Newton-Raphson iterations per open-close pass, at most.
+    pub newton_limit: usize,
+    /// Newton-Raphson stops when the residual falls below this fraction of
+    /// its first value ...
+    pub residual_tolerance: f64,
+    /// ... or the increment below this fraction of w0.
+    pub increment_tolerance: f64,
+    /// Open-close distance tolerance, as a fraction of w0.
+    pub contact_tolerance: f64,
+    /// Model length scale; `None` takes the system's.
+    pub length_scale: Option<f64>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            velocity_ratio: 1.0,
+            dt: None,
+            min_dt_ratio: 1e-3,
+            open_close_limit: 6,
+            max_displacement_ratio: 0.01,
+            max_penetration_ratio: 1e-3,
+            penalty: None,
+            raise_penalty: true,
+            newton_limit: 25,
+            residual_tolerance: 1e-10,
+            increment_tolerance: 1e-14,
+            contact_tolerance: 1e-7,
+            length_scale: None,
+        }
+    }
+}
+
+impl Settings {
+    /// Checks every value, naming the first bad one.
+    pub fn validate(&self) -> Result<(), DdaError> {
+        let positive = |name: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(DdaError::Settings(format!(
+                    "{name} must be a positive number, got {v}"
+                )))
+            }
+        };
+        if !(0.0..=1.0).contains(&self.velocity_ratio) {
+            return Err(DdaError::Settings(format!(
+                "velocity_ratio must lie in [0, 1] (1 dynamic, 0 static), got {}",
+                self.velocity_ratio
+            )));
+        }
+        if let Some(dt) = self.dt {
+            positive("dt", dt)?;
+        }
+        if let Some(p) = self.penalty {
+            positive("penalty", p)?;
+        }
+        if let Some(w) = self.length_scale {
+            positive("length_scale", w)?;
+        }
+        positive("min_dt_ratio", self.min_dt_ratio)?;
+        positive("max_displacement_ratio", self.max_displacement_ratio)?;
+        positive("max_penetration_ratio", self.max_penetration_ratio)?;
+        positive("residual_tolerance", self.residual_tolerance)?;
+        positive("increment_tolerance", self.increment_tolerance)?;
+        positive("contact_tolerance", self.contact_tolerance)?;
+        if self.open_close_limit == 0 || self.newton_limit == 0 {
+            return Err(DdaError::Settings(
+                "open_close_limit and newton_limit must be at least 1".into(),
+            ));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,51 @@
+//! The block system: what a dimension crate provides so the driver can run it.
+
+use nalgebra::SMatrix;
+
+use crate::contacts::{BlockVector, Contact};
+
+/// One block's N×N matrix (mass, stiffness).
+pub type BlockMatrix<const N: usize> = SMatrix<f64, N, N>;
+
+/// A set of blocks with `N` DOF each and contacts with `T` tangential
+/// directions. Everything is evaluated about the geometry at the start of the
+/// step; nothing changes until [`BlockSystem::commit`], so a rejected step
+/// leaves no trace.
+pub trait BlockSystem<const N: usize, const T: usize> {
+    /// Number of blocks.
+    fn block_count(&self) -> usize;
+
+    /// Model length scale w0 (Shi): tolerances and bounds are fractions of it.
+    fn length_scale(&self) -> f64;
+
+    /// Stiffness scale for the automatic penalty (largest Young's modulus
+    /// times unit length), in force per length.
+    fn stiffness_scale(&self) -> f64;
+
+    /// Mass matrix of a block, ∫ρ TᵀT.
+    fn mass(&self, block: usize) -> BlockMatrix<N>;
+
+    /// Adds the block's own terms at the trial step displacement `d`, for a
+    /// step ending at `time`: elastic stiffness, initial stress, body force,
+    /// point loads, fixed points. Adds the tangent to `k` and the residual
+    /// (applied minus internal generalised force) to `r`.
+    fn block_terms(
+        &self,
+        block: usize,
+        time: f64,
+        d: &BlockVector<N>,
+        k: &mut BlockMatrix<N>,
+        r: &mut BlockVector<N>,
+    );
+
+    /// Contact candidates within `range` of each other, linearised about the
+    /// current geometry, with fresh records and law indices.
+    fn find_contacts(&self, range: f64) -> Vec<Contact<N, T>>;
+
+    /// Largest displacement of any boundary point for step displacements `d`.
+    fn max_displacement(&self, d: &[BlockVector<N>]) -> f64;
+
+    /// Applies an accepted step: moves the blocks, updates stresses and fixed
+    /// point drifts. `time` is the end of the step.
+    fn commit(&mut self, d: &[BlockVector<N>], dt: f64, time: f64);
+}
