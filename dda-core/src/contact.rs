@@ -60,13 +60,15 @@ pub struct LocalKinematics {
     pub gap: f64,
     /// Normal gap at the start of the step.
     pub gap_start: f64,
-    /// Magnitude of the elastic shear displacement measured from the lock
-    /// point (carried over from earlier locked steps plus this step's motion).
+    /// Magnitude of the elastic shear displacement: the stretch of the shear
+    /// spring carried over from earlier steps plus this step's tangential
+    /// motion. While sliding, the carried stretch is the one that carries the
+    /// friction force, so a contact that locks again keeps its force.
     pub shear: f64,
     /// This step's relative tangential displacement projected on the current
     /// slip direction (negative: the slip has reversed).
     pub slip: f64,
-    /// Sum of |slip| over accepted steps while the contact was closed.
+    /// Sum of |slip| over accepted steps in which the contact slid.
     pub slip_path: f64,
     /// Slip rate of the last accepted step (length per time), so rate laws do
     /// not chatter between open-close passes.

@@ -79,9 +79,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let penalty = match settings.penalty {
             Some(p) => p,
             None => {
-                let p = 0.1 * system.stiffness_scale();
+                let p = system.stiffness_scale();
                 notes.push(format!(
-                    "penalty {p:.4e}: a tenth of the stiffest block's modulus per unit length"
+                    "penalty {p:.4e}: the stiffest block's Young's modulus per unit length"
                 ));
                 p
             }
@@ -412,10 +412,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.matrix = matrix;
     }
 
-    /// Elastic shear displacement carried from earlier locked steps, valid
-    /// only on the entrance it was measured on.
+    /// Elastic shear displacement carried from earlier steps, valid only on
+    /// the entrance it was measured on.
     fn carried_shear(&self, c: &Contact<N, T>, entrance: usize) -> SVector<f64, T> {
-        if c.record.state == ContactState::Locked && c.record.entrance == entrance {
+        if c.record.state.is_closed() && c.record.entrance == entrance {
             c.record.shear
         } else {
             SVector::zeros()
@@ -468,6 +468,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let ds = c.entrances[e].shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
             let shear = self.carried_shear(c, e) + ds;
             let state = trial.states[i];
+            let sliding_stiffness = if state == ContactState::Sliding {
+                self.laws[c.law].response(ContactState::Locked, &kin, history).shear_stiffness
+            } else {
+                0.0
+            };
             // Mutate after all reads of the old record.
             let c = &mut self.contacts[i];
             let law = &self.laws[c.law];
@@ -475,7 +480,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let record = &mut c.record;
             record.state = state;
             record.entrance = e;
-            record.shear = if state == ContactState::Locked { shear } else { SVector::zeros() };
+            record.shear = match state {
+                ContactState::Locked => shear,
+                // The spring keeps the stretch that carries the friction
+                // force, so a contact that locks again starts from the force
+                // it had instead of from zero (no stick-slip creep).
+                ContactState::Sliding if sliding_stiffness > 0.0 => {
+                    trial.directions[i] * (response.shear_force / sliding_stiffness)
+                }
+                _ => SVector::zeros(),
+            };
             record.slip_direction = trial.directions[i];
             if state == ContactState::Sliding {
                 record.slip_path += ds.norm();

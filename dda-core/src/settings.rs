@@ -21,8 +21,10 @@ pub struct Settings {
     pub max_displacement_ratio: f64,
     /// Deepest penetration allowed, as a fraction of w0 (2.5·g3 in Shi).
     pub max_penetration_ratio: f64,
-    /// Normal penalty; `None` takes a tenth of the stiffest block's modulus
-    /// per unit length.
+    /// Normal penalty; `None` takes the stiffest block's Young's modulus per
+    /// unit length (stiff enough that penetration under self-weight is a
+    /// tiny fraction of the block size, soft enough to keep the system well
+    /// conditioned).
     pub penalty: Option<f64>,
     /// Multiply the penalty by 10 and redo the step when penetration is too deep.
     pub raise_penalty: bool,
