@@ -182,3 +182,109 @@ fn contact_length(v: &Block, p: usize, w: &Block, e: usize) -> f64 {
     }
     total
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinematics::{move_point, RotationUpdate};
+
+    fn block(points: &[(f64, f64)]) -> Block {
+        let v: Vec<Point2<f64>> = points.iter().map(|&(x, y)| Point2::new(x, y)).collect();
+        Block::new(&v, 0, 1000.0).unwrap()
+    }
+
+    /// A unit square whose bottom-left corner sits on the top edge of a
+    /// wider, tilted base, between its ends.
+    fn pair() -> Vec<Block> {
+        vec![
+            block(&[(-2.0, -1.1), (2.0, -0.9), (2.0, 0.1), (-2.0, -0.1)]),
+            block(&[(0.0, 0.0), (1.0, 0.05), (0.95, 1.05), (-0.05, 1.0)]),
+        ]
+    }
+
+    fn signed_distance(p: &Point2<f64>, q1: &Point2<f64>, q2: &Point2<f64>) -> f64 {
+        let t = (q2 - q1).normalize();
+        Vector2::new(t.y, -t.x).dot(&(p - q1))
+    }
+
+    #[test]
+    fn vertex_edge_rows_are_the_derivatives_of_the_exact_gap_and_slip() {
+        let blocks = pair();
+        let contacts = pair_contacts(&blocks, 1, 0, 0.05, 0);
+        let c = contacts
+            .iter()
+            .find(|c| c.key.feature_a == 0 && c.key.feature_b == 2)
+            .expect("corner 0 of the square against the base's top edge");
+        assert_eq!(c.blocks, [1, 0]);
+        let e = &c.entrances[0];
+        let (sq, base) = (&blocks[1], &blocks[0]);
+        let p = sq.vertices()[0];
+        let (q1, q2) = (base.vertices()[2], base.vertices()[3]);
+        assert!((e.gap - signed_distance(&p, &q1, &q2)).abs() < 1e-15);
+        let foot = q1 + (q2 - q1) * ((p - q1).dot(&(q2 - q1)) / (q2 - q1).norm_squared());
+        let h = 1e-7;
+        for k in 0..12 {
+            let mut da = Vector6::zeros();
+            let mut db = Vector6::zeros();
+            if k < 6 { da[k] = h } else { db[k - 6] = h }
+            let gap = |s: f64| {
+                let m = |x: &Point2<f64>, b: &Block, d: &Vector6<f64>| move_point(x, &b.centroid(), &(d * s), RotationUpdate::Exact);
+                signed_distance(&m(&p, sq, &da), &m(&q1, base, &db), &m(&q2, base, &db))
+            };
+            let slip = |s: f64| {
+                let m = |x: &Point2<f64>, b: &Block, d: &Vector6<f64>| move_point(x, &b.centroid(), &(d * s), RotationUpdate::Exact);
+                let t = (m(&q2, base, &db) - m(&q1, base, &db)).normalize();
+                t.dot(&(m(&p, sq, &da) - m(&foot, base, &db)))
+            };
+            let fd_gap = (gap(1.0) - gap(-1.0)) / (2.0 * h);
+            let fd_slip = (slip(1.0) - slip(-1.0)) / (2.0 * h);
+            let row_gap = e.normal[0].dot(&da) / h + e.normal[1].dot(&db) / h;
+            let row_slip = e.tangents[0][0].dot(&da) / h + e.tangents[0][1].dot(&db) / h;
+            assert!((fd_gap - row_gap).abs() < 1e-6, "gap DOF {k}: {fd_gap} vs {row_gap}");
+            assert!((fd_slip - row_slip).abs() < 1e-6, "slip DOF {k}: {fd_slip} vs {row_slip}");
+        }
+    }
+
+    #[test]
+    fn coincident_corners_make_one_contact_with_the_right_entrance() {
+        // Two equal squares stacked: each bottom corner of the top one sits on
+        // a top corner of the lower one.
+        let blocks = vec![
+            block(&[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]),
+            block(&[(0.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)]),
+        ];
+        let contacts = pair_contacts(&blocks, 0, 1, 0.01, 0);
+        assert_eq!(contacts.len(), 2, "one contact per corner: {contacts:?}");
+        for c in &contacts {
+            // Pushing the top block down must close every entrance, and
+            // sliding it sideways must not open or close any.
+            let down = Vector6::new(0.0, -1e-4, 0.0, 0.0, 0.0, 0.0);
+            let side = Vector6::new(1e-4, 0.0, 0.0, 0.0, 0.0, 0.0);
+            for e in &c.entrances {
+                assert!(e.gap_at(&Vector6::zeros(), &down) < -0.99e-4);
+                assert!(e.gap_at(&Vector6::zeros(), &side).abs() < 1e-12);
+            }
+        }
+        // A vertex against the far side of a block is no contact.
+        let apart = vec![blocks[0].clone(), block(&[(1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0)])];
+        let side_by_side = pair_contacts(&apart, 0, 1, 0.01, 0);
+        assert_eq!(side_by_side.len(), 2);
+        let right = Vector6::new(-1e-4, 0.0, 0.0, 0.0, 0.0, 0.0);
+        for c in &side_by_side {
+            let widest = c.entrances.iter().map(|e| e.gap_at(&Vector6::zeros(), &right)).fold(f64::MIN, f64::max);
+            assert!(widest < -0.99e-4, "moving the right block left must penetrate");
+        }
+    }
+
+    #[test]
+    fn contact_length_is_half_of_each_edge_along_the_contact() {
+        let blocks = vec![
+            block(&[(-5.0, -1.0), (5.0, -1.0), (5.0, 0.0), (-5.0, 0.0)]),
+            block(&[(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)]),
+        ];
+        let contacts = pair_contacts(&blocks, 1, 0, 0.01, 0);
+        assert_eq!(contacts.len(), 2);
+        let total: f64 = contacts.iter().map(|c| c.length).sum();
+        assert!((total - 2.0).abs() < 1e-12, "the two corners stand for the 2 m base: {total}");
+    }
+}

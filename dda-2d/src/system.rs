@@ -196,3 +196,45 @@ impl BlockSystem<6, 1> for Polygons {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::{Plane, PlaneElastic};
+
+    #[test]
+    fn block_tangent_is_symmetric_psd_and_the_derivative_of_the_residual() {
+        let v = [(0.0, 0.0), (2.0, 0.2), (1.6, 1.4), (0.3, 1.1)].map(|(x, y)| Point2::new(x, y));
+        let mut block = Block::new(&v, 0, 2500.0).unwrap();
+        block.stress = Vector3::new(-1e5, 2e4, 3e4);
+        let law = PlaneElastic { young: 1e9, poisson: 0.3, plane: Plane::Stress };
+        let mut s = Polygons::new(vec![block], vec![Box::new(law)]);
+        s.gravity = Vector2::new(0.0, -9.81);
+        s.fixed.push(FixedPoint { block: 0, point: v[1], target: v[1] + Vector2::new(1e-4, 0.0) });
+        s.loads.push(PointLoad { block: 0, point: v[2], force: Force::Constant(Vector2::new(5.0, -7.0)) });
+        let terms = |d: &BlockVector<6>| {
+            let (mut k, mut r) = (BlockMatrix::<6>::zeros(), BlockVector::<6>::zeros());
+            s.block_terms(0, 0.0, d, &mut k, &mut r);
+            (k, r)
+        };
+        let d0 = BlockVector::<6>::new(1e-4, -2e-4, 3e-4, 1e-5, -2e-5, 3e-5);
+        let (k, _) = terms(&d0);
+        assert!((k - k.transpose()).norm() < 1e-12 * k.norm());
+        assert!(k.symmetric_eigenvalues().min() > -1e-9 * k.norm());
+        let h = 1e-7;
+        for j in 0..6 {
+            let mut e = BlockVector::<6>::zeros();
+            e[j] = h;
+            let column = -(terms(&(d0 + e)).1 - terms(&(d0 - e)).1) / (2.0 * h);
+            assert!((column - k.column(j)).norm() < 1e-6 * k.norm(), "column {j}");
+        }
+    }
+
+    #[test]
+    fn load_histories_interpolate_and_hold() {
+        let f = Force::History(vec![(0.0, Vector2::new(0.0, 0.0)), (2.0, Vector2::new(4.0, -2.0))]);
+        assert_eq!(f.at(-1.0), Vector2::new(0.0, 0.0));
+        assert_eq!(f.at(0.5), Vector2::new(1.0, -0.5));
+        assert_eq!(f.at(3.0), Vector2::new(4.0, -2.0));
+    }
+}
