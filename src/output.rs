@@ -1,0 +1,164 @@
+//! Output files: `history.csv` (written as the run goes) and `summary.json`.
+
+use std::fs::File;
+use std::io::{BufRead, BufReader, BufWriter, Write};
+use std::path::Path;
+
+use anyhow::{bail, Context};
+use dda_2d::Driver2d;
+use serde::Serialize;
+
+/// The header line of `history.csv`.
+pub const HISTORY_HEADER: &str = "step,time,block,x,y,rotation,vx,vy,omega,sxx,syy,sxy";
+
+/// One row of `history.csv`: a block's state at an output time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HistoryRow {
+    pub step: usize,
+    pub time: f64,
+    pub block: usize,
+    /// Centroid.
+    pub x: f64,
+    pub y: f64,
+    /// Accumulated rotation, radians counter-clockwise.
+    pub rotation: f64,
+    pub vx: f64,
+    pub vy: f64,
+    pub omega: f64,
+    /// Stress, tension positive.
+    pub sxx: f64,
+    pub syy: f64,
+    pub sxy: f64,
+}
+
+/// Writes `history.csv` a time at a time, flushing each so an interrupted
+/// run keeps what it reached.
+pub struct HistoryWriter {
+    out: BufWriter<File>,
+}
+
+impl HistoryWriter {
+    pub fn create(path: &Path) -> anyhow::Result<Self> {
+        let file =
+            File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+        let mut out = BufWriter::new(file);
+        writeln!(out, "{HISTORY_HEADER}")?;
+        out.flush()?;
+        Ok(Self { out })
+    }
+
+    /// One row per block at the driver's current time.
+    pub fn write(&mut self, driver: &Driver2d) -> anyhow::Result<()> {
+        let step = driver.statistics().steps;
+        let time = driver.time();
+        for (i, (block, v)) in driver
+            .system
+            .blocks
+            .iter()
+            .zip(driver.velocities())
+            .enumerate()
+        {
+            let c = block.centroid();
+            let s = block.stress;
+            let values = [c.x, c.y, block.rotation, v[0], v[1], v[2], s.x, s.y, s.z];
+            write!(self.out, "{step},{},{i}", num(time))?;
+            for value in values {
+                write!(self.out, ",{}", num(value))?;
+            }
+            writeln!(self.out)?;
+        }
+        self.out.flush()?;
+        Ok(())
+    }
+}
+
+/// Shortest text that reads back to the same number; exponent form for very
+/// large or small magnitudes so rows stay short.
+fn num(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 || (1e-4..1e15).contains(&a) || !v.is_finite() {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// Reads a `history.csv` written by [`HistoryWriter`].
+pub fn read_history(path: impl AsRef<Path>) -> anyhow::Result<Vec<HistoryRow>> {
+    let path = path.as_ref();
+    let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
+    let mut lines = BufReader::new(file).lines();
+    let header = lines.next().transpose()?.unwrap_or_default();
+    if header.trim_end() != HISTORY_HEADER {
+        bail!(
+            "{}: the first line is not the history header {HISTORY_HEADER:?}",
+            path.display()
+        );
+    }
+    let mut rows = Vec::new();
+    for (n, line) in lines.enumerate() {
+        let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let row = parse_row(&line)
+            .with_context(|| format!("{}:{}: bad history row", path.display(), n + 2))?;
+        rows.push(row);
+    }
+    Ok(rows)
+}
+
+fn parse_row(line: &str) -> anyhow::Result<HistoryRow> {
+    let fields: Vec<&str> = line.trim_end().split(',').collect();
+    if fields.len() != 12 {
+        bail!("expected 12 fields, found {}", fields.len());
+    }
+    let f = |i: usize| -> anyhow::Result<f64> {
+        fields[i]
+            .parse()
+            .with_context(|| format!("field {i} is not a number: {:?}", fields[i]))
+    };
+    Ok(HistoryRow {
+        step: fields[0].parse().context("step is not an integer")?,
+        time: f(1)?,
+        block: fields[2].parse().context("block is not an integer")?,
+        x: f(3)?,
+        y: f(4)?,
+        rotation: f(5)?,
+        vx: f(6)?,
+        vy: f(7)?,
+        omega: f(8)?,
+        sxx: f(9)?,
+        syy: f(10)?,
+        sxy: f(11)?,
+    })
+}
+
+/// Writes pretty JSON to `path`.
+pub fn write_json<T: Serialize>(path: &Path, value: &T) -> anyhow::Result<()> {
+    let text = serde_json::to_string_pretty(value)?;
+    std::fs::write(path, text + "\n").with_context(|| format!("cannot write {}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::num;
+
+    #[test]
+    fn numbers_round_trip() {
+        for v in [
+            0.0,
+            -0.0,
+            1.0,
+            0.1 + 0.2,
+            -9.81e-3,
+            1e-20,
+            6.02e23,
+            1.0 / 3.0,
+            -123456.789,
+        ] {
+            let s = num(v);
+            assert_eq!(s.parse::<f64>().unwrap().to_bits(), v.to_bits(), "{s}");
+        }
+    }
+}

@@ -1,0 +1,210 @@
+//! Running a scene to its end while writing the outputs.
+
+use std::io::IsTerminal;
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{bail, Context};
+use dda_2d::Driver2d;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::{Deserialize, Serialize};
+
+use crate::output::{write_json, HistoryWriter};
+use crate::scene::{Model, Scene};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    Finished,
+    Failed,
+}
+
+/// What `summary.json` holds.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    pub scene: String,
+    pub status: Status,
+    /// Why the run stopped early (failed runs only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    pub blocks: usize,
+    pub steps: usize,
+    /// Simulated time reached, seconds.
+    pub time: f64,
+    /// Simulated time asked for, seconds.
+    pub duration: f64,
+    /// Seconds of wall-clock time for the run.
+    pub wall_time: f64,
+    pub open_close_iterations: usize,
+    pub newton_iterations: usize,
+    pub factorizations: usize,
+    pub open_close_cuts: usize,
+    pub displacement_cuts: usize,
+    pub penalty_raises: usize,
+    pub unconverged_steps: usize,
+    /// Normal penalty at the end (after any raises).
+    pub penalty: f64,
+    /// Nominal time step.
+    pub dt: f64,
+    /// Why automatic values were chosen.
+    pub notes: Vec<String>,
+}
+
+/// What a run prints on stderr besides errors.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RunOptions {
+    /// A progress bar.
+    pub progress: bool,
+    /// The driver's notes on automatic choices, at the start.
+    pub notes: bool,
+}
+
+/// Runs a scene file, writing `history.csv` and `summary.json` into
+/// `out_dir`; progress and notes appear only when stderr is a terminal.
+pub fn run(scene_path: &Path, out_dir: &Path) -> anyhow::Result<Summary> {
+    let terminal = std::io::stderr().is_terminal();
+    run_with(
+        scene_path,
+        out_dir,
+        RunOptions {
+            progress: terminal,
+            notes: terminal,
+        },
+    )
+}
+
+/// [`run`] with explicit options. A run that fails midway still writes
+/// `summary.json` (status "failed") and keeps the history rows it wrote.
+pub fn run_with(scene_path: &Path, out_dir: &Path, options: RunOptions) -> anyhow::Result<Summary> {
+    let scene = Scene::load(scene_path)?;
+    let mut model = scene.build()?;
+    std::fs::create_dir_all(out_dir)
+        .with_context(|| format!("cannot create {}", out_dir.display()))?;
+    let history_path = out_dir.join("history.csv");
+    let mut history = HistoryWriter::create(&history_path)?;
+    if options.notes {
+        for note in model.driver.notes() {
+            eprintln!("note: {note}");
+        }
+    }
+    let bar = progress_bar(options.progress);
+    let started = Instant::now();
+    let result = advance(&mut model, &mut history, &bar);
+    bar.finish_and_clear();
+    let result = result.with_context(|| {
+        format!(
+            "the run failed at t = {} s, step {} ({} keeps the rows written until then)",
+            model.driver.time(),
+            model.driver.statistics().steps,
+            history_path.display()
+        )
+    });
+
+    let driver = &model.driver;
+    let stats = driver.statistics();
+    let summary = Summary {
+        scene: scene_path.display().to_string(),
+        status: if result.is_ok() {
+            Status::Finished
+        } else {
+            Status::Failed
+        },
+        error: result.as_ref().err().map(|e| format!("{e:#}")),
+        blocks: driver.system.blocks.len(),
+        steps: stats.steps,
+        time: driver.time(),
+        duration: model.duration,
+        wall_time: started.elapsed().as_secs_f64(),
+        open_close_iterations: stats.open_close_iterations,
+        newton_iterations: stats.newton_iterations,
+        factorizations: stats.factorizations,
+        open_close_cuts: stats.open_close_cuts,
+        displacement_cuts: stats.displacement_cuts,
+        penalty_raises: stats.penalty_raises,
+        unconverged_steps: stats.unconverged_steps,
+        penalty: driver.penalty(),
+        dt: driver.dt(),
+        notes: driver.notes().to_vec(),
+    };
+    write_json(&out_dir.join("summary.json"), &summary)?;
+    result.map(|_| summary)
+}
+
+/// Steps to the end, writing a history row set at time 0 and at every
+/// output time (every step without an interval).
+fn advance(
+    model: &mut Model,
+    history: &mut HistoryWriter,
+    bar: &ProgressBar,
+) -> anyhow::Result<()> {
+    let duration = model.duration;
+    let driver = &mut model.driver;
+    record(driver, history, bar, duration)?;
+    match model.output_interval {
+        Some(interval) => {
+            for k in 1.. {
+                let mut t = k as f64 * interval;
+                // The last output is the end itself, not a hair before or after it.
+                if t >= duration - 1e-9 * interval {
+                    t = duration;
+                }
+                driver.advance_to(t)?;
+                record(driver, history, bar, duration)?;
+                if t == duration {
+                    break;
+                }
+            }
+        }
+        None => {
+            // The driver's own end test (as in advance_to).
+            while duration - driver.time() > 1e-9 * driver.dt() {
+                driver.step(duration - driver.time())?;
+                record(driver, history, bar, duration)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+fn record(
+    driver: &Driver2d,
+    history: &mut HistoryWriter,
+    bar: &ProgressBar,
+    duration: f64,
+) -> anyhow::Result<()> {
+    for (i, (b, v)) in driver
+        .system
+        .blocks
+        .iter()
+        .zip(driver.velocities())
+        .enumerate()
+    {
+        let c = b.centroid();
+        if !(c.x.is_finite() && c.y.is_finite() && v.iter().all(|x| x.is_finite())) {
+            bail!(
+                "block {i} has a non-finite position or velocity: the model is unstable (try a smaller dt or penalty)"
+            );
+        }
+    }
+    history.write(driver)?;
+    bar.set_position((driver.time() / duration * 1000.0).round() as u64);
+    bar.set_message(format!(
+        "t = {:.4e} s, step {}",
+        driver.time(),
+        driver.statistics().steps
+    ));
+    Ok(())
+}
+
+fn progress_bar(show: bool) -> ProgressBar {
+    if !show {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(1000);
+    if let Ok(style) =
+        ProgressStyle::with_template("{bar:40} {percent:>3}% {msg} [{elapsed_precise}, {eta} left]")
+    {
+        bar.set_style(style);
+    }
+    bar
+}

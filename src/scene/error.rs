@@ -1,0 +1,100 @@
+//! Scene errors: one readable line naming the file, the place and the fix.
+
+use std::fmt;
+
+use super::locate::{locate, Seg};
+use super::validate::Place;
+use super::Source;
+
+/// A position in a scene file; line and column are 1-based.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Location {
+    pub file: String,
+    pub line: Option<usize>,
+    pub column: Option<usize>,
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.file)?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+            if let Some(col) = self.column {
+                write!(f, ":{col}")?;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    // The io error is in the message rather than the source chain, so
+    // `to_string()` alone says why.
+    #[error("{file}: cannot read the scene file: {error}")]
+    Read { file: String, error: std::io::Error },
+    /// The text is not a scene (RON syntax, unknown or missing fields, wrong types).
+    #[error("{at}: {message}")]
+    Syntax { at: Location, message: String },
+    /// The scene parses but a value is wrong.
+    #[error("{at}: {place}: {message}")]
+    Invalid {
+        at: Location,
+        place: String,
+        message: String,
+    },
+}
+
+impl SceneError {
+    /// Where the error is, when it is in the file.
+    pub fn location(&self) -> Option<&Location> {
+        match self {
+            SceneError::Read { .. } => None,
+            SceneError::Syntax { at, .. } | SceneError::Invalid { at, .. } => Some(at),
+        }
+    }
+}
+
+impl Source {
+    pub(super) fn syntax(&self, e: &ron::error::SpannedError) -> SceneError {
+        use ron::error::Error as E;
+        let hint = match &e.code {
+            E::NoSuchStructField { .. } => "remove the field or correct its spelling",
+            E::NoSuchEnumVariant { .. } => "use one of the listed names",
+            E::MissingStructField { .. } => "add the field",
+            E::DuplicateStructField { .. } => "keep only one of them",
+            E::ExpectedDifferentStructName { .. } => "use the expected name or leave the name out",
+            E::Message(_) => "",
+            _ => "fix the syntax there (RON: fields as `name: value`, separated by commas; see examples/)",
+        };
+        let mut message = e.code.to_string();
+        if !hint.is_empty() {
+            message = format!("{message}; {hint}");
+        }
+        SceneError::Syntax {
+            at: Location {
+                file: self.origin.clone(),
+                line: Some(e.span.start.line),
+                column: Some(e.span.start.col),
+            },
+            message,
+        }
+    }
+
+    pub(super) fn invalid(&self, place: &Place, message: impl Into<String>) -> SceneError {
+        let segs: Vec<Seg<'_>> = place.segs().collect();
+        let (line, column) = match locate(&self.text, &segs) {
+            Some((l, c)) => (Some(l), Some(c)),
+            None => (None, None),
+        };
+        SceneError::Invalid {
+            at: Location {
+                file: self.origin.clone(),
+                line,
+                column,
+            },
+            place: place.to_string(),
+            message: message.into(),
+        }
+    }
+}

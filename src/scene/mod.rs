@@ -1,0 +1,423 @@
+//! Scene files: one RON file describes one experiment (see `examples/`).
+//!
+//! [`Scene::load`] parses and validates; [`Scene::build`] turns a valid scene
+//! into a [`Model`] ready to run. Every error names the file, the place in it
+//! (with line and column where they can be found) and what to change.
+
+mod build;
+mod error;
+mod locate;
+mod validate;
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+pub use dda_2d::{Plane, RotationUpdate};
+
+pub use build::Model;
+pub use error::{Location, SceneError};
+
+/// One experiment. Field order and names are the file format.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename = "Scene", deny_unknown_fields)]
+pub struct Scene {
+    /// Only 2 for now.
+    #[serde(default = "default_dimension")]
+    pub dimension: u32,
+    #[serde(default)]
+    pub analysis: Analysis,
+    #[serde(default)]
+    pub output: Output,
+    /// Materials by name, in file order (the order gives material indices).
+    #[serde(default, with = "ordered_map")]
+    pub materials: Vec<(String, Material)>,
+    /// Joint laws for pairs of materials.
+    #[serde(default)]
+    pub joints: Vec<Joint>,
+    /// The law of material pairs not listed in `joints`.
+    #[serde(default)]
+    pub default_joint: JointLaw,
+    #[serde(default)]
+    pub blocks: Vec<BlockSpec>,
+    #[serde(default)]
+    pub loads: Vec<Load>,
+    #[serde(default)]
+    pub fixed_points: Vec<FixedPointSpec>,
+    /// Where the scene came from, for error messages.
+    #[serde(skip)]
+    source: Source,
+}
+
+fn default_dimension() -> u32 {
+    2
+}
+
+/// The file name and text a scene was read from.
+#[derive(Debug, Clone, Default, PartialEq)]
+struct Source {
+    origin: String,
+    text: String,
+}
+
+/// Analysis settings. `None` means automatic.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Analysis {
+    /// Simulated time in seconds (required: 0 is rejected).
+    pub duration: f64,
+    pub dt: Option<f64>,
+    pub mode: Mode,
+    /// Overrides the mode's velocity carry-over ratio, in [0, 1].
+    pub velocity_ratio: Option<f64>,
+    pub open_close_limit: usize,
+    pub max_displacement_ratio: f64,
+    pub max_penetration_ratio: f64,
+    pub min_dt_ratio: f64,
+    pub penalty: Option<f64>,
+    pub raise_penalty: bool,
+    pub length_scale: Option<f64>,
+    pub gravity: [f64; 2],
+    #[serde(with = "PlaneDef")]
+    pub plane: Plane,
+    #[serde(with = "RotationUpdateDef")]
+    pub rotation_update: RotationUpdate,
+    pub fixed_penalty: Option<f64>,
+}
+
+impl Default for Analysis {
+    fn default() -> Self {
+        // The driver's defaults, so the two never drift apart.
+        let s = dda_core::Settings::default();
+        Self {
+            duration: 0.0,
+            dt: None,
+            mode: Mode::Dynamic,
+            velocity_ratio: None,
+            open_close_limit: s.open_close_limit,
+            max_displacement_ratio: s.max_displacement_ratio,
+            max_penetration_ratio: s.max_penetration_ratio,
+            min_dt_ratio: s.min_dt_ratio,
+            penalty: None,
+            raise_penalty: s.raise_penalty,
+            length_scale: None,
+            gravity: [0.0, -9.81],
+            plane: Plane::Strain,
+            rotation_update: RotationUpdate::Exact,
+            fixed_penalty: None,
+        }
+    }
+}
+
+/// Dynamic carries the velocity from step to step; static starts each step at rest.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Mode {
+    #[default]
+    Dynamic,
+    Static,
+}
+
+impl Mode {
+    pub fn velocity_ratio(self) -> f64 {
+        match self {
+            Mode::Dynamic => 1.0,
+            Mode::Static => 0.0,
+        }
+    }
+}
+
+/// The file names of [`Plane`] (serde's mirror of the 2D crate's enum).
+#[derive(Serialize, Deserialize)]
+#[serde(remote = "Plane")]
+enum PlaneDef {
+    Strain,
+    Stress,
+}
+
+/// The file names of [`RotationUpdate`].
+#[derive(Serialize, Deserialize)]
+#[serde(remote = "RotationUpdate")]
+enum RotationUpdateDef {
+    Exact,
+    Linear,
+}
+
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Output {
+    /// Time between history rows; 0 writes every step.
+    pub interval: f64,
+}
+
+/// Isotropic elastic material.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    pub density: f64,
+    pub young: f64,
+    #[serde(default = "default_poisson")]
+    pub poisson: f64,
+}
+
+fn default_poisson() -> f64 {
+    0.25
+}
+
+/// The law of the joints between two materials (in either order).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Joint {
+    pub between: (String, String),
+    pub law: JointLaw,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum JointLaw {
+    /// Penalty Coulomb joint; stiffnesses `None` are automatic.
+    Coulomb {
+        friction_angle: f64,
+        #[serde(default)]
+        cohesion: f64,
+        #[serde(default)]
+        tensile_strength: f64,
+        #[serde(default)]
+        normal_stiffness: Option<f64>,
+        #[serde(default)]
+        shear_stiffness: Option<f64>,
+    },
+}
+
+impl Default for JointLaw {
+    fn default() -> Self {
+        JointLaw::Coulomb {
+            friction_angle: 30.0,
+            cohesion: 0.0,
+            tensile_strength: 0.0,
+            normal_stiffness: None,
+            shear_stiffness: None,
+        }
+    }
+}
+
+/// A block: its shape, material and initial state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum BlockSpec {
+    Polygon {
+        #[serde(default)]
+        material: Option<String>,
+        vertices: Vec<[f64; 2]>,
+        #[serde(default)]
+        fixed: bool,
+        /// (vx, vy, ω).
+        #[serde(default)]
+        velocity: [f64; 3],
+        /// (σx, σy, τxy), tension positive.
+        #[serde(default)]
+        stress: [f64; 3],
+    },
+    Rectangle {
+        #[serde(default)]
+        material: Option<String>,
+        center: [f64; 2],
+        width: f64,
+        height: f64,
+        /// Degrees, counter-clockwise.
+        #[serde(default)]
+        angle: f64,
+        #[serde(default)]
+        fixed: bool,
+        #[serde(default)]
+        velocity: [f64; 3],
+        #[serde(default)]
+        stress: [f64; 3],
+    },
+}
+
+impl BlockSpec {
+    pub fn material(&self) -> Option<&str> {
+        match self {
+            BlockSpec::Polygon { material, .. } | BlockSpec::Rectangle { material, .. } => {
+                material.as_deref()
+            }
+        }
+    }
+
+    pub fn fixed(&self) -> bool {
+        match self {
+            BlockSpec::Polygon { fixed, .. } | BlockSpec::Rectangle { fixed, .. } => *fixed,
+        }
+    }
+
+    pub fn velocity(&self) -> [f64; 3] {
+        match self {
+            BlockSpec::Polygon { velocity, .. } | BlockSpec::Rectangle { velocity, .. } => {
+                *velocity
+            }
+        }
+    }
+
+    pub fn stress(&self) -> [f64; 3] {
+        match self {
+            BlockSpec::Polygon { stress, .. } | BlockSpec::Rectangle { stress, .. } => *stress,
+        }
+    }
+
+    /// The outline as written (a rectangle's corners counter-clockwise).
+    pub fn vertices(&self) -> Vec<[f64; 2]> {
+        match self {
+            BlockSpec::Polygon { vertices, .. } => vertices.clone(),
+            BlockSpec::Rectangle {
+                center,
+                width,
+                height,
+                angle,
+                ..
+            } => {
+                let (s, c) = angle.to_radians().sin_cos();
+                let (hw, hh) = (width / 2.0, height / 2.0);
+                [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
+                    .iter()
+                    .map(|&(x, y)| [center[0] + c * x - s * y, center[1] + s * x + c * y])
+                    .collect()
+            }
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Load {
+    /// A force at a point of a block (moving with it): constant `force`, or a
+    /// `history` of (t, fx, fy) samples, linear in between.
+    PointLoad {
+        block: usize,
+        point: [f64; 2],
+        #[serde(default)]
+        force: Option<[f64; 2]>,
+        #[serde(default)]
+        history: Option<Vec<[f64; 3]>>,
+    },
+}
+
+/// A point of a block held in place by a penalty spring.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FixedPointSpec {
+    pub block: usize,
+    pub point: [f64; 2],
+}
+
+/// Only the dimension, read first so a 3D scene gets a clear answer instead
+/// of a complaint about its first 3D-only field.
+#[derive(Deserialize)]
+#[serde(rename = "Scene")]
+struct DimensionOnly {
+    #[serde(default = "default_dimension")]
+    dimension: u32,
+}
+
+fn ron_options() -> ron::Options {
+    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+}
+
+impl Scene {
+    /// Reads, parses and validates a scene file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let path = path.as_ref();
+        let origin = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Read {
+            file: origin.clone(),
+            error,
+        })?;
+        Scene::from_str(&text, &origin)
+    }
+
+    /// Parses and validates scene text; `origin` names it in errors.
+    pub fn from_str(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        let source = Source {
+            origin: origin.to_string(),
+            text: text.to_string(),
+        };
+        if let Ok(d) = ron_options().from_str::<DimensionOnly>(text) {
+            if d.dimension != 2 {
+                return Err(source.invalid(
+                    &validate::Place::root().field("dimension"),
+                    format!(
+                        "3D scenes are not supported yet (dimension: {}); only dimension: 2 can be run for now",
+                        d.dimension
+                    ),
+                ));
+            }
+        }
+        let mut scene: Scene = ron_options()
+            .from_str(text)
+            .map_err(|e| source.syntax(&e))?;
+        scene.source = source;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// The name of the file (or other origin) the scene was read from.
+    pub fn origin(&self) -> &str {
+        &self.source.origin
+    }
+
+    /// Index of the block's material, if it names one that exists (or the
+    /// only material when it names none).
+    pub fn material_index(&self, block: &BlockSpec) -> Option<usize> {
+        match block.material() {
+            Some(name) => self.materials.iter().position(|(n, _)| n == name),
+            None if self.materials.len() == 1 => Some(0),
+            None => None,
+        }
+    }
+}
+
+/// A map kept in file order, with duplicate keys rejected.
+mod ordered_map {
+    use std::fmt;
+
+    use serde::de::{self, MapAccess, Visitor};
+    use serde::ser::SerializeMap;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer, V: Serialize>(
+        entries: &[(String, V)],
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        let mut map = s.serialize_map(Some(entries.len()))?;
+        for (k, v) in entries {
+            map.serialize_entry(k, v)?;
+        }
+        map.end()
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>, V: Deserialize<'de>>(
+        d: D,
+    ) -> Result<Vec<(String, V)>, D::Error> {
+        struct Ordered<V>(std::marker::PhantomData<V>);
+        impl<'de, V: Deserialize<'de>> Visitor<'de> for Ordered<V> {
+            type Value = Vec<(String, V)>;
+
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(r#"a map of names to values, like { "rock": (...) }"#)
+            }
+
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+                let mut out: Vec<(String, V)> = Vec::new();
+                while let Some((k, v)) = map.next_entry::<String, V>()? {
+                    if out.iter().any(|(n, _)| *n == k) {
+                        return Err(de::Error::custom(format!(
+                            "\"{k}\" is defined twice; give each entry its own name"
+                        )));
+                    }
+                    out.push((k, v));
+                }
+                Ok(out)
+            }
+        }
+        d.deserialize_map(Ordered(std::marker::PhantomData))
+    }
+}
