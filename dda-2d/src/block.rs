@@ -25,7 +25,11 @@ pub struct Block {
 
 impl Block {
     /// Validates the polygon and builds the block.
-    pub fn new(vertices: &[Point2<f64>], material: usize, density: f64) -> Result<Self, PolygonError> {
+    pub fn new(
+        vertices: &[Point2<f64>],
+        material: usize,
+        density: f64,
+    ) -> Result<Self, PolygonError> {
         let vertices = polygon::validate(vertices)?;
         let moments = central_moments(&vertices);
         let angles = polygon::interior_angles(&vertices);
@@ -69,7 +73,12 @@ impl Block {
     }
 
     /// Where a point of this block goes for step displacement `d`.
-    pub fn move_point(&self, p: &Point2<f64>, d: &Vector6<f64>, update: RotationUpdate) -> Point2<f64> {
+    pub fn move_point(
+        &self,
+        p: &Point2<f64>,
+        d: &Vector6<f64>,
+        update: RotationUpdate,
+    ) -> Point2<f64> {
         move_point(p, &self.moments.centroid, d, update)
     }
 

@@ -12,7 +12,10 @@ pub fn near_pairs(polygons: &[&[Point2<f64>]], range: f64) -> Vec<(usize, usize)
     let boxes: Vec<Aabb> = polygons
         .iter()
         .map(|vs| {
-            let (mut lo, mut hi) = (Vector::splat(f64::INFINITY), Vector::splat(f64::NEG_INFINITY));
+            let (mut lo, mut hi) = (
+                Vector::splat(f64::INFINITY),
+                Vector::splat(f64::NEG_INFINITY),
+            );
             for v in vs.iter() {
                 let p = Vector::new(v.x, v.y);
                 lo = lo.min(p);

@@ -24,7 +24,13 @@ const VERTEX: u32 = 1 << 31;
 pub type Contact2 = Contact<6, 1>;
 
 /// Contacts between blocks `i` and `j` within `range`, with law index `law`.
-pub fn pair_contacts(blocks: &[Block], i: usize, j: usize, range: f64, law: usize) -> Vec<Contact2> {
+pub fn pair_contacts(
+    blocks: &[Block],
+    i: usize,
+    j: usize,
+    range: f64,
+    law: usize,
+) -> Vec<Contact2> {
     let (a, b) = (&blocks[i], &blocks[j]);
     let mut out = Vec::new();
     let near = |p: &Point2<f64>, q: &Point2<f64>| (p - q).norm() < range;
@@ -107,7 +113,14 @@ fn prev(k: usize, b: &Block) -> usize {
 /// The entrance of vertex `p` of block `v` through edge `e` of block `w`, if
 /// the vertex can enter there. Rows are for the contact's blocks in the order
 /// (vertex block, edge block), or the reverse with `swap`.
-fn entrance(v: &Block, p: usize, w: &Block, e: usize, range: f64, swap: bool) -> Option<Entrance<6, 1>> {
+fn entrance(
+    v: &Block,
+    p: usize,
+    w: &Block,
+    e: usize,
+    range: f64,
+    swap: bool,
+) -> Option<Entrance<6, 1>> {
     // Only convex (or flat) vertices enter; a reflex vertex is entered instead.
     if v.angles()[p] > std::f64::consts::PI + ANGLE_TOLERANCE {
         return None;
@@ -226,13 +239,21 @@ mod tests {
         for k in 0..12 {
             let mut da = Vector6::zeros();
             let mut db = Vector6::zeros();
-            if k < 6 { da[k] = h } else { db[k - 6] = h }
+            if k < 6 {
+                da[k] = h
+            } else {
+                db[k - 6] = h
+            }
             let gap = |s: f64| {
-                let m = |x: &Point2<f64>, b: &Block, d: &Vector6<f64>| move_point(x, &b.centroid(), &(d * s), RotationUpdate::Exact);
+                let m = |x: &Point2<f64>, b: &Block, d: &Vector6<f64>| {
+                    move_point(x, &b.centroid(), &(d * s), RotationUpdate::Exact)
+                };
                 signed_distance(&m(&p, sq, &da), &m(&q1, base, &db), &m(&q2, base, &db))
             };
             let slip = |s: f64| {
-                let m = |x: &Point2<f64>, b: &Block, d: &Vector6<f64>| move_point(x, &b.centroid(), &(d * s), RotationUpdate::Exact);
+                let m = |x: &Point2<f64>, b: &Block, d: &Vector6<f64>| {
+                    move_point(x, &b.centroid(), &(d * s), RotationUpdate::Exact)
+                };
                 let t = (m(&q2, base, &db) - m(&q1, base, &db)).normalize();
                 t.dot(&(m(&p, sq, &da) - m(&foot, base, &db)))
             };
@@ -240,8 +261,14 @@ mod tests {
             let fd_slip = (slip(1.0) - slip(-1.0)) / (2.0 * h);
             let row_gap = e.normal[0].dot(&da) / h + e.normal[1].dot(&db) / h;
             let row_slip = e.tangents[0][0].dot(&da) / h + e.tangents[0][1].dot(&db) / h;
-            assert!((fd_gap - row_gap).abs() < 1e-6, "gap DOF {k}: {fd_gap} vs {row_gap}");
-            assert!((fd_slip - row_slip).abs() < 1e-6, "slip DOF {k}: {fd_slip} vs {row_slip}");
+            assert!(
+                (fd_gap - row_gap).abs() < 1e-6,
+                "gap DOF {k}: {fd_gap} vs {row_gap}"
+            );
+            assert!(
+                (fd_slip - row_slip).abs() < 1e-6,
+                "slip DOF {k}: {fd_slip} vs {row_slip}"
+            );
         }
     }
 
@@ -266,13 +293,23 @@ mod tests {
             }
         }
         // A vertex against the far side of a block is no contact.
-        let apart = vec![blocks[0].clone(), block(&[(1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0)])];
+        let apart = vec![
+            blocks[0].clone(),
+            block(&[(1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0)]),
+        ];
         let side_by_side = pair_contacts(&apart, 0, 1, 0.01, 0);
         assert_eq!(side_by_side.len(), 2);
         let right = Vector6::new(-1e-4, 0.0, 0.0, 0.0, 0.0, 0.0);
         for c in &side_by_side {
-            let widest = c.entrances.iter().map(|e| e.gap_at(&Vector6::zeros(), &right)).fold(f64::MIN, f64::max);
-            assert!(widest < -0.99e-4, "moving the right block left must penetrate");
+            let widest = c
+                .entrances
+                .iter()
+                .map(|e| e.gap_at(&Vector6::zeros(), &right))
+                .fold(f64::MIN, f64::max);
+            assert!(
+                widest < -0.99e-4,
+                "moving the right block left must penetrate"
+            );
         }
     }
 
@@ -285,6 +322,9 @@ mod tests {
         let contacts = pair_contacts(&blocks, 1, 0, 0.01, 0);
         assert_eq!(contacts.len(), 2);
         let total: f64 = contacts.iter().map(|c| c.length).sum();
-        assert!((total - 2.0).abs() < 1e-12, "the two corners stand for the 2 m base: {total}");
+        assert!(
+            (total - 2.0).abs() < 1e-12,
+            "the two corners stand for the 2 m base: {total}"
+        );
     }
 }

@@ -13,8 +13,18 @@ pub type Matrix6 = SMatrix<f64, 6, 6>;
 pub fn t_matrix(p: &Point2<f64>, c: &Point2<f64>) -> Matrix2x6<f64> {
     let (x, y) = (p.x - c.x, p.y - c.y);
     Matrix2x6::new(
-        1.0, 0.0, -y, x, 0.0, y / 2.0, //
-        0.0, 1.0, x, 0.0, y, x / 2.0,
+        1.0,
+        0.0,
+        -y,
+        x,
+        0.0,
+        y / 2.0, //
+        0.0,
+        1.0,
+        x,
+        0.0,
+        y,
+        x / 2.0,
     )
 }
 
@@ -49,7 +59,12 @@ pub enum RotationUpdate {
 }
 
 /// Where point `p` goes for step displacement `d` about centroid `c`.
-pub fn move_point(p: &Point2<f64>, c: &Point2<f64>, d: &Vector6<f64>, update: RotationUpdate) -> Point2<f64> {
+pub fn move_point(
+    p: &Point2<f64>,
+    c: &Point2<f64>,
+    d: &Vector6<f64>,
+    update: RotationUpdate,
+) -> Point2<f64> {
     match update {
         RotationUpdate::Linear => p + t_matrix(p, c) * d,
         RotationUpdate::Exact => {
@@ -93,7 +108,12 @@ mod tests {
             let minus = move_point(&p, &c, &(-dp), RotationUpdate::Exact);
             let fd = (plus - minus) / (2.0 * h);
             for r in 0..2 {
-                assert!((fd[r] - t[(r, k)]).abs() < 1e-8, "column {k} row {r}: {} vs {}", fd[r], t[(r, k)]);
+                assert!(
+                    (fd[r] - t[(r, k)]).abs() < 1e-8,
+                    "column {k} row {r}: {} vs {}",
+                    fd[r],
+                    t[(r, k)]
+                );
             }
         }
     }
@@ -119,7 +139,10 @@ mod tests {
         }
         assert!((exact - quad).norm() < 1e-10 * exact.norm());
         assert_eq!(exact, exact.transpose());
-        assert!(exact.cholesky().is_some(), "mass matrix must be positive definite");
+        assert!(
+            exact.cholesky().is_some(),
+            "mass matrix must be positive definite"
+        );
     }
 
     #[test]
@@ -132,6 +155,9 @@ mod tests {
         assert!(((q - c2).norm() - (p - c).norm()).abs() < 1e-15);
         let lin = move_point(&p, &c, &d, RotationUpdate::Linear);
         let stretch = (lin - c2).norm() / (p - c).norm();
-        assert!((stretch - (1.0f64 + 0.64).sqrt()).abs() < 1e-12, "linear update stretches by √(1+r²)");
+        assert!(
+            (stretch - (1.0f64 + 0.64).sqrt()).abs() < 1e-12,
+            "linear update stretches by √(1+r²)"
+        );
     }
 }

@@ -29,7 +29,17 @@ impl PlaneElastic {
         match self.plane {
             Plane::Stress => {
                 let c = e / (1.0 - nu * nu);
-                Matrix3::new(c, c * nu, 0.0, c * nu, c, 0.0, 0.0, 0.0, c * (1.0 - nu) / 2.0)
+                Matrix3::new(
+                    c,
+                    c * nu,
+                    0.0,
+                    c * nu,
+                    c,
+                    0.0,
+                    0.0,
+                    0.0,
+                    c * (1.0 - nu) / 2.0,
+                )
             }
             Plane::Strain => {
                 let c = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
@@ -50,7 +60,11 @@ impl PlaneElastic {
 }
 
 impl ConstitutiveLaw<3> for PlaneElastic {
-    fn stress(&self, committed: &Vector3<f64>, increment: &Vector3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
+    fn stress(
+        &self,
+        committed: &Vector3<f64>,
+        increment: &Vector3<f64>,
+    ) -> (Vector3<f64>, Matrix3<f64>) {
         let c = self.matrix();
         (committed + c * increment, c)
     }
@@ -68,7 +82,11 @@ mod tests {
     fn uniaxial_stress_gives_the_textbook_strains() {
         let (e, nu, q) = (2e10, 0.25, 1e6);
         for plane in [Plane::Stress, Plane::Strain] {
-            let law = PlaneElastic { young: e, poisson: nu, plane };
+            let law = PlaneElastic {
+                young: e,
+                poisson: nu,
+                plane,
+            };
             // σ = (0, −q, 0): strains from the compliance (inverse) matrix.
             let strain = law.matrix().try_inverse().unwrap() * Vector3::new(0.0, -q, 0.0);
             let (ex, ey) = match plane {

@@ -95,7 +95,11 @@ impl Polygons {
     /// Holds every vertex of a block in place.
     pub fn fix_block(&mut self, block: usize) {
         for v in self.blocks[block].vertices().to_vec() {
-            self.fixed.push(FixedPoint { block, point: v, target: v });
+            self.fixed.push(FixedPoint {
+                block,
+                point: v,
+                target: v,
+            });
         }
     }
 
@@ -125,7 +129,10 @@ impl BlockSystem<6, 1> for Polygons {
     }
 
     fn stiffness_scale(&self) -> f64 {
-        self.materials.iter().map(|m| m.modulus()).fold(0.0, f64::max)
+        self.materials
+            .iter()
+            .map(|m| m.modulus())
+            .fold(0.0, f64::max)
     }
 
     fn mass(&self, block: usize) -> BlockMatrix<6> {
@@ -177,7 +184,9 @@ impl BlockSystem<6, 1> for Polygons {
             .zip(d)
             .flat_map(|(b, di)| {
                 let c = b.centroid();
-                b.vertices().iter().map(move |v| (t_matrix(v, &c) * di).norm())
+                b.vertices()
+                    .iter()
+                    .map(move |v| (t_matrix(v, &c) * di).norm())
             })
             .fold(0.0, f64::max)
     }
@@ -190,9 +199,14 @@ impl BlockSystem<6, 1> for Polygons {
         for load in &mut self.loads {
             load.point = self.blocks[load.block].move_point(&load.point, &d[load.block], update);
         }
-        for i in 0..self.blocks.len() {
-            let (stress, _) = self.stress_after(&self.blocks[i], &d[i]);
-            self.blocks[i].commit(&d[i], stress, update);
+        let stresses: Vec<Vector3<f64>> = self
+            .blocks
+            .iter()
+            .zip(d)
+            .map(|(b, di)| self.stress_after(b, di).0)
+            .collect();
+        for ((block, di), stress) in self.blocks.iter_mut().zip(d).zip(stresses) {
+            block.commit(di, stress, update);
         }
     }
 }
@@ -207,11 +221,23 @@ mod tests {
         let v = [(0.0, 0.0), (2.0, 0.2), (1.6, 1.4), (0.3, 1.1)].map(|(x, y)| Point2::new(x, y));
         let mut block = Block::new(&v, 0, 2500.0).unwrap();
         block.stress = Vector3::new(-1e5, 2e4, 3e4);
-        let law = PlaneElastic { young: 1e9, poisson: 0.3, plane: Plane::Stress };
+        let law = PlaneElastic {
+            young: 1e9,
+            poisson: 0.3,
+            plane: Plane::Stress,
+        };
         let mut s = Polygons::new(vec![block], vec![Box::new(law)]);
         s.gravity = Vector2::new(0.0, -9.81);
-        s.fixed.push(FixedPoint { block: 0, point: v[1], target: v[1] + Vector2::new(1e-4, 0.0) });
-        s.loads.push(PointLoad { block: 0, point: v[2], force: Force::Constant(Vector2::new(5.0, -7.0)) });
+        s.fixed.push(FixedPoint {
+            block: 0,
+            point: v[1],
+            target: v[1] + Vector2::new(1e-4, 0.0),
+        });
+        s.loads.push(PointLoad {
+            block: 0,
+            point: v[2],
+            force: Force::Constant(Vector2::new(5.0, -7.0)),
+        });
         let terms = |d: &BlockVector<6>| {
             let (mut k, mut r) = (BlockMatrix::<6>::zeros(), BlockVector::<6>::zeros());
             s.block_terms(0, 0.0, d, &mut k, &mut r);
@@ -226,13 +252,19 @@ mod tests {
             let mut e = BlockVector::<6>::zeros();
             e[j] = h;
             let column = -(terms(&(d0 + e)).1 - terms(&(d0 - e)).1) / (2.0 * h);
-            assert!((column - k.column(j)).norm() < 1e-6 * k.norm(), "column {j}");
+            assert!(
+                (column - k.column(j)).norm() < 1e-6 * k.norm(),
+                "column {j}"
+            );
         }
     }
 
     #[test]
     fn load_histories_interpolate_and_hold() {
-        let f = Force::History(vec![(0.0, Vector2::new(0.0, 0.0)), (2.0, Vector2::new(4.0, -2.0))]);
+        let f = Force::History(vec![
+            (0.0, Vector2::new(0.0, 0.0)),
+            (2.0, Vector2::new(4.0, -2.0)),
+        ]);
         assert_eq!(f.at(-1.0), Vector2::new(0.0, 0.0));
         assert_eq!(f.at(0.5), Vector2::new(1.0, -0.5));
         assert_eq!(f.at(3.0), Vector2::new(4.0, -2.0));

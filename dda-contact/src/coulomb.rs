@@ -54,7 +54,11 @@ impl Coulomb {
 
     /// Shear strength for a normal force, with or without the bond.
     fn strength(&self, normal_force: f64, kin: &LocalKinematics, bonded: bool) -> f64 {
-        let cohesion = if bonded { self.cohesion * kin.length } else { 0.0 };
+        let cohesion = if bonded {
+            self.cohesion * kin.length
+        } else {
+            0.0
+        };
         self.friction_angle.to_radians().tan() * normal_force.max(0.0) + cohesion
     }
 }
@@ -177,8 +181,14 @@ mod tests {
         let ks = 1e9 / SHEAR_RATIO;
         let below = kin(gap, 0.99 * limit / ks, 0.0);
         let above = kin(gap, 1.01 * limit / ks, 0.0);
-        assert_eq!(law.next_state(ContactState::Locked, &below, &h), ContactState::Locked);
-        assert_eq!(law.next_state(ContactState::Locked, &above, &h), ContactState::Sliding);
+        assert_eq!(
+            law.next_state(ContactState::Locked, &below, &h),
+            ContactState::Locked
+        );
+        assert_eq!(
+            law.next_state(ContactState::Locked, &above, &h),
+            ContactState::Sliding
+        );
         let r = law.response(ContactState::Sliding, &above, &h);
         assert!((r.shear_force - limit).abs() < 1e-9 * limit);
         assert!((r.normal_force - 1e4).abs() < 1e-9);
@@ -189,10 +199,22 @@ mod tests {
     fn opens_in_tension_and_relocks_on_reversal() {
         let law = Coulomb::frictional(30.0);
         let h = law.initial_history(true);
-        assert_eq!(law.next_state(ContactState::Locked, &kin(1e-6, 0.0, 0.0), &h), ContactState::Open);
-        assert_eq!(law.next_state(ContactState::Open, &kin(1e-6, 0.0, 0.0), &h), ContactState::Open);
-        assert_eq!(law.next_state(ContactState::Sliding, &kin(-1e-5, 0.0, -1e-6), &h), ContactState::Locked);
-        assert_eq!(law.next_state(ContactState::Sliding, &kin(-1e-5, 0.0, 1e-6), &h), ContactState::Sliding);
+        assert_eq!(
+            law.next_state(ContactState::Locked, &kin(1e-6, 0.0, 0.0), &h),
+            ContactState::Open
+        );
+        assert_eq!(
+            law.next_state(ContactState::Open, &kin(1e-6, 0.0, 0.0), &h),
+            ContactState::Open
+        );
+        assert_eq!(
+            law.next_state(ContactState::Sliding, &kin(-1e-5, 0.0, -1e-6), &h),
+            ContactState::Locked
+        );
+        assert_eq!(
+            law.next_state(ContactState::Sliding, &kin(-1e-5, 0.0, 1e-6), &h),
+            ContactState::Sliding
+        );
     }
 
     #[test]
@@ -204,13 +226,25 @@ mod tests {
         };
         let mut h = law.initial_history(true);
         assert!(h.bonded);
-        assert!(!law.initial_history(false).bonded, "new contacts have no bond");
+        assert!(
+            !law.initial_history(false).bonded,
+            "new contacts have no bond"
+        );
         // Tension capacity T0·L = 5e4 N: a gap of 4e-5 (4e4 N) holds, 6e-5 opens.
-        assert_eq!(law.next_state(ContactState::Locked, &kin(4e-5, 0.0, 0.0), &h), ContactState::Locked);
-        assert_eq!(law.next_state(ContactState::Locked, &kin(6e-5, 0.0, 0.0), &h), ContactState::Open);
+        assert_eq!(
+            law.next_state(ContactState::Locked, &kin(4e-5, 0.0, 0.0), &h),
+            ContactState::Locked
+        );
+        assert_eq!(
+            law.next_state(ContactState::Locked, &kin(6e-5, 0.0, 0.0), &h),
+            ContactState::Open
+        );
         law.commit(ContactState::Sliding, &kin(0.0, 0.0, 0.0), &mut h);
         assert!(!h.bonded);
-        assert_eq!(law.next_state(ContactState::Locked, &kin(4e-5, 0.0, 0.0), &h), ContactState::Open);
+        assert_eq!(
+            law.next_state(ContactState::Locked, &kin(4e-5, 0.0, 0.0), &h),
+            ContactState::Open
+        );
     }
 
     #[test]

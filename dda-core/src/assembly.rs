@@ -133,12 +133,8 @@ impl<const N: usize> BlockSparse<N> {
 
     /// y = A x for the full symmetric matrix (used in tests and checks).
     pub fn multiply(&self, x: &[BlockVector<N>]) -> Vec<BlockVector<N>> {
-        let mut y: Vec<BlockVector<N>> = self
-            .diagonal
-            .iter()
-            .zip(x)
-            .map(|(d, xi)| d * xi)
-            .collect();
+        let mut y: Vec<BlockVector<N>> =
+            self.diagonal.iter().zip(x).map(|(d, xi)| d * xi).collect();
         for (m, &(r, c)) in self.lower.iter().zip(&self.pairs) {
             y[r] += m * x[c];
             y[c] += m.transpose() * x[r];
@@ -168,12 +164,11 @@ mod tests {
         assert_eq!(p.col_ptr.len(), p.dim + 1);
         // Rebuild the dense lower triangle and compare with multiply().
         let mut dense = vec![vec![0.0; p.dim]; p.dim];
-        for c in 0..p.dim {
-            for k in p.col_ptr[c]..p.col_ptr[c + 1] {
-                let r = p.row_idx[k];
+        for (c, span) in p.col_ptr.windows(2).enumerate() {
+            for (&r, &value) in p.row_idx[span[0]..span[1]].iter().zip(&v[span[0]..span[1]]) {
                 assert!(r >= c, "only the lower triangle is stored");
-                dense[r][c] = v[k];
-                dense[c][r] = v[k];
+                dense[r][c] = value;
+                dense[c][r] = value;
             }
         }
         let x: Vec<BlockVector<N>> = (0..3)

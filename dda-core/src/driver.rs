@@ -75,7 +75,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         settings.validate()?;
         let blocks = system.block_count();
         let mut notes = Vec::new();
-        let length_scale = settings.length_scale.unwrap_or_else(|| system.length_scale());
+        let length_scale = settings
+            .length_scale
+            .unwrap_or_else(|| system.length_scale());
         let penalty = match settings.penalty {
             Some(p) => p,
             None => {
@@ -179,19 +181,25 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// Steps until `time` is reached exactly.
     pub fn advance_to(&mut self, time: f64) -> Result<(), DdaError> {
-        let started = Instant::now();
-        let result = (|| {
-            while time - self.time > 1e-9 * self.dt {
-                self.step(time - self.time)?;
+        while time - self.time > 1e-9 * self.dt {
+            self.step(time - self.time)?;
+            if (time - self.time).abs() <= 1e-9 * self.dt {
+                // Land on the requested time, not on a sum of rounded steps.
+                self.time = time;
             }
-            Ok(())
-        })();
-        self.stats.wall_time += started.elapsed();
-        result
+        }
+        Ok(())
     }
 
     /// One accepted step of at most `dt_limit`.
     pub fn step(&mut self, dt_limit: f64) -> Result<(), DdaError> {
+        let started = Instant::now();
+        let result = self.try_step(dt_limit);
+        self.stats.wall_time += started.elapsed();
+        result
+    }
+
+    fn try_step(&mut self, dt_limit: f64) -> Result<(), DdaError> {
         let range = 2.5 * self.settings.max_displacement_ratio * self.length_scale;
         let mut fresh = self.system.find_contacts(range);
         transfer_records(&mut self.contacts, &mut fresh);
@@ -271,10 +279,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 .collect(),
             converged: false,
         };
+        let tolerance = self.settings.contact_tolerance * self.length_scale;
         trial.entrances = self
             .contacts
             .iter()
-            .map(|c| widest_entrance(c, &trial.d))
+            .map(|c| widest_entrance(c, &trial.d, c.record.entrance, tolerance))
             .collect();
         let masses: Vec<BlockMatrix<N>> = (0..nb).map(|i| self.system.mass(i)).collect();
         for _ in 0..self.settings.open_close_limit {
@@ -289,17 +298,22 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 let history = c.record.history.as_ref().expect("history set at search");
                 let state = trial.states[i];
                 let next = law.next_state(state, &kin, history);
-                let ds = c.entrances[e].shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
+                let ds = c.entrances[e]
+                    .shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
                 if next == ContactState::Sliding {
                     let shear = self.carried_shear(c, e) + ds;
-                    let basis = if state == ContactState::Sliding { ds } else { shear };
+                    let basis = if state == ContactState::Sliding {
+                        ds
+                    } else {
+                        shear
+                    };
                     if let Some(dir) = basis.try_normalize(1e-300) {
                         if state != ContactState::Sliding || dir.dot(&trial.directions[i]) > 0.0 {
                             trial.directions[i] = dir;
                         }
                     }
                 }
-                let entrance = widest_entrance(c, &trial.d);
+                let entrance = widest_entrance(c, &trial.d, e, tolerance);
                 if next != state || entrance != e {
                     changed = true;
                 }
@@ -334,18 +348,23 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             self.stats.newton_iterations += 1;
             self.matrix.values_into(&mut self.values);
             if self.factored.as_ref() != Some(&self.values) {
-                self.solver.factorize(&self.matrix.pattern(), &self.values)?;
+                self.solver
+                    .factorize(&self.matrix.pattern(), &self.values)?;
                 self.stats.factorizations += 1;
                 self.factored = Some(self.values.clone());
             }
             self.solver.solve(&mut residual);
             let mut largest: f64 = 0.0;
+            let mut finite = true;
             for (d, dd) in trial.d.iter_mut().zip(&residual) {
                 *d += dd;
+                finite &= dd.is_finite();
                 largest = largest.max(dd.abs());
             }
-            if !largest.is_finite() {
-                return Err(DdaError::NotFinite { time: self.time + dt });
+            if !finite {
+                return Err(DdaError::NotFinite {
+                    time: self.time + dt,
+                });
             }
             if largest <= self.settings.increment_tolerance * self.length_scale {
                 break;
@@ -356,7 +375,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// Fills the matrix with the tangent and `residual` with applied minus
     /// internal forces at the trial displacement.
-    fn assemble(&mut self, dt: f64, masses: &[BlockMatrix<N>], trial: &Trial<T>, residual: &mut [f64]) {
+    fn assemble(
+        &mut self,
+        dt: f64,
+        masses: &[BlockMatrix<N>],
+        trial: &Trial<T>,
+        residual: &mut [f64],
+    ) {
         let mut matrix = std::mem::take(&mut self.matrix);
         matrix.clear();
         residual.fill(0.0);
@@ -465,18 +490,25 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 ContactResponse::default()
             };
             let e = trial.entrances[i];
-            let ds = c.entrances[e].shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
+            let ds = c.entrances[e]
+                .shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
             let shear = self.carried_shear(c, e) + ds;
             let state = trial.states[i];
             let sliding_stiffness = if state == ContactState::Sliding {
-                self.laws[c.law].response(ContactState::Locked, &kin, history).shear_stiffness
+                self.laws[c.law]
+                    .response(ContactState::Locked, &kin, history)
+                    .shear_stiffness
             } else {
                 0.0
             };
             // Mutate after all reads of the old record.
             let c = &mut self.contacts[i];
             let law = &self.laws[c.law];
-            law.commit(state, &kin, c.record.history.as_mut().expect("history set at search"));
+            law.commit(
+                state,
+                &kin,
+                c.record.history.as_mut().expect("history set at search"),
+            );
             let record = &mut c.record;
             record.state = state;
             record.entrance = e;
@@ -534,7 +566,9 @@ fn block<const N: usize>(d: &[f64], i: usize) -> BlockVector<N> {
 }
 
 fn split<const N: usize>(d: &[f64]) -> Vec<BlockVector<N>> {
-    d.chunks_exact(N).map(BlockVector::<N>::from_column_slice).collect()
+    d.chunks_exact(N)
+        .map(BlockVector::<N>::from_column_slice)
+        .collect()
 }
 
 fn add_block<const N: usize>(r: &mut [f64], i: usize, v: &BlockVector<N>) {
@@ -544,19 +578,30 @@ fn add_block<const N: usize>(r: &mut [f64], i: usize, v: &BlockVector<N>) {
 }
 
 /// Shi's entrance choice: the entrance with the largest gap at the trial
-/// displacement (the line the vertex would cross first).
-fn widest_entrance<const N: usize, const T: usize>(c: &Contact<N, T>, d: &[f64]) -> usize {
+/// displacement (the line the vertex would cross first). The current one is
+/// kept unless another is wider by more than `tolerance`, so entrances with
+/// nearly equal gaps (corners meeting corners) do not flip between passes.
+fn widest_entrance<const N: usize, const T: usize>(
+    c: &Contact<N, T>,
+    d: &[f64],
+    current: usize,
+    tolerance: f64,
+) -> usize {
     let da = block::<N>(d, c.blocks[0]);
     let db = block::<N>(d, c.blocks[1]);
-    let mut best = 0;
-    let mut widest = f64::NEG_INFINITY;
-    for (i, e) in c.entrances.iter().enumerate() {
-        let g = e.gap_at(&da, &db);
-        // A small margin keeps the choice from flipping on round-off.
-        if g > widest + 1e-14 * (1.0 + g.abs()) {
-            widest = g;
-            best = i;
-        }
+    let gaps = c.entrances.iter().map(|e| e.gap_at(&da, &db));
+    let (best, widest) =
+        gaps.clone()
+            .enumerate()
+            .fold((current, f64::NEG_INFINITY), |acc, (i, g)| {
+                if g > acc.1 {
+                    (i, g)
+                } else {
+                    acc
+                }
+            });
+    match gaps.clone().nth(current) {
+        Some(g) if widest - g <= tolerance => current,
+        _ => best,
     }
-    best
 }
