@@ -67,7 +67,8 @@ pub struct Polygons {
     pub gravity: Vector2<f64>,
     pub loads: Vec<PointLoad>,
     pub fixed: Vec<FixedPoint>,
-    /// Stiffness of the fixed-point springs (force per length).
+    /// Stiffness of the fixed-point springs (force per length); scenes take
+    /// ten times the contact penalty unless they set it.
     pub fixed_penalty: f64,
     pub rotation_update: RotationUpdate,
     /// Model length scale; `None` takes half the diagonal of the model's bounds.

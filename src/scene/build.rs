@@ -51,9 +51,11 @@ impl Scene {
         system.gravity = Vector2::from(a.gravity);
         system.rotation_update = a.rotation_update;
         system.length_scale = a.length_scale;
-        if let Some(p) = a.fixed_penalty {
-            system.fixed_penalty = p;
-        }
+        // Fixed points are ten times stiffer than the contacts (A3.6), so a
+        // held base does not sag into its supports.
+        system.fixed_penalty = a
+            .fixed_penalty
+            .unwrap_or_else(|| 10.0 * a.penalty.unwrap_or(system.fixed_penalty));
         let (laws, table) = self.law_table();
         system.joint_laws = table;
         for load in &self.loads {
