@@ -127,6 +127,13 @@ pub fn run_with(scene_path: &Path, out_dir: &Path, options: RunOptions) -> anyho
         notes: driver.notes().to_vec(),
     };
     write_json(&out_dir.join("summary.json"), &summary)?;
+    if summary.unconverged_steps > 0 {
+        eprintln!(
+            "warning: {} steps were accepted at the smallest time step without open-close agreement; \
+             their contact states may be wrong (try a smaller dt, a softer penalty or a larger open_close_limit)",
+            summary.unconverged_steps
+        );
+    }
     result.map(|_| summary)
 }
 

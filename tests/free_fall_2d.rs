@@ -32,3 +32,16 @@ fn free_fall_matches_the_parabola_to_round_off() {
         "the run ends at 1 s"
     );
 }
+
+#[test]
+fn a_linear_step_takes_one_newton_iteration() {
+    let out = common::out_dir("free_fall_newton");
+    let summary = dda::run::run(&common::example("free_fall_2d.ron"), &out).unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+    assert_eq!(summary.steps, 100);
+    assert_eq!(
+        summary.open_close_iterations, 100,
+        "no contacts: one pass per step"
+    );
+    assert_eq!(summary.newton_iterations, 100, "linear: one solve per pass");
+}

@@ -1,8 +1,11 @@
 //! A Shi polygon block: its geometry, integrals, stress and accumulated motion.
 
-use nalgebra::{Matrix2, Point2, Rotation2, Vector3, Vector6};
+use dda_core::ElementKinematics;
+use nalgebra::{Matrix2, Matrix2x6, Point2, Rotation2, Vector2, Vector3, Vector6};
 
-use crate::kinematics::{mass_matrix, move_point, strain_tensor, Matrix6, RotationUpdate};
+use crate::kinematics::{
+    mass_matrix, move_point, strain_tensor, t_matrix, Matrix6, RotationUpdate,
+};
 use crate::polygon::{self, central_moments, CentralMoments, PolygonError};
 
 /// One polygonal block (convex or concave, counter-clockwise vertices).
@@ -113,5 +116,54 @@ impl Block {
             hi = hi.sup(v);
         }
         (lo, hi)
+    }
+}
+
+/// Shi's 6-DOF kinematics with the exact-rotation update.
+impl ElementKinematics<6, 2> for Block {
+    fn reference_point(&self) -> Vector2<f64> {
+        self.centroid().coords
+    }
+
+    fn t_matrix(&self, p: &Vector2<f64>) -> Matrix2x6<f64> {
+        t_matrix(&Point2::from(*p), &self.centroid())
+    }
+
+    fn mass_matrix(&self) -> Matrix6 {
+        Block::mass_matrix(self)
+    }
+
+    fn displaced(&self, p: &Vector2<f64>, d: &Vector6<f64>) -> Vector2<f64> {
+        self.move_point(&Point2::from(*p), d, RotationUpdate::Exact)
+            .coords
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn t_matrix_is_the_derivative_of_the_committed_motion() {
+        let v = [(0.0, 0.0), (2.0, -0.3), (2.6, 1.1), (1.1, 2.0), (-0.4, 1.2)]
+            .map(|(x, y)| Point2::new(x + 10.0, y - 3.0));
+        let block = Block::new(&v, 0, 2000.0).unwrap();
+        let p = Vector2::new(11.3, -1.7);
+        let t = ElementKinematics::t_matrix(&block, &p);
+        let h = 1e-6;
+        for k in 0..6 {
+            let mut d = Vector6::zeros();
+            d[k] = h;
+            let fd = (block.displaced(&p, &d) - block.displaced(&p, &(-d))) / (2.0 * h);
+            assert!(
+                (fd - t.column(k)).norm() < 1e-8,
+                "column {k}: {fd} vs {}",
+                t.column(k)
+            );
+        }
+        // Rigid-body DOF move the centroid as a translation only.
+        let c = block.reference_point();
+        let d = Vector6::new(0.1, 0.2, 0.7, 0.0, 0.0, 0.0);
+        assert!((block.displaced(&c, &d) - c - Vector2::new(0.1, 0.2)).norm() < 1e-14);
     }
 }

@@ -93,32 +93,6 @@ mod tests {
     }
 
     #[test]
-    fn t_matrix_is_the_derivative_of_the_exact_motion() {
-        // The exact motion of a point for DOF D is move_point(Exact); its
-        // derivative at D = 0 must be T, checked by central differences.
-        let poly = pentagon();
-        let c = central_moments(&poly).centroid;
-        let p = Point2::new(11.3, -1.7);
-        let t = t_matrix(&p, &c);
-        let h = 1e-6;
-        for k in 0..6 {
-            let mut dp = Vector6::zeros();
-            dp[k] = h;
-            let plus = move_point(&p, &c, &dp, RotationUpdate::Exact);
-            let minus = move_point(&p, &c, &(-dp), RotationUpdate::Exact);
-            let fd = (plus - minus) / (2.0 * h);
-            for r in 0..2 {
-                assert!(
-                    (fd[r] - t[(r, k)]).abs() < 1e-8,
-                    "column {k} row {r}: {} vs {}",
-                    fd[r],
-                    t[(r, k)]
-                );
-            }
-        }
-    }
-
-    #[test]
     fn mass_matrix_is_the_integral_of_t_transpose_t() {
         // Compare with ρ∫TᵀT dA by a fine quadrature over triangles of the fan.
         let poly = pentagon();
