@@ -3,9 +3,11 @@
 //!
 //! * Vertex-edge: a convex vertex near the interior of an edge of the other
 //!   block, whose wedge lies outside that edge (it can only enter through it).
-//! * Vertex-vertex: two vertices within range. Every edge at either vertex
-//!   that the other vertex could enter through is an entrance; the driver uses
-//!   the one with the largest gap at each pass (Shi's entrance-line choice).
+//! * Vertex-vertex: two convex vertices within range. Every edge at either
+//!   vertex that the other vertex could enter through is an entrance; the
+//!   driver uses the one with the largest gap at each pass (Shi's
+//!   entrance-line choice). A convex vertex near a reflex one makes an
+//!   ordinary vertex-edge contact with each edge at the reflex vertex.
 //!   Edge-to-edge contacts are the two vertex contacts at their ends.
 
 use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
@@ -39,6 +41,31 @@ pub fn pair_contacts(
         for (q, qv) in b.vertices().iter().enumerate() {
             if !near(pv, qv) {
                 continue;
+            }
+            // Near a reflex vertex the other block's material is the union of
+            // the two edges' half-planes, not their intersection: the convex
+            // vertex gets an ordinary contact with each edge (Shi's rule).
+            match (is_reflex(a, p), is_reflex(b, q)) {
+                (true, true) => continue,
+                (false, true) => {
+                    for e in [prev(q, b), q] {
+                        if let Some(en) = entrance(a, p, b, e, range, false) {
+                            let length = contact_length(a, p, b, e);
+                            out.push(contact(i, p, j, e as u32, law, length, vec![en]));
+                        }
+                    }
+                    continue;
+                }
+                (true, false) => {
+                    for e in [prev(p, a), p] {
+                        if let Some(en) = entrance(b, q, a, e, range, false) {
+                            let length = contact_length(b, q, a, e);
+                            out.push(contact(j, q, i, e as u32, law, length, vec![en]));
+                        }
+                    }
+                    continue;
+                }
+                (false, false) => {}
             }
             let mut entrances = Vec::new();
             let mut length = 0.0;
@@ -102,6 +129,10 @@ fn contact(
     }
 }
 
+fn is_reflex(b: &Block, k: usize) -> bool {
+    b.angles()[k] > std::f64::consts::PI + ANGLE_TOLERANCE
+}
+
 fn next(k: usize, b: &Block) -> usize {
     (k + 1) % b.vertices().len()
 }
@@ -122,7 +153,7 @@ fn entrance(
     swap: bool,
 ) -> Option<Entrance<6, 1>> {
     // Only convex (or flat) vertices enter; a reflex vertex is entered instead.
-    if v.angles()[p] > std::f64::consts::PI + ANGLE_TOLERANCE {
+    if is_reflex(v, p) {
         return None;
     }
     let p1 = v.vertices()[p];
