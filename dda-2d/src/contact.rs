@@ -105,6 +105,19 @@ pub fn pair_contacts(
     out
 }
 
+/// A readable, stable name for a contact: `block:vertex/block:feature`,
+/// the feature being an edge (`e3`) or, for vertex-vertex contacts, a vertex
+/// (`v3`). For example `1:v0/0:e2` is vertex 0 of block 1 against edge 2 of
+/// block 0.
+pub fn contact_label(key: &ContactKey) -> String {
+    let feature = if key.feature_b & VERTEX != 0 {
+        format!("v{}", key.feature_b & !VERTEX)
+    } else {
+        format!("e{}", key.feature_b)
+    };
+    format!("{}:v{}/{}:{feature}", key.block_a, key.feature_a, key.block_b)
+}
+
 fn contact(
     i: usize,
     feature_a: usize,
@@ -255,6 +268,7 @@ mod tests {
     fn vertex_edge_rows_are_the_derivatives_of_the_exact_gap_and_slip() {
         let blocks = pair();
         let contacts = pair_contacts(&blocks, 1, 0, 0.05, 0);
+        assert!(contacts.iter().any(|c| contact_label(&c.key) == "1:v0/0:e2"));
         let c = contacts
             .iter()
             .find(|c| c.key.feature_a == 0 && c.key.feature_b == 2)

@@ -2,7 +2,9 @@
 //! points and contact search.
 
 use dda_core::{BlockMatrix, BlockSystem, BlockVector, ConstitutiveLaw};
-use nalgebra::{Matrix3, Point2, Vector2, Vector3, Vector6};
+use std::collections::HashMap;
+
+use nalgebra::{Matrix2, Matrix3, Point2, Vector2, Vector3, Vector6};
 
 use crate::block::Block;
 use crate::broad_phase::near_pairs;
@@ -49,12 +51,37 @@ pub struct PointLoad {
     pub force: Force,
 }
 
-/// A point of a block held at `target` by a penalty spring.
+/// A point of a block held by a penalty spring at `target + velocity·t`
+/// (a fixed point when `velocity` is zero, a driven one otherwise). With an
+/// `axis` only the motion along that unit vector is held.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FixedPoint {
     pub block: usize,
     pub point: Point2<f64>,
     pub target: Point2<f64>,
+    pub velocity: Vector2<f64>,
+    pub axis: Option<Vector2<f64>>,
+}
+
+impl FixedPoint {
+    /// A point held where it is.
+    pub fn at(block: usize, point: Point2<f64>) -> Self {
+        Self {
+            block,
+            point,
+            target: point,
+            velocity: Vector2::zeros(),
+            axis: None,
+        }
+    }
+
+    /// The projector onto the held directions.
+    fn held(&self) -> Matrix2<f64> {
+        match self.axis {
+            Some(n) => n * n.transpose(),
+            None => Matrix2::identity(),
+        }
+    }
 }
 
 /// Polygonal blocks in the plane (per unit thickness).
@@ -64,6 +91,9 @@ pub struct Polygons {
     pub materials: Vec<Box<dyn ConstitutiveLaw<3>>>,
     /// Contact law index for each pair of materials (symmetric).
     pub joint_laws: Vec<Vec<usize>>,
+    /// Contact law index for particular pairs of blocks (a joint set),
+    /// keyed (lower index, higher index); overrides `joint_laws`.
+    pub pair_laws: HashMap<(usize, usize), usize>,
     pub gravity: Vector2<f64>,
     pub loads: Vec<PointLoad>,
     pub fixed: Vec<FixedPoint>,
@@ -84,6 +114,7 @@ impl Polygons {
             blocks,
             materials,
             joint_laws: vec![vec![0; n]; n],
+            pair_laws: HashMap::new(),
             gravity: Vector2::zeros(),
             loads: Vec::new(),
             fixed: Vec::new(),
@@ -96,11 +127,7 @@ impl Polygons {
     /// Holds every vertex of a block in place.
     pub fn fix_block(&mut self, block: usize) {
         for v in self.blocks[block].vertices().to_vec() {
-            self.fixed.push(FixedPoint {
-                block,
-                point: v,
-                target: v,
-            });
+            self.fixed.push(FixedPoint::at(block, v));
         }
     }
 
@@ -163,9 +190,10 @@ impl BlockSystem<6, 1> for Polygons {
         }
         for fp in self.fixed.iter().filter(|f| f.block == i) {
             let t = t_matrix(&fp.point, &c);
-            let drift = fp.target - fp.point;
-            *k += t.transpose() * t * self.fixed_penalty;
-            *r += t.transpose() * (drift - t * d) * self.fixed_penalty;
+            let held = fp.held() * self.fixed_penalty;
+            let drift = fp.target + fp.velocity * time - fp.point;
+            *k += t.transpose() * held * t;
+            *r += t.transpose() * held * (drift - t * d);
         }
     }
 
@@ -173,7 +201,9 @@ impl BlockSystem<6, 1> for Polygons {
         let outlines: Vec<&[Point2<f64>]> = self.blocks.iter().map(|b| b.vertices()).collect();
         let mut contacts = Vec::new();
         for (i, j) in near_pairs(&outlines, range) {
-            let law = self.joint_laws[self.blocks[i].material][self.blocks[j].material];
+            let law = self.pair_laws.get(&(i, j)).copied().unwrap_or_else(|| {
+                self.joint_laws[self.blocks[i].material][self.blocks[j].material]
+            });
             contacts.extend(pair_contacts(&self.blocks, i, j, range, law));
         }
         contacts
@@ -230,9 +260,13 @@ mod tests {
         let mut s = Polygons::new(vec![block], vec![Box::new(law)]);
         s.gravity = Vector2::new(0.0, -9.81);
         s.fixed.push(FixedPoint {
-            block: 0,
-            point: v[1],
             target: v[1] + Vector2::new(1e-4, 0.0),
+            velocity: Vector2::new(0.1, 0.0),
+            ..FixedPoint::at(0, v[1])
+        });
+        s.fixed.push(FixedPoint {
+            axis: Some(Vector2::new(0.6, 0.8)),
+            ..FixedPoint::at(0, v[3])
         });
         s.loads.push(PointLoad {
             block: 0,
@@ -241,7 +275,7 @@ mod tests {
         });
         let terms = |d: &BlockVector<6>| {
             let (mut k, mut r) = (BlockMatrix::<6>::zeros(), BlockVector::<6>::zeros());
-            s.block_terms(0, 0.0, d, &mut k, &mut r);
+            s.block_terms(0, 0.3, d, &mut k, &mut r);
             (k, r)
         };
         let d0 = BlockVector::<6>::new(1e-4, -2e-4, 3e-4, 1e-5, -2e-5, 3e-5);

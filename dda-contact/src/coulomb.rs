@@ -15,15 +15,15 @@
 
 use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics};
 
-/// Shi's ratio of normal to shear penalty.
-pub const SHEAR_RATIO: f64 = 2.5;
+use crate::springs::{mohr_coulomb, Springs};
 
 /// The penalty Coulomb law.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Coulomb {
-    /// Friction angle φ in degrees (rock joints 25–40°).
+    /// Friction angle φ in degrees (rock joints 25–40°, dry masonry 30–40°).
     pub friction_angle: f64,
-    /// Cohesion c in stress units (Pa); 0 for dry joints.
+    /// Cohesion c in stress units (Pa); 0 for dry joints, 0.1–1 MPa for
+    /// mortar or cemented rock joints.
     pub cohesion: f64,
     /// Tensile strength T0 in stress units (Pa); 0 for dry joints.
     pub tensile_strength: f64,
@@ -46,20 +46,19 @@ impl Coulomb {
         }
     }
 
-    fn stiffnesses(&self, kin: &LocalKinematics) -> (f64, f64) {
-        let kn = self.normal_stiffness.unwrap_or(kin.penalty);
-        let ks = self.shear_stiffness.unwrap_or(kn / SHEAR_RATIO);
-        (kn, ks)
+    fn springs(&self, kin: &LocalKinematics) -> Springs {
+        Springs::new(self.normal_stiffness, self.shear_stiffness, kin)
     }
 
-    /// Shear strength for a normal force, with or without the bond.
-    fn strength(&self, normal_force: f64, kin: &LocalKinematics, bonded: bool) -> f64 {
-        let cohesion = if bonded {
-            self.cohesion * kin.length
+    /// Shear strength and tensile capacity (forces) at the trial gap.
+    fn strengths(&self, springs: &Springs, kin: &LocalKinematics, history: &CoulombHistory) -> (f64, f64) {
+        let (c, t0) = if history.bonded {
+            (self.cohesion, self.tensile_strength)
         } else {
-            0.0
+            (0.0, 0.0)
         };
-        self.friction_angle.to_radians().tan() * normal_force.max(0.0) + cohesion
+        let normal = springs.normal_force(kin);
+        (mohr_coulomb(self.friction_angle, c, normal, kin), t0 * kin.length)
     }
 }
 
@@ -78,72 +77,16 @@ impl ContactLaw for Coulomb {
         }
     }
 
-    fn response(
-        &self,
-        state: ContactState,
-        kin: &LocalKinematics,
-        history: &CoulombHistory,
-    ) -> ContactResponse {
-        let (kn, ks) = self.stiffnesses(kin);
-        let normal_force = -kn * kin.gap;
-        match state {
-            ContactState::Open => ContactResponse::default(),
-            ContactState::Locked => ContactResponse {
-                normal_force,
-                normal_stiffness: kn,
-                shear_force: ks * kin.shear,
-                shear_stiffness: ks,
-            },
-            ContactState::Sliding => ContactResponse {
-                normal_force,
-                normal_stiffness: kn,
-                shear_force: self.strength(normal_force, kin, history.bonded),
-                shear_stiffness: 0.0,
-            },
-        }
+    fn response(&self, state: ContactState, kin: &LocalKinematics, history: &CoulombHistory) -> ContactResponse {
+        let springs = self.springs(kin);
+        let (strength, _) = self.strengths(&springs, kin, history);
+        springs.response(state, kin, strength)
     }
 
-    fn next_state(
-        &self,
-        state: ContactState,
-        kin: &LocalKinematics,
-        history: &CoulombHistory,
-    ) -> ContactState {
-        let (kn, ks) = self.stiffnesses(kin);
-        let normal_force = -kn * kin.gap;
-        let strength = self.strength(normal_force, kin, history.bonded);
-        let locked_or_sliding = if ks * kin.shear <= strength {
-            ContactState::Locked
-        } else {
-            ContactState::Sliding
-        };
-        match state {
-            ContactState::Open => {
-                if kin.gap < -kin.tolerance {
-                    locked_or_sliding
-                } else {
-                    ContactState::Open
-                }
-            }
-            _ => {
-                let tension = if history.bonded {
-                    self.tensile_strength * kin.length
-                } else {
-                    0.0
-                };
-                if kin.gap > tension / kn + kin.tolerance {
-                    ContactState::Open
-                } else if state == ContactState::Sliding {
-                    if kin.slip < -kin.tolerance {
-                        ContactState::Locked
-                    } else {
-                        ContactState::Sliding
-                    }
-                } else {
-                    locked_or_sliding
-                }
-            }
-        }
+    fn next_state(&self, state: ContactState, kin: &LocalKinematics, history: &CoulombHistory) -> ContactState {
+        let springs = self.springs(kin);
+        let (strength, tension) = self.strengths(&springs, kin, history);
+        springs.next_state(state, kin, strength, tension)
     }
 
     fn commit(&self, state: ContactState, _kin: &LocalKinematics, history: &mut CoulombHistory) {
@@ -156,21 +99,7 @@ impl ContactLaw for Coulomb {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn kin(gap: f64, shear: f64, slip: f64) -> LocalKinematics {
-        LocalKinematics {
-            gap,
-            gap_start: 0.0,
-            shear,
-            slip,
-            slip_path: 0.0,
-            slip_rate: 0.0,
-            length: 0.5,
-            penalty: 1e9,
-            tolerance: 1e-9,
-            dt: 1e-3,
-        }
-    }
+    use crate::springs::{kinematics as kin, SHEAR_RATIO};
 
     #[test]
     fn locks_below_and_slides_above_the_coulomb_limit() {

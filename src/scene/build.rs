@@ -83,11 +83,7 @@ impl Scene {
         }
         for fp in &self.fixed_points {
             let p = Point2::from(fp.point);
-            system.fixed.push(FixedPoint {
-                block: fp.block,
-                point: p,
-                target: p,
-            });
+            system.fixed.push(FixedPoint::at(fp.block, p));
         }
         for (k, spec) in self.blocks.iter().enumerate() {
             if spec.fixed() {

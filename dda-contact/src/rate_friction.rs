@@ -1,0 +1,78 @@
+//! Velocity-dependent friction (after Bakun-Mazor et al. 2012): the friction
+//! coefficient falls from its static to its dynamic value as the slip rate
+//! grows,
+//!
+//! `μ(v) = μ_d + (μ_s − μ_d)·exp(−v / v_c)`,
+//!
+//! with v the slip rate of the last accepted step, so the open-close passes
+//! of a step all see the same coefficient and do not chatter.
+
+use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics};
+
+use crate::springs::Springs;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RateFriction {
+    /// Friction angle at rest, degrees.
+    pub static_friction_angle: f64,
+    /// Friction angle at fast slip, degrees.
+    pub dynamic_friction_angle: f64,
+    /// Slip rate v_c (m/s) over which μ falls by 1/e of its drop
+    /// (0.01–1 m/s for rock joints).
+    pub characteristic_rate: f64,
+    pub normal_stiffness: Option<f64>,
+    pub shear_stiffness: Option<f64>,
+}
+
+impl RateFriction {
+    /// The friction coefficient at slip rate `rate`.
+    pub fn coefficient(&self, rate: f64) -> f64 {
+        let (s, d) = (
+            self.static_friction_angle.to_radians().tan(),
+            self.dynamic_friction_angle.to_radians().tan(),
+        );
+        d + (s - d) * (-rate.abs() / self.characteristic_rate).exp()
+    }
+
+    fn strength(&self, springs: &Springs, kin: &LocalKinematics) -> f64 {
+        self.coefficient(kin.slip_rate) * springs.normal_force(kin).max(0.0)
+    }
+}
+
+impl ContactLaw for RateFriction {
+    type History = ();
+
+    fn initial_history(&self, _at_start: bool) {}
+
+    fn response(&self, state: ContactState, kin: &LocalKinematics, _: &()) -> ContactResponse {
+        let springs = Springs::new(self.normal_stiffness, self.shear_stiffness, kin);
+        springs.response(state, kin, self.strength(&springs, kin))
+    }
+
+    fn next_state(&self, state: ContactState, kin: &LocalKinematics, _: &()) -> ContactState {
+        let springs = Springs::new(self.normal_stiffness, self.shear_stiffness, kin);
+        springs.next_state(state, kin, self.strength(&springs, kin), 0.0)
+    }
+
+    fn commit(&self, _: ContactState, _: &LocalKinematics, _: &mut ()) {}
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn coefficient_falls_from_static_to_dynamic() {
+        let law = RateFriction {
+            static_friction_angle: 30.0,
+            dynamic_friction_angle: 15.0,
+            characteristic_rate: 0.1,
+            normal_stiffness: None,
+            shear_stiffness: None,
+        };
+        let (s, d) = (30f64.to_radians().tan(), 15f64.to_radians().tan());
+        assert!((law.coefficient(0.0) - s).abs() < 1e-15);
+        assert!((law.coefficient(0.1) - (d + (s - d) / std::f64::consts::E)).abs() < 1e-15);
+        assert!((law.coefficient(100.0) - d).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,96 @@
+//! The penalty springs every law here shares: a normal spring, a shear
+//! spring while locked and a friction force while sliding. A law supplies
+//! only its shear strength and tensile capacity; these functions turn them
+//! into forces and open-close decisions.
+
+use dda_core::{ContactResponse, ContactState, LocalKinematics};
+
+/// Shi's ratio of normal to shear penalty.
+pub const SHEAR_RATIO: f64 = 2.5;
+
+/// Normal and shear spring stiffnesses of one contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Springs {
+    pub normal: f64,
+    pub shear: f64,
+}
+
+impl Springs {
+    /// The law's own stiffnesses where set; otherwise the driver's penalty
+    /// and a shear spring 2.5 times softer (Shi's default).
+    pub fn new(normal: Option<f64>, shear: Option<f64>, kin: &LocalKinematics) -> Self {
+        let normal = normal.unwrap_or(kin.penalty);
+        Self {
+            normal,
+            shear: shear.unwrap_or(normal / SHEAR_RATIO),
+        }
+    }
+
+    /// Normal force at the trial gap (compression positive).
+    pub fn normal_force(&self, kin: &LocalKinematics) -> f64 {
+        -self.normal * kin.gap
+    }
+
+    /// Forces and stiffnesses in `state`; `strength` is the friction force
+    /// a sliding contact carries.
+    pub fn response(&self, state: ContactState, kin: &LocalKinematics, strength: f64) -> ContactResponse {
+        let normal_force = self.normal_force(kin);
+        match state {
+            ContactState::Open => ContactResponse::default(),
+            ContactState::Locked => ContactResponse {
+                normal_force,
+                normal_stiffness: self.normal,
+                shear_force: self.shear * kin.shear,
+                shear_stiffness: self.shear,
+            },
+            ContactState::Sliding => ContactResponse {
+                normal_force,
+                normal_stiffness: self.normal,
+                shear_force: strength,
+                shear_stiffness: 0.0,
+            },
+        }
+    }
+
+    /// Shi's open-close rules: an open contact closes when it penetrates; a
+    /// closed one opens when its tension passes `tension` (a force); a locked
+    /// one slides when its spring force passes `strength`; a sliding one
+    /// locks when the slip reverses.
+    pub fn next_state(&self, state: ContactState, kin: &LocalKinematics, strength: f64, tension: f64) -> ContactState {
+        let locked_or_sliding = if self.shear * kin.shear <= strength {
+            ContactState::Locked
+        } else {
+            ContactState::Sliding
+        };
+        match state {
+            ContactState::Open if kin.gap < -kin.tolerance => locked_or_sliding,
+            ContactState::Open => ContactState::Open,
+            _ if kin.gap > tension / self.normal + kin.tolerance => ContactState::Open,
+            ContactState::Sliding if kin.slip < -kin.tolerance => ContactState::Locked,
+            ContactState::Sliding => ContactState::Sliding,
+            ContactState::Locked => locked_or_sliding,
+        }
+    }
+}
+
+/// Mohr-Coulomb shear strength: tan φ times the compressive normal force
+/// plus cohesion times the contact's length (or area).
+pub fn mohr_coulomb(friction_angle: f64, cohesion: f64, normal_force: f64, kin: &LocalKinematics) -> f64 {
+    friction_angle.to_radians().tan() * normal_force.max(0.0) + cohesion * kin.length
+}
+
+#[cfg(test)]
+pub(crate) fn kinematics(gap: f64, shear: f64, slip: f64) -> LocalKinematics {
+    LocalKinematics {
+        gap,
+        gap_start: 0.0,
+        shear,
+        slip,
+        slip_path: 0.0,
+        slip_rate: 0.0,
+        length: 0.5,
+        penalty: 1e9,
+        tolerance: 1e-9,
+        dt: 1e-3,
+    }
+}

@@ -1,0 +1,104 @@
+//! The cohesive bond in its threshold form (the chapter's "seemingly simple"
+//! model): while bonded, a joint carries tension and shear in proportion to
+//! its opening and shear displacement, with no strength limit, until the
+//! opening passes `max_opening` or the shear displacement passes `max_shear`;
+//! then the bond is deleted for good and the joint is frictional.
+//!
+//! Peak shear force of a bonded contact: `k_s · max_shear`; peak tension:
+//! `k_n · max_opening`. After the break: Coulomb friction `tan φ · σ`.
+
+use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics};
+
+use crate::springs::{mohr_coulomb, Springs};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct ThresholdBond {
+    /// Friction angle φ after the bond breaks, degrees.
+    pub friction_angle: f64,
+    /// Opening (m) at which the bond breaks in tension (typically 1e-5–1e-3 m).
+    pub max_opening: f64,
+    /// Shear displacement (m) at which the bond breaks in shear.
+    pub max_shear: f64,
+    /// Normal penalty (force per length); `None`: the driver's.
+    pub normal_stiffness: Option<f64>,
+    /// Shear penalty; `None`: normal / 2.5.
+    pub shear_stiffness: Option<f64>,
+}
+
+/// Whether the bond still holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BondHistory {
+    pub bonded: bool,
+}
+
+impl ThresholdBond {
+    fn springs(&self, kin: &LocalKinematics) -> Springs {
+        Springs::new(self.normal_stiffness, self.shear_stiffness, kin)
+    }
+}
+
+impl ContactLaw for ThresholdBond {
+    type History = BondHistory;
+
+    fn initial_history(&self, at_start: bool) -> BondHistory {
+        BondHistory { bonded: at_start }
+    }
+
+    fn response(&self, state: ContactState, kin: &LocalKinematics, _history: &BondHistory) -> ContactResponse {
+        // A sliding contact has lost its bond (it breaks on the first slide).
+        let springs = self.springs(kin);
+        let strength = mohr_coulomb(self.friction_angle, 0.0, springs.normal_force(kin), kin);
+        springs.response(state, kin, strength)
+    }
+
+    fn next_state(&self, state: ContactState, kin: &LocalKinematics, history: &BondHistory) -> ContactState {
+        let springs = self.springs(kin);
+        if history.bonded && state == ContactState::Locked {
+            return if kin.gap > self.max_opening + kin.tolerance {
+                ContactState::Open
+            } else if kin.shear > self.max_shear {
+                ContactState::Sliding
+            } else {
+                ContactState::Locked
+            };
+        }
+        let strength = mohr_coulomb(self.friction_angle, 0.0, springs.normal_force(kin), kin);
+        springs.next_state(state, kin, strength, 0.0)
+    }
+
+    fn commit(&self, state: ContactState, _kin: &LocalKinematics, history: &mut BondHistory) {
+        if state != ContactState::Locked {
+            history.bonded = false;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::springs::kinematics;
+
+    #[test]
+    fn bond_holds_tension_and_shear_up_to_its_thresholds_then_breaks() {
+        let law = ThresholdBond {
+            friction_angle: 30.0,
+            max_opening: 1e-4,
+            max_shear: 2e-4,
+            normal_stiffness: None,
+            shear_stiffness: None,
+        };
+        let mut h = law.initial_history(true);
+        let locked = ContactState::Locked;
+        assert_eq!(law.next_state(locked, &kinematics(0.9e-4, 0.0, 0.0), &h), locked);
+        assert_eq!(law.next_state(locked, &kinematics(1.1e-4, 0.0, 0.0), &h), ContactState::Open);
+        // Shear far beyond friction is held while bonded, released past max_shear.
+        assert_eq!(law.next_state(locked, &kinematics(-1e-6, 1.9e-4, 0.0), &h), locked);
+        assert_eq!(law.next_state(locked, &kinematics(-1e-6, 2.1e-4, 0.0), &h), ContactState::Sliding);
+        law.commit(ContactState::Sliding, &kinematics(0.0, 0.0, 0.0), &mut h);
+        // Broken: frictional, no tension.
+        assert_eq!(law.next_state(locked, &kinematics(1e-6, 0.0, 0.0), &h), ContactState::Open);
+        // Friction 577 N against a spring force of 800 N.
+        assert_eq!(law.next_state(locked, &kinematics(-1e-6, 2e-6, 0.0), &h), ContactState::Sliding);
+        assert!(!law.initial_history(false).bonded);
+    }
+}

@@ -1,0 +1,80 @@
+//! How a strength falls from its peak to its residual value as slip
+//! accumulates.
+
+/// The fraction of the peak-minus-residual strength left after a slip δ.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Weakening {
+    /// All of it until δ reaches `at` (m), none after: a sharp drop.
+    Step { at: f64 },
+    /// All of it until `start`, falling linearly to none at `end` (m).
+    Linear { start: f64, end: f64 },
+    /// exp(−δ / `length`) (m): ntdda's form, with `length` = 1/k.
+    Exponential { length: f64 },
+}
+
+impl Weakening {
+    /// 1 at the peak, 0 at the residual strength.
+    pub fn remaining(&self, slip: f64) -> f64 {
+        match *self {
+            Weakening::Step { at } => {
+                if slip < at {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            Weakening::Linear { start, end } => {
+                if slip <= start {
+                    1.0
+                } else if slip >= end {
+                    0.0
+                } else {
+                    (end - slip) / (end - start)
+                }
+            }
+            Weakening::Exponential { length } => (-slip / length).exp(),
+        }
+    }
+
+    /// Peak to residual at slip δ.
+    pub fn between(&self, peak: f64, residual: f64, slip: f64) -> f64 {
+        residual + (peak - residual) * self.remaining(slip)
+    }
+
+    /// Whether the parameters make sense, with the reason if not.
+    pub fn check(&self) -> Result<(), String> {
+        match *self {
+            Weakening::Step { at } if !(at >= 0.0 && at.is_finite()) => {
+                Err(format!("the step slip `at` must be zero or positive, got {at}"))
+            }
+            Weakening::Linear { start, end } if !(start >= 0.0 && end > start && end.is_finite()) => Err(format!(
+                "a linear weakening needs 0 <= start < end, got start {start} and end {end}"
+            )),
+            Weakening::Exponential { length } if !(length > 0.0 && length.is_finite()) => {
+                Err(format!("the exponential weakening length must be positive, got {length}"))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn forms_fall_from_peak_to_residual() {
+        let step = Weakening::Step { at: 0.05 };
+        assert_eq!(step.between(25.0, 15.0, 0.0499), 25.0);
+        assert_eq!(step.between(25.0, 15.0, 0.05), 15.0);
+        let linear = Weakening::Linear { start: 0.01, end: 0.03 };
+        assert_eq!(linear.between(4.0, 2.0, 0.0), 4.0);
+        assert!((linear.between(4.0, 2.0, 0.02) - 3.0).abs() < 1e-12);
+        assert_eq!(linear.between(4.0, 2.0, 1.0), 2.0);
+        let exp = Weakening::Exponential { length: 100.0 };
+        assert!((exp.between(12.0, 6.0, 100.0) - (6.0 + 6.0 / std::f64::consts::E)).abs() < 1e-12);
+        assert!(Weakening::Linear { start: 0.1, end: 0.1 }.check().is_err());
+        assert!(Weakening::Exponential { length: 0.0 }.check().is_err());
+        assert!(step.check().is_ok());
+    }
+}
