@@ -204,9 +204,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut fresh = self.system.find_contacts(range);
         transfer_records(&mut self.contacts, &mut fresh);
         let at_start = self.stats.steps == 0;
+        let touching = self.settings.contact_tolerance * self.length_scale;
         for c in &mut fresh {
             if c.record.history.is_none() {
                 c.record.history = Some(self.laws[c.law].initial_history(at_start));
+                // Joints closed in the initial geometry start locked, so
+                // their bonds hold from the first step.
+                if at_start && c.entrances.iter().all(|e| e.gap <= touching) {
+                    c.record.state = ContactState::Locked;
+                }
             }
         }
         self.contacts = fresh;
