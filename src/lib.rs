@@ -6,11 +6,27 @@
 //! model.driver.advance_to(model.duration)?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! Scenes name contact laws of other crates as `Custom(name: ..., params:
+//! {...})`; build them with a registry that knows the name (see
+//! `examples/custom_law.rs`):
+//!
+//! ```no_run
+//! use dda_contact::{Coulomb, LawRegistry, Params};
+//!
+//! let mut registry = LawRegistry::with_builtin();
+//! registry.register("sticky", |p: &mut Params| {
+//!     Ok(Coulomb { cohesion: 1e5, ..Coulomb::frictional(p.take("friction_angle")?) })
+//! });
+//! let scene = dda::Scene::load("my_scene.ron")?;
+//! let model = scene.build_with(&registry)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub mod output;
 pub mod run;
 pub mod scene;
 
-pub use output::{read_history, HistoryRow};
-pub use run::{run, Summary};
+pub use output::{read_contacts, read_history, ContactRow, HistoryRow};
+pub use run::{run, run_with_registry, Summary};
 pub use scene::{Model, Scene, SceneError};

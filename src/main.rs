@@ -20,7 +20,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a scene, writing DIR/history.csv as it goes and DIR/summary.json at the end
+    /// Run a scene, writing DIR/history.csv (and DIR/contacts.csv if asked) as it goes and DIR/summary.json at the end
     Run {
         /// The scene file (RON)
         scene: PathBuf,
@@ -54,17 +54,18 @@ fn execute(command: Command) -> anyhow::Result<()> {
                 progress: std::io::stderr().is_terminal(),
                 notes: true,
             };
-            run_with(&scene, &out, options)?;
-            println!(
-                "wrote {} and {}",
-                out.join("history.csv").display(),
-                out.join("summary.json").display()
-            );
+            let summary = run_with(&scene, &out, options)?;
+            let files: Vec<String> = summary
+                .outputs
+                .iter()
+                .map(|f| out.join(f).display().to_string())
+                .collect();
+            println!("wrote {}", list(&files));
         }
         Command::Check { scene: path } => {
             let scene = Scene::load(&path)?;
             let model = scene.build()?;
-            let (laws, _) = scene.law_table();
+            let laws = scene.law_table().laws;
             let dt = model.driver.dt();
             let auto = if scene.analysis.dt.is_none() {
                 " (automatic)"
@@ -85,6 +86,15 @@ fn execute(command: Command) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// "a", "a and b", "a, b and c".
+fn list(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+    }
 }
 
 fn count(n: usize, what: &str) -> String {

@@ -1,11 +1,14 @@
-//! Output files: `history.csv` (written as the run goes) and `summary.json`.
+//! Output files: `history.csv` and, when the scene asks, `contacts.csv`
+//! (both written as the run goes), and `summary.json`.
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::path::Path;
 
 use anyhow::{bail, Context};
+use dda_2d::contact::contact_label;
 use dda_2d::Driver2d;
+use dda_core::ContactState;
 use serde::Serialize;
 
 /// The header line of `history.csv`.
@@ -72,6 +75,71 @@ impl HistoryWriter {
     }
 }
 
+/// The header line of `contacts.csv`.
+pub const CONTACTS_HEADER: &str = "step,time,contact,block_a,block_b,state,fn,fs,slip";
+
+/// One row of `contacts.csv`: a contact at an output time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactRow {
+    pub step: usize,
+    pub time: f64,
+    /// The contact's name, like `1:v0/0:e2` (vertex 0 of block 1 against
+    /// edge 2 of block 0; see [`contact_label`]).
+    pub contact: String,
+    /// The block whose vertex touches.
+    pub block_a: usize,
+    /// The block whose edge (or vertex) is touched.
+    pub block_b: usize,
+    pub state: ContactState,
+    /// Normal force of the last step, compression positive (force per unit
+    /// thickness); 0 when open.
+    pub normal_force: f64,
+    /// Shear force magnitude of the last step.
+    pub shear_force: f64,
+    /// Accumulated slip path.
+    pub slip: f64,
+}
+
+/// Writes `contacts.csv` a time at a time: one row per contact the last
+/// step considered, open ones included (none at time 0, before the first
+/// contact search).
+pub struct ContactWriter {
+    out: BufWriter<File>,
+}
+
+impl ContactWriter {
+    pub fn create(path: &Path) -> anyhow::Result<Self> {
+        let file =
+            File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+        let mut out = BufWriter::new(file);
+        writeln!(out, "{CONTACTS_HEADER}")?;
+        out.flush()?;
+        Ok(Self { out })
+    }
+
+    /// One row per contact at the driver's current time.
+    pub fn write(&mut self, driver: &Driver2d) -> anyhow::Result<()> {
+        let step = driver.statistics().steps;
+        let time = num(driver.time());
+        for c in driver.contacts() {
+            let r = &c.record;
+            writeln!(
+                self.out,
+                "{step},{time},{},{},{},{},{},{},{}",
+                contact_label(&c.key),
+                c.blocks[0],
+                c.blocks[1],
+                r.state.name(),
+                num(r.normal_force),
+                num(r.shear_force),
+                num(r.slip_path)
+            )?;
+        }
+        self.out.flush()?;
+        Ok(())
+    }
+}
+
 /// Shortest text that reads back to the same number; exponent form for very
 /// large or small magnitudes so rows stay short.
 fn num(v: f64) -> String {
@@ -131,6 +199,65 @@ fn parse_row(line: &str) -> anyhow::Result<HistoryRow> {
         sxx: f(9)?,
         syy: f(10)?,
         sxy: f(11)?,
+    })
+}
+
+/// Reads a `contacts.csv` written by [`ContactWriter`].
+pub fn read_contacts(path: impl AsRef<Path>) -> anyhow::Result<Vec<ContactRow>> {
+    let path = path.as_ref();
+    let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
+    let mut lines = BufReader::new(file).lines();
+    let header = lines.next().transpose()?.unwrap_or_default();
+    if header.trim_end() != CONTACTS_HEADER {
+        bail!(
+            "{}: the first line is not the contacts header {CONTACTS_HEADER:?}",
+            path.display()
+        );
+    }
+    let mut rows = Vec::new();
+    for (n, line) in lines.enumerate() {
+        let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let row = parse_contact(&line)
+            .with_context(|| format!("{}:{}: bad contacts row", path.display(), n + 2))?;
+        rows.push(row);
+    }
+    Ok(rows)
+}
+
+fn parse_contact(line: &str) -> anyhow::Result<ContactRow> {
+    let fields: Vec<&str> = line.trim_end().split(',').collect();
+    if fields.len() != 9 {
+        bail!("expected 9 fields, found {}", fields.len());
+    }
+    let f = |i: usize| -> anyhow::Result<f64> {
+        fields[i]
+            .parse()
+            .with_context(|| format!("field {i} is not a number: {:?}", fields[i]))
+    };
+    let int = |i: usize| -> anyhow::Result<usize> {
+        fields[i]
+            .parse()
+            .with_context(|| format!("field {i} is not an integer: {:?}", fields[i]))
+    };
+    let state = match fields[5] {
+        "open" => ContactState::Open,
+        "locked" => ContactState::Locked,
+        "sliding" => ContactState::Sliding,
+        other => bail!("unknown contact state {other:?}"),
+    };
+    Ok(ContactRow {
+        step: int(0)?,
+        time: f(1)?,
+        contact: fields[2].to_string(),
+        block_a: int(3)?,
+        block_b: int(4)?,
+        state,
+        normal_force: f(6)?,
+        shear_force: f(7)?,
+        slip: f(8)?,
     })
 }
 

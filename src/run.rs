@@ -6,10 +6,11 @@ use std::time::Instant;
 
 use anyhow::{bail, Context};
 use dda_2d::Driver2d;
+use dda_contact::LawRegistry;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
-use crate::output::{write_json, HistoryWriter};
+use crate::output::{write_json, ContactWriter, HistoryWriter};
 use crate::scene::{Model, Scene};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -48,6 +49,9 @@ pub struct Summary {
     pub dt: f64,
     /// Why automatic values were chosen.
     pub notes: Vec<String>,
+    /// The files written in the output directory, this one included.
+    #[serde(default)]
+    pub outputs: Vec<String>,
 }
 
 /// What a run prints on stderr besides errors.
@@ -59,8 +63,8 @@ pub struct RunOptions {
     pub notes: bool,
 }
 
-/// Runs a scene file, writing `history.csv` and `summary.json` into
-/// `out_dir`; progress and notes appear only when stderr is a terminal.
+/// Runs a scene file, writing `history.csv` (and `contacts.csv` when the
+/// scene's output asks for it) and `summary.json` into `out_dir`; progress and notes appear only when stderr is a terminal.
 pub fn run(scene_path: &Path, out_dir: &Path) -> anyhow::Result<Summary> {
     let terminal = std::io::stderr().is_terminal();
     run_with(
@@ -74,14 +78,43 @@ pub fn run(scene_path: &Path, out_dir: &Path) -> anyhow::Result<Summary> {
 }
 
 /// [`run`] with explicit options. A run that fails midway still writes
-/// `summary.json` (status "failed") and keeps the history rows it wrote.
+/// `summary.json` (status "failed") and keeps the rows it wrote.
 pub fn run_with(scene_path: &Path, out_dir: &Path, options: RunOptions) -> anyhow::Result<Summary> {
+    run_with_registry(scene_path, out_dir, options, &LawRegistry::with_builtin())
+}
+
+/// [`run_with`] with `Custom` joint laws built through `registry`.
+pub fn run_with_registry(
+    scene_path: &Path,
+    out_dir: &Path,
+    options: RunOptions,
+    registry: &LawRegistry,
+) -> anyhow::Result<Summary> {
     let scene = Scene::load(scene_path)?;
-    let mut model = scene.build()?;
+    run_scene(&scene, out_dir, options, registry)
+}
+
+/// Runs a loaded scene (named by [`Scene::origin`] in the summary).
+pub fn run_scene(
+    scene: &Scene,
+    out_dir: &Path,
+    options: RunOptions,
+    registry: &LawRegistry,
+) -> anyhow::Result<Summary> {
+    let mut model = scene.build_with(registry)?;
     std::fs::create_dir_all(out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
     let history_path = out_dir.join("history.csv");
-    let mut history = HistoryWriter::create(&history_path)?;
+    let mut writers = Writers {
+        history: HistoryWriter::create(&history_path)?,
+        contacts: None,
+    };
+    let mut outputs = vec!["history.csv".to_string()];
+    if model.write_contacts {
+        writers.contacts = Some(ContactWriter::create(&out_dir.join("contacts.csv"))?);
+        outputs.push("contacts.csv".to_string());
+    }
+    outputs.push("summary.json".to_string());
     if options.notes {
         for note in model.driver.notes() {
             eprintln!("note: {note}");
@@ -89,7 +122,7 @@ pub fn run_with(scene_path: &Path, out_dir: &Path, options: RunOptions) -> anyho
     }
     let bar = progress_bar(options.progress);
     let started = Instant::now();
-    let result = advance(&mut model, &mut history, &bar);
+    let result = advance(&mut model, &mut writers, &bar);
     bar.finish_and_clear();
     let result = result.with_context(|| {
         format!(
@@ -103,7 +136,7 @@ pub fn run_with(scene_path: &Path, out_dir: &Path, options: RunOptions) -> anyho
     let driver = &model.driver;
     let stats = driver.statistics();
     let summary = Summary {
-        scene: scene_path.display().to_string(),
+        scene: scene.origin().to_string(),
         status: if result.is_ok() {
             Status::Finished
         } else {
@@ -125,6 +158,7 @@ pub fn run_with(scene_path: &Path, out_dir: &Path, options: RunOptions) -> anyho
         penalty: driver.penalty(),
         dt: driver.dt(),
         notes: driver.notes().to_vec(),
+        outputs,
     };
     write_json(&out_dir.join("summary.json"), &summary)?;
     if summary.unconverged_steps > 0 {
@@ -137,16 +171,18 @@ pub fn run_with(scene_path: &Path, out_dir: &Path, options: RunOptions) -> anyho
     result.map(|_| summary)
 }
 
+/// The files written as the run goes.
+struct Writers {
+    history: HistoryWriter,
+    contacts: Option<ContactWriter>,
+}
+
 /// Steps to the end, writing a history row set at time 0 and at every
 /// output time (every step without an interval).
-fn advance(
-    model: &mut Model,
-    history: &mut HistoryWriter,
-    bar: &ProgressBar,
-) -> anyhow::Result<()> {
+fn advance(model: &mut Model, writers: &mut Writers, bar: &ProgressBar) -> anyhow::Result<()> {
     let duration = model.duration;
     let driver = &mut model.driver;
-    record(driver, history, bar, duration)?;
+    record(driver, writers, bar, duration)?;
     match model.output_interval {
         Some(interval) => {
             for k in 1.. {
@@ -156,7 +192,7 @@ fn advance(
                     t = duration;
                 }
                 driver.advance_to(t)?;
-                record(driver, history, bar, duration)?;
+                record(driver, writers, bar, duration)?;
                 if t == duration {
                     break;
                 }
@@ -166,7 +202,7 @@ fn advance(
             // The driver's own end test (as in advance_to).
             while duration - driver.time() > 1e-9 * driver.dt() {
                 driver.step(duration - driver.time())?;
-                record(driver, history, bar, duration)?;
+                record(driver, writers, bar, duration)?;
             }
         }
     }
@@ -175,7 +211,7 @@ fn advance(
 
 fn record(
     driver: &Driver2d,
-    history: &mut HistoryWriter,
+    writers: &mut Writers,
     bar: &ProgressBar,
     duration: f64,
 ) -> anyhow::Result<()> {
@@ -193,7 +229,10 @@ fn record(
             );
         }
     }
-    history.write(driver)?;
+    writers.history.write(driver)?;
+    if let Some(contacts) = &mut writers.contacts {
+        contacts.write(driver)?;
+    }
     bar.set_position((driver.time() / duration * 1000.0).round() as u64);
     bar.set_message(format!(
         "t = {:.4e} s, step {}",

@@ -498,3 +498,383 @@ fn truncated_files_never_panic() {
         assert!(message.starts_with("bad.ron:"), "at {end}: {message}");
     }
 }
+
+/// GOOD with a second joint entry, a joint set over block pairs.
+fn with_joint_set(entry: &str) -> String {
+    with(
+        "    ],\n    blocks",
+        &format!("        {entry},\n    ],\n    blocks"),
+    )
+}
+
+/// GOOD with `law` as the default joint law.
+fn with_default_joint(law: &str) -> String {
+    with(
+        "    output:",
+        &format!("    default_joint: {law},\n    output:"),
+    )
+}
+
+#[test]
+fn new_law_variants_joint_sets_and_driven_points_build() {
+    let laws = [
+        "ThresholdBond(friction_angle: 30.0, max_opening: 1e-4, max_shear: 1e-4, normal_stiffness: 1e10, shear_stiffness: 4e9)",
+        "DisplacementStrength(friction_angle: 20.0, cohesion: 5556.0, weakening: Step(at: 0.001))",
+        "DisplacementStrength(friction_angle: 25.0, residual_friction_angle: 20.0, cohesion: 1e4, residual_cohesion: 0.0, tensile_strength: 1e3, weakening: Exponential(length: 0.01))",
+        "SlipFriction(peak_friction_angle: 25.0, residual_friction_angle: 15.0, weakening: Linear(start: 0.0, end: 0.05))",
+        "RateFriction(static_friction_angle: 28.0, dynamic_friction_angle: 15.0, characteristic_rate: 0.1)",
+        r#"Custom(name: "coulomb", params: {"friction_angle": 30.0, "cohesion": 1e4})"#,
+        r#"Custom(name: "slip_friction", params: {"peak_friction_angle": 25.0, "residual_friction_angle": 15.0, "weakening_step": 0.05})"#,
+    ];
+    for law in laws {
+        load_and_build(&with_default_joint(law)).unwrap_or_else(|e| panic!("{law}: {e}"));
+    }
+
+    let text = with_joint_set("(blocks: [(1, 0)], law: SlipFriction(peak_friction_angle: 25.0, residual_friction_angle: 15.0, weakening: Step(at: 0.05)))");
+    let text = text.replace(
+        "(block: 0, point: (0.0, -1.0))",
+        "(block: 1, point: (0.5, 1.0), velocity: (0.1, 0.0), axis: (3.0, 4.0))",
+    );
+    let scene = Scene::from_str(&text, "good.ron").unwrap();
+    let table = scene.law_table();
+    // The rock-rock law is the default one, so it is not repeated.
+    assert_eq!(table.laws.len(), 2, "the default and the joint set's");
+    assert_eq!(table.materials, vec![vec![0]]);
+    assert_eq!(table.pairs.get(&(0, 1)), Some(&1));
+    let model = scene.build().unwrap();
+    let system = &model.driver.system;
+    assert_eq!(system.pair_laws.get(&(0, 1)), Some(&1));
+    let driven = system.fixed.iter().find(|f| f.block == 1).unwrap();
+    assert_eq!(driven.velocity, nalgebra::Vector2::new(0.1, 0.0));
+    let axis = driven.axis.expect("an axis");
+    assert!((axis - nalgebra::Vector2::new(0.6, 0.8)).norm() < 1e-15);
+    assert!(!model.write_contacts);
+    // Leaving velocity and axis out holds the point in place, both ways.
+    let model = Scene::from_str(GOOD, "good.ron").unwrap().build().unwrap();
+    // The scene's point comes before the fixed base's corners.
+    let held = &model.driver.system.fixed[0];
+    assert_eq!(held.point, nalgebra::Point2::new(0.0, -1.0));
+    assert_eq!(held.velocity, nalgebra::Vector2::zeros());
+    assert_eq!(held.axis, None);
+}
+
+#[test]
+fn new_law_values_are_located() {
+    let text = with_default_joint(
+        "SlipFriction(peak_friction_angle: 95.0, residual_friction_angle: 15.0, weakening: Step(at: 0.05))",
+    );
+    assert_error(
+        &text,
+        "default_joint",
+        "default_joint.peak_friction_angle",
+        "the peak friction angle must lie in [0, 90) degrees, got 95",
+    );
+    let text = with(
+        "Coulomb(friction_angle: 30.0, cohesion: 0.0)",
+        "RateFriction(static_friction_angle: 28.0, dynamic_friction_angle: -1.0, characteristic_rate: 0.1)",
+    );
+    assert_error(
+        &text,
+        "RateFriction",
+        "joints[0].law.dynamic_friction_angle",
+        "[0, 90) degrees, got -1",
+    );
+    let text = with(
+        "Coulomb(friction_angle: 30.0, cohesion: 0.0)",
+        "RateFriction(static_friction_angle: 28.0, dynamic_friction_angle: 15.0, characteristic_rate: 0.0)",
+    );
+    assert_error(
+        &text,
+        "RateFriction",
+        "joints[0].law.characteristic_rate",
+        "the characteristic rate must be positive, got 0",
+    );
+    let text = with(
+        "Coulomb(friction_angle: 30.0, cohesion: 0.0)",
+        "ThresholdBond(friction_angle: 30.0, max_opening: -1e-4, max_shear: 1e-4)",
+    );
+    assert_error(
+        &text,
+        "ThresholdBond",
+        "joints[0].law.max_opening",
+        "max_opening must be positive, got -0.0001",
+    );
+    let text = with(
+        "Coulomb(friction_angle: 30.0, cohesion: 0.0)",
+        "DisplacementStrength(friction_angle: 20.0, cohesion: 5556.0, residual_cohesion: -1.0, weakening: Step(at: 0.001))",
+    );
+    assert_error(
+        &text,
+        "DisplacementStrength",
+        "joints[0].law.residual_cohesion",
+        "the residual cohesion must not be negative",
+    );
+    let text = with(
+        "Coulomb(friction_angle: 30.0, cohesion: 0.0)",
+        "DisplacementStrength(friction_angle: 20.0, residual_friction_angle: NaN, weakening: Step(at: 0.001))",
+    );
+    assert_error(
+        &text,
+        "DisplacementStrength",
+        "joints[0].law.residual_friction_angle",
+        "is NaN, not a finite number",
+    );
+    let text = with(
+        "Coulomb(friction_angle: 30.0, cohesion: 0.0)",
+        "SlipFriction(peak_friction_angle: 25.0, residual_friction_angle: 15.0, weakening: Step(at: 0.05), shear_stiffness: 0.0)",
+    );
+    assert_error(
+        &text,
+        "SlipFriction",
+        "joints[0].law.shear_stiffness",
+        "the shear stiffness must be positive",
+    );
+}
+
+#[test]
+fn bad_weakening_is_located() {
+    let law = |w: &str| {
+        with(
+            "Coulomb(friction_angle: 30.0, cohesion: 0.0)",
+            &format!("SlipFriction(peak_friction_angle: 25.0, residual_friction_angle: 15.0,\n            weakening: {w})"),
+        )
+    };
+    assert_error(
+        &law("Linear(start: 0.02, end: 0.01)"),
+        "weakening:",
+        "joints[0].law.weakening",
+        "a linear weakening needs 0 <= start < end, got start 0.02 and end 0.01",
+    );
+    assert_error(
+        &law("Linear(start: 0.01, end: 0.01)"),
+        "weakening:",
+        "joints[0].law.weakening",
+        "0 <= start < end",
+    );
+    assert_error(
+        &law("Exponential(length: 0.0)"),
+        "weakening:",
+        "joints[0].law.weakening",
+        "the exponential weakening length must be positive, got 0",
+    );
+    assert_error(
+        &law("Step(at: -1.0)"),
+        "weakening:",
+        "joints[0].law.weakening",
+        "must be zero or positive, got -1",
+    );
+    assert_error(
+        &law("Step(at: inf)"),
+        "weakening:",
+        "joints[0].law.weakening",
+        "is inf, not a finite number",
+    );
+    // Unknown forms and fields are syntax errors at their position.
+    let text = law("Cubic(at: 1.0)");
+    let message = error_of(&text);
+    assert!(
+        message.starts_with(&format!("bad.ron:{}:", line_of(&text, "Cubic"))),
+        "{message}"
+    );
+    assert!(message.contains("Cubic"), "{message}");
+    let message = error_of(&law("Step(at: 1.0, end: 2.0)"));
+    assert!(message.contains("`end`"), "{message}");
+}
+
+#[test]
+fn custom_laws_are_checked_by_the_registry_at_their_place() {
+    let custom = |law: &str| with("Coulomb(friction_angle: 30.0, cohesion: 0.0)", law);
+    // An unknown name lists the known ones.
+    let text = custom(r#"Custom(name: "barton_bandis", params: {"jrc": 10.0, "jcs": 1e8})"#);
+    assert_error(
+        &text,
+        "Custom(",
+        "joints[0].law",
+        "no contact law is registered as `barton_bandis`; known laws: coulomb, displacement_strength, rate_friction, slip_friction, threshold_bond",
+    );
+    assert!(error_of(&text).contains("LawRegistry::register"));
+    // `dda check`'s scene is the same: built with the built-in registry.
+    let message = error_of(&with_default_joint(r#"Custom(name: "nope")"#));
+    assert!(
+        message.contains(": default_joint: no contact law is registered as `nope`"),
+        "{message}"
+    );
+
+    // An unknown parameter.
+    let text =
+        custom(r#"Custom(name: "coulomb", params: {"friction_angle": 30.0, "dilation": 5.0})"#);
+    assert_error(
+        &text,
+        "Custom(",
+        "joints[0].law",
+        "the law `coulomb` has no parameter dilation; remove it from params or correct its spelling",
+    );
+    // A missing required parameter.
+    let text = custom(
+        r#"Custom(name: "threshold_bond", params: {"friction_angle": 30.0, "max_opening": 1e-4})"#,
+    );
+    assert_error(
+        &text,
+        "Custom(",
+        "joints[0].law",
+        "the law `threshold_bond`: the parameter `max_shear` is required; add it to params",
+    );
+    // The registry's own checks (a weakening that makes no sense).
+    let text = custom(
+        r#"Custom(name: "slip_friction", params: {"peak_friction_angle": 25.0, "residual_friction_angle": 15.0, "weakening_start": 0.1, "weakening_end": 0.0})"#,
+    );
+    assert_error(&text, "Custom(", "joints[0].law", "0 <= start < end");
+    // Values are checked before any builder sees them.
+    let text = custom(r#"Custom(name: "coulomb", params: {"friction_angle": NaN})"#);
+    assert_error(
+        &text,
+        "Custom(",
+        r#"joints[0].law.params["friction_angle"]"#,
+        r#"the parameter "friction_angle" is NaN"#,
+    );
+    let message = error_of(&custom(
+        r#"Custom(name: "coulomb", params: {"friction_angle": 30.0, "friction_angle": 20.0})"#,
+    ));
+    assert!(
+        message.contains("\"friction_angle\" is defined twice"),
+        "{message}"
+    );
+    let text = custom(r#"Custom(name: "")"#);
+    assert_error(
+        &text,
+        "Custom(",
+        "joints[0].law.name",
+        "the law's name is empty",
+    );
+}
+
+#[test]
+fn a_registry_can_add_laws() {
+    let text = with(
+        "Coulomb(friction_angle: 30.0, cohesion: 0.0)",
+        r#"Custom(name: "sticky", params: {"friction_angle": 40.0})"#,
+    );
+    let scene = Scene::from_str(&text, "good.ron").unwrap();
+    // Loading knows nothing of registries; building does.
+    let message = scene
+        .build()
+        .err()
+        .expect("unknown to the built-in registry")
+        .to_string();
+    assert!(message.contains("`sticky`"), "{message}");
+    let mut registry = dda_contact::LawRegistry::with_builtin();
+    registry.register("sticky", |p: &mut dda_contact::Params| {
+        Ok(dda_contact::Coulomb {
+            cohesion: 1e5,
+            ..dda_contact::Coulomb::frictional(p.take("friction_angle")?)
+        })
+    });
+    let model = scene.build_with(&registry).unwrap();
+    assert_eq!(model.driver.system.blocks.len(), 2);
+}
+
+#[test]
+fn joint_sets_name_existing_blocks_once() {
+    let law = "law: Coulomb(friction_angle: 10.0)";
+    // A block that does not exist.
+    let text = with_joint_set(&format!("(blocks: [(0, 1), (1, 5)], {law})"));
+    assert_error(
+        &text,
+        "(blocks:",
+        "joints[1].blocks[1]",
+        "there is no block 5: the scene has 2 blocks",
+    );
+    // A block with itself.
+    let text = with_joint_set(&format!("(blocks: [(1, 1)], {law})"));
+    assert_error(
+        &text,
+        "(blocks:",
+        "joints[1].blocks[0]",
+        "pairs block 1 with itself",
+    );
+    // A pair in two sets, in either order.
+    let text = with(
+        "    ],\n    blocks",
+        &format!(
+            "        (blocks: [(0, 1)], {law}),\n        (blocks: [(1, 0)], law: Coulomb(friction_angle: 20.0)),\n    ],\n    blocks"
+        ),
+    );
+    assert_error(
+        &text,
+        "(blocks: [(1, 0)]",
+        "joints[2].blocks[0]",
+        "the block pair (1, 0) is already listed in joints[1]; a pair belongs to one joint set only",
+    );
+    let text = with_joint_set(&format!("(blocks: [(0, 1), (1, 0)], {law})"));
+    assert_error(
+        &text,
+        "(blocks:",
+        "joints[1].blocks[1]",
+        "already listed earlier in this set",
+    );
+    // Exactly one of between and blocks.
+    let text = with_joint_set(&format!(
+        r#"(between: ("rock", "rock"), blocks: [(0, 1)], {law})"#
+    ));
+    assert_error(
+        &text,
+        "(between: (\"rock\", \"rock\"), blocks",
+        "joints[1]",
+        "not both",
+    );
+    let text = with_joint_set(&format!("({law})"));
+    assert_error(
+        &text,
+        "(law:",
+        "joints[1]",
+        "neither which materials nor which blocks",
+    );
+    let text = with_joint_set(&format!("(blocks: [], {law})"));
+    assert_error(
+        &text,
+        "(blocks: []",
+        "joints[1].blocks",
+        "lists no block pairs",
+    );
+    // And the law of a joint set is checked at its place.
+    let text = with_joint_set("(blocks: [(0, 1)], law: Coulomb(friction_angle: 91.0))");
+    assert_error(&text, "(blocks:", "joints[1].law.friction_angle", "[0, 90)");
+}
+
+#[test]
+fn driven_points_need_a_direction_and_finite_values() {
+    let point = "(block: 0, point: (0.0, -1.0))";
+    let text = with(point, "(block: 0, point: (0.0, -1.0), axis: (0.0, 0.0))");
+    assert_error(
+        &text,
+        "fixed_points",
+        "fixed_points[0].axis",
+        "the axis (0, 0) has no direction",
+    );
+    let text = with(point, "(block: 0, point: (0.0, -1.0), axis: (NaN, 1.0))");
+    assert_error(
+        &text,
+        "fixed_points",
+        "fixed_points[0].axis",
+        "is NaN, not a finite number",
+    );
+    let text = with(
+        point,
+        "(block: 0, point: (0.0, -1.0), velocity: (inf, 0.0))",
+    );
+    assert_error(
+        &text,
+        "fixed_points",
+        "fixed_points[0].velocity",
+        "is inf, not a finite number",
+    );
+    // A tiny axis is still a direction.
+    let text = with(
+        point,
+        "(block: 0, point: (0.0, -1.0), axis: (1e-300, 1e-300))",
+    );
+    let model = Scene::from_str(&text, "good.ron").unwrap().build().unwrap();
+    let fixed = &model.driver.system.fixed;
+    let axis = fixed.iter().find_map(|f| f.axis).expect("the point's axis");
+    assert!((axis.norm() - 1.0).abs() < 1e-15 && axis.x > 0.0);
+}

@@ -3,8 +3,15 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use dda::output::HISTORY_HEADER;
-use dda::read_history;
+use dda::output::{CONTACTS_HEADER, HISTORY_HEADER};
+use dda::run::{run_scene, RunOptions};
+use dda::{read_contacts, read_history, Scene};
+use dda_core::ContactState;
+
+// The example's law, so the test runs exactly what the example registers.
+#[allow(dead_code)]
+#[path = "../examples/custom_law.rs"]
+mod custom_law;
 
 fn dda(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_dda"))
@@ -97,6 +104,14 @@ fn run_writes_history_and_summary() {
     assert!(s["wall_time"].as_f64().unwrap() >= 0.0);
     assert!(s["notes"].is_array());
     assert!(s.get("error").is_none());
+    assert_eq!(
+        s["outputs"],
+        serde_json::json!(["history.csv", "summary.json"])
+    );
+    assert!(
+        !out.join("contacts.csv").exists(),
+        "contacts.csv only when asked for"
+    );
     let _ = std::fs::remove_dir_all(&out);
 }
 
@@ -194,4 +209,174 @@ fn without_an_interval_every_step_is_written() {
     assert_eq!(steps, [0, 1, 2, 3, 4, 5]);
     assert_eq!(rows[5].time, 0.05);
     let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn contacts_csv_lists_every_contact_at_each_output_time() {
+    let out = scratch("contacts");
+    let result = dda(&[
+        "run",
+        &data("resting_contacts.ron"),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(result.status.success(), "stderr: {stderr}");
+    let stdout = String::from_utf8(result.stdout).unwrap();
+    assert!(
+        stdout.starts_with("wrote ")
+            && stdout.contains("history.csv, ")
+            && stdout.contains("contacts.csv and ")
+            && stdout.contains("summary.json"),
+        "{stdout}"
+    );
+
+    let text = std::fs::read_to_string(out.join("contacts.csv")).unwrap();
+    assert_eq!(
+        text.lines().next(),
+        Some("step,time,contact,block_a,block_b,state,fn,fs,slip")
+    );
+    assert_eq!(
+        CONTACTS_HEADER,
+        "step,time,contact,block_a,block_b,state,fn,fs,slip"
+    );
+    let rows = read_contacts(out.join("contacts.csv")).unwrap();
+    let history = read_history(out.join("history.csv")).unwrap();
+
+    // The output times of history.csv, at each of which (but time 0, before
+    // the first contact search) every contact has a row.
+    let times: Vec<(usize, f64)> = history
+        .iter()
+        .filter(|r| r.block == 0)
+        .map(|r| (r.step, r.time))
+        .collect();
+    assert_eq!(times.len(), 6);
+    for &(step, time) in &times[1..] {
+        let now: Vec<_> = rows.iter().filter(|r| r.step == step).collect();
+        assert!(!now.is_empty(), "no contact rows at t = {time}");
+        assert!(now.iter().all(|r| r.time == time), "step {step}");
+        // The block's two bottom corners rest on the base's top edge.
+        let mut closed: Vec<&str> = now
+            .iter()
+            .filter(|r| r.state.is_closed())
+            .map(|r| r.contact.as_str())
+            .collect();
+        closed.sort();
+        assert_eq!(closed, ["1:v0/0:e2", "1:v1/0:e2"], "t = {time}");
+        for r in &now {
+            assert_eq!((r.block_a, r.block_b), (1, 0));
+            assert!(r.slip >= 0.0);
+            if r.state.is_closed() {
+                assert!(r.normal_force > 0.0, "{r:?}");
+                assert!(r.shear_force.is_finite());
+            } else {
+                assert_eq!(r.normal_force, 0.0);
+            }
+        }
+    }
+    assert!(
+        rows.iter()
+            .all(|r| times[1..].iter().any(|t| t.0 == r.step)),
+        "rows only at output times"
+    );
+    // Resting: locked, and the corners carry the block's weight.
+    let last: Vec<_> = rows.iter().filter(|r| r.step == times[5].0).collect();
+    assert!(last
+        .iter()
+        .all(|r| r.state == ContactState::Locked || r.state == ContactState::Open));
+    let weight = 2700.0 * 9.81;
+    let carried: f64 = last.iter().map(|r| r.normal_force).sum();
+    assert!(
+        ((carried - weight) / weight).abs() < 0.02,
+        "the corners carry {carried} N of a {weight} N weight"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn check_names_a_custom_law_it_does_not_know() {
+    let result = dda(&["check", "examples/custom_law.ron"]);
+    assert_eq!(result.status.code(), Some(1));
+    let stderr = String::from_utf8(result.stderr).unwrap();
+    let line = std::fs::read_to_string("examples/custom_law.ron")
+        .unwrap()
+        .lines()
+        .position(|l| l.contains("default_joint:"))
+        .unwrap()
+        + 1;
+    assert!(
+        stderr.starts_with(&format!(
+            "error: examples/custom_law.ron:{line}:5: default_joint: no contact law is registered as `barton_bandis`; known laws: coulomb, "
+        )),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn the_custom_law_example_slides_as_its_mobilised_friction_says() {
+    // The example's law: φ = φr + JRC log10(JCS / σn), capped.
+    let law = custom_law::build_barton_bandis(&mut dda_contact::Params::from([
+        ("residual_friction_angle", 20.0),
+        ("jrc", 4.0),
+        ("jcs", 2e6),
+    ]))
+    .unwrap();
+    assert_eq!(law.max_friction_angle, 70.0);
+    assert!((law.friction_angle(2e4) - 28.0).abs() < 1e-12);
+    assert_eq!(law.friction_angle(0.0), 70.0);
+    assert_eq!(law.friction_angle(1e9), 20.0, "never below φr");
+    let registry = custom_law::registry();
+    let mut params = dda_contact::Params::from([
+        ("jrc", 4.0),
+        ("jcs", -1.0),
+        ("residual_friction_angle", 20.0),
+    ]);
+    let message = registry.build("barton_bandis", &mut params).err().unwrap();
+    assert!(message.contains("need jcs > 0"), "{message}");
+
+    // Its scene, shortened, with the example's registry.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/custom_law.ron");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = text.replace("duration: 1.0,", "duration: 0.4,");
+    let scene = Scene::from_str(&text, "custom_law.ron").unwrap();
+    let out = scratch("custom-law");
+    let summary = run_scene(&scene, &out, RunOptions::default(), &registry).unwrap();
+    assert_eq!(summary.scene, "custom_law.ron");
+    assert_eq!(summary.unconverged_steps, 0);
+    let history = read_history(out.join("history.csv")).unwrap();
+    let contacts = read_contacts(out.join("contacts.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+
+    let block: Vec<_> = history.iter().filter(|r| r.block == 1).collect();
+    let (first, last) = (block[0], block[block.len() - 1]);
+    assert_eq!(last.time, 0.4);
+    let travel = (last.x - first.x).hypot(last.y - first.y);
+    // Friction mobilised at the end, from the contact forces.
+    let end: Vec<_> = contacts
+        .iter()
+        .filter(|c| c.step == last.step && c.state.is_closed())
+        .collect();
+    assert_eq!(end.len(), 2);
+    assert!(end.iter().all(|c| c.state == ContactState::Sliding));
+    let shear: f64 = end.iter().map(|c| c.shear_force).sum();
+    let normal: f64 = end.iter().map(|c| c.normal_force).sum();
+    let phi = (shear / normal).atan().to_degrees();
+    // Each corner's friction is the law's at its own normal stress, between
+    // those of the two corners.
+    let corner = |c: &dda::ContactRow| (c.shear_force / c.normal_force).atan().to_degrees();
+    let (lo, hi) = (
+        end.iter().map(|c| corner(c)).fold(f64::INFINITY, f64::min),
+        end.iter().map(|c| corner(c)).fold(0.0, f64::max),
+    );
+    assert!(
+        lo > 20.0 && hi < 30.0 && lo <= phi && phi <= hi,
+        "{lo} {phi} {hi}"
+    );
+    // And the block slides as that angle says (it changes little while sliding).
+    let (g, slope, t) = (9.81, 30f64.to_radians(), last.time);
+    let expected = 0.5 * g * (slope.sin() - slope.cos() * phi.to_radians().tan()) * t * t;
+    assert!(
+        ((travel - expected) / expected).abs() < 0.03,
+        "travel {travel} m, expected {expected} m for φ = {phi}°"
+    );
 }

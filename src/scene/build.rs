@@ -1,11 +1,13 @@
 //! Turns a validated scene into a driver ready to run.
 
+use std::collections::HashMap;
+
 use dda_2d::{Block, Driver2d, FixedPoint, Force, PlaneElastic, PointLoad, Polygons};
-use dda_contact::Coulomb;
+use dda_contact::{Coulomb, LawRegistry, Params, RateFriction, SlipWeakening, ThresholdBond};
 use dda_core::{ConstitutiveLaw, DynContactLaw, Settings};
 use nalgebra::{Point2, Vector2, Vector3, Vector6};
 
-use super::validate::{polygon_message, to_points, Place};
+use super::validate::{polygon_message, to_points, unit_axis, Place};
 use super::{JointLaw, Load, Scene, SceneError};
 
 /// A scene ready to run.
@@ -15,11 +17,32 @@ pub struct Model {
     pub duration: f64,
     /// Time between outputs; `None` writes every step.
     pub output_interval: Option<f64>,
+    /// Whether to write `contacts.csv`.
+    pub write_contacts: bool,
+}
+
+/// Which law each joint uses: the distinct laws of a scene (the default
+/// first) and indices into them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LawTable {
+    pub laws: Vec<JointLaw>,
+    /// For each pair of materials, the index of its law (symmetric).
+    pub materials: Vec<Vec<usize>>,
+    /// For block pairs in joint sets, keyed (lower, higher), the index of
+    /// their law.
+    pub pairs: HashMap<(usize, usize), usize>,
 }
 
 impl Scene {
-    /// Validates the scene and builds the blocks, laws and driver.
+    /// Validates the scene and builds the blocks, laws and driver, with the
+    /// built-in contact laws for `Custom` joints.
     pub fn build(&self) -> Result<Model, SceneError> {
+        self.build_with(&LawRegistry::with_builtin())
+    }
+
+    /// [`Scene::build`] with `Custom` joint laws built through `registry`, so
+    /// scenes can name laws written elsewhere.
+    pub fn build_with(&self, registry: &LawRegistry) -> Result<Model, SceneError> {
         self.validate()?;
         let blocks_at = Place::root().field("blocks");
         let materials: Vec<Box<dyn ConstitutiveLaw<3>>> = self
@@ -56,8 +79,9 @@ impl Scene {
         system.fixed_penalty = a
             .fixed_penalty
             .unwrap_or_else(|| 10.0 * a.penalty.unwrap_or(system.fixed_penalty));
-        let (laws, table) = self.law_table();
-        system.joint_laws = table;
+        let table = self.law_table();
+        system.joint_laws = table.materials;
+        system.pair_laws = table.pairs;
         for load in &self.loads {
             match load {
                 Load::PointLoad {
@@ -82,8 +106,11 @@ impl Scene {
             }
         }
         for fp in &self.fixed_points {
-            let p = Point2::from(fp.point);
-            system.fixed.push(FixedPoint::at(fp.block, p));
+            system.fixed.push(FixedPoint {
+                velocity: Vector2::from(fp.velocity),
+                axis: fp.axis.and_then(unit_axis),
+                ..FixedPoint::at(fp.block, Point2::from(fp.point))
+            });
         }
         for (k, spec) in self.blocks.iter().enumerate() {
             if spec.fixed() {
@@ -103,7 +130,14 @@ impl Scene {
             length_scale: a.length_scale,
             ..Settings::default()
         };
-        let laws: Vec<Box<dyn DynContactLaw>> = laws.iter().map(contact_law).collect();
+        let laws = table
+            .laws
+            .iter()
+            .map(|law| {
+                contact_law(law, registry)
+                    .map_err(|message| self.error(&self.law_place(law), message))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let mut driver = Driver2d::new(system, laws, settings)
             .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
         for (k, spec) in self.blocks.iter().enumerate() {
@@ -115,15 +149,29 @@ impl Scene {
             driver,
             duration: a.duration,
             output_interval: (interval > 0.0).then_some(interval),
+            write_contacts: self.output.contacts,
         })
     }
 
-    /// The distinct joint laws (the default first) and, for each pair of
-    /// materials, the index of its law.
-    pub fn law_table(&self) -> (Vec<JointLaw>, Vec<Vec<usize>>) {
+    /// Where `law` is first written: the default joint or a joint set's law.
+    fn law_place(&self, law: &JointLaw) -> Place {
+        let root = Place::root();
+        if *law == self.default_joint {
+            return root.field("default_joint");
+        }
+        match self.joints.iter().position(|j| j.law == *law) {
+            Some(k) => root.field("joints").index(k).field("law"),
+            None => root.field("default_joint"),
+        }
+    }
+
+    /// The distinct joint laws (the default first) and which joints use
+    /// which.
+    pub fn law_table(&self) -> LawTable {
         let n = self.materials.len();
         let mut laws = vec![self.default_joint.clone()];
-        let mut table = vec![vec![0; n]; n];
+        let mut materials = vec![vec![0; n]; n];
+        let mut pairs = HashMap::new();
         for joint in &self.joints {
             let index = match laws.iter().position(|l| *l == joint.law) {
                 Some(i) => i,
@@ -132,18 +180,29 @@ impl Scene {
                     laws.len() - 1
                 }
             };
-            let find = |name: &str| self.materials.iter().position(|(m, _)| m == name);
-            if let (Some(a), Some(b)) = (find(&joint.between.0), find(&joint.between.1)) {
-                table[a][b] = index;
-                table[b][a] = index;
+            if let Some((a, b)) = &joint.between {
+                let find = |name: &str| self.materials.iter().position(|(m, _)| m == name);
+                if let (Some(a), Some(b)) = (find(a), find(b)) {
+                    materials[a][b] = index;
+                    materials[b][a] = index;
+                }
+            }
+            for &[a, b] in joint.blocks.iter().flatten() {
+                pairs.insert((a.min(b), a.max(b)), index);
             }
         }
-        (laws, table)
+        LawTable {
+            laws,
+            materials,
+            pairs,
+        }
     }
 }
 
-fn contact_law(law: &JointLaw) -> Box<dyn DynContactLaw> {
-    match law {
+/// The law a scene names; typed laws are built directly, `Custom` ones by
+/// the registry.
+fn contact_law(law: &JointLaw, registry: &LawRegistry) -> Result<Box<dyn DynContactLaw>, String> {
+    Ok(match law.clone() {
         JointLaw::Coulomb {
             friction_angle,
             cohesion,
@@ -151,11 +210,92 @@ fn contact_law(law: &JointLaw) -> Box<dyn DynContactLaw> {
             normal_stiffness,
             shear_stiffness,
         } => Box::new(Coulomb {
-            friction_angle: *friction_angle,
-            cohesion: *cohesion,
-            tensile_strength: *tensile_strength,
-            normal_stiffness: *normal_stiffness,
-            shear_stiffness: *shear_stiffness,
+            friction_angle,
+            cohesion,
+            tensile_strength,
+            normal_stiffness,
+            shear_stiffness,
         }),
-    }
+        JointLaw::ThresholdBond {
+            friction_angle,
+            max_opening,
+            max_shear,
+            normal_stiffness,
+            shear_stiffness,
+        } => Box::new(ThresholdBond {
+            friction_angle,
+            max_opening,
+            max_shear,
+            normal_stiffness,
+            shear_stiffness,
+        }),
+        JointLaw::DisplacementStrength {
+            friction_angle,
+            residual_friction_angle,
+            cohesion,
+            residual_cohesion,
+            tensile_strength,
+            weakening,
+            normal_stiffness,
+            shear_stiffness,
+        } => Box::new(SlipWeakening {
+            peak_friction_angle: friction_angle,
+            residual_friction_angle: residual_friction_angle.unwrap_or(friction_angle),
+            peak_cohesion: cohesion,
+            residual_cohesion,
+            tensile_strength,
+            weakening,
+            normal_stiffness,
+            shear_stiffness,
+        }),
+        JointLaw::SlipFriction {
+            peak_friction_angle,
+            residual_friction_angle,
+            weakening,
+            normal_stiffness,
+            shear_stiffness,
+        } => Box::new(SlipWeakening {
+            normal_stiffness,
+            shear_stiffness,
+            ..SlipWeakening::friction(peak_friction_angle, residual_friction_angle, weakening)
+        }),
+        JointLaw::RateFriction {
+            static_friction_angle,
+            dynamic_friction_angle,
+            characteristic_rate,
+            normal_stiffness,
+            shear_stiffness,
+        } => Box::new(RateFriction {
+            static_friction_angle,
+            dynamic_friction_angle,
+            characteristic_rate,
+            normal_stiffness,
+            shear_stiffness,
+        }),
+        JointLaw::Custom { name, params } => {
+            let mut params = Params::from(
+                params
+                    .into_iter()
+                    .collect::<std::collections::BTreeMap<_, _>>(),
+            );
+            return registry.build(&name, &mut params).map_err(|e| {
+                if registry.names().any(|n| n == name) {
+                    let hint = if e.contains("is required") {
+                        "; add it to params"
+                    } else if e.contains("has no parameter") {
+                        "; remove it from params or correct its spelling"
+                    } else {
+                        ""
+                    };
+                    if e.contains(&format!("`{name}`")) {
+                        format!("{e}{hint}")
+                    } else {
+                        format!("the law `{name}`: {e}{hint}")
+                    }
+                } else {
+                    format!("{e}; correct the name, or register the law with LawRegistry::register and build the scene with Scene::build_with")
+                }
+            });
+        }
+    })
 }

@@ -14,8 +14,9 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 pub use dda_2d::{Plane, RotationUpdate};
+pub use dda_contact::Weakening;
 
-pub use build::Model;
+pub use build::{LawTable, Model};
 pub use error::{Location, SceneError};
 
 /// One experiment. Field order and names are the file format.
@@ -32,10 +33,10 @@ pub struct Scene {
     /// Materials by name, in file order (the order gives material indices).
     #[serde(default, with = "ordered_map")]
     pub materials: Vec<(String, Material)>,
-    /// Joint laws for pairs of materials.
+    /// Joint laws for pairs of materials or sets of block pairs.
     #[serde(default)]
     pub joints: Vec<Joint>,
-    /// The law of material pairs not listed in `joints`.
+    /// The law of the joints not listed in `joints`.
     #[serde(default)]
     pub default_joint: JointLaw,
     #[serde(default)]
@@ -147,6 +148,8 @@ enum RotationUpdateDef {
 pub struct Output {
     /// Time between history rows; 0 writes every step.
     pub interval: f64,
+    /// Also write `contacts.csv`: every contact at every output time.
+    pub contacts: bool,
 }
 
 /// Isotropic elastic material.
@@ -163,18 +166,29 @@ fn default_poisson() -> f64 {
     0.25
 }
 
-/// The law of the joints between two materials (in either order).
+/// A joint set: the law of the joints between two materials (in either
+/// order), or between particular pairs of blocks. Exactly one of `between`
+/// and `blocks` is given; block pairs override material pairs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Joint {
-    pub between: (String, String),
+    /// Two material names, like `("rock", "rock")`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub between: Option<(String, String)>,
+    /// Block index pairs (in either order), like `[(0, 1), (1, 2)]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub blocks: Option<Vec<[usize; 2]>>,
     pub law: JointLaw,
 }
 
+/// A contact law as a scene names it. Angles are in degrees, strengths in
+/// Pa, lengths in m; stiffnesses left out (`None`) are automatic: the
+/// driver's penalty and 1/2.5 of it for shear.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum JointLaw {
-    /// Penalty Coulomb joint; stiffnesses `None` are automatic.
+    /// Penalty Coulomb joint with a bond (cohesion, tensile strength) that
+    /// breaks the first time the joint opens or slides.
     Coulomb {
         friction_angle: f64,
         #[serde(default)]
@@ -185,6 +199,65 @@ pub enum JointLaw {
         normal_stiffness: Option<f64>,
         #[serde(default)]
         shear_stiffness: Option<f64>,
+    },
+    /// A bond with no strength limit until the opening passes `max_opening`
+    /// or the shear displacement passes `max_shear`; frictional after.
+    ThresholdBond {
+        friction_angle: f64,
+        max_opening: f64,
+        max_shear: f64,
+        #[serde(default)]
+        normal_stiffness: Option<f64>,
+        #[serde(default)]
+        shear_stiffness: Option<f64>,
+    },
+    /// Cohesion (and friction) falling from peak to residual with
+    /// accumulated slip; the residual angle defaults to `friction_angle`.
+    DisplacementStrength {
+        friction_angle: f64,
+        #[serde(default)]
+        residual_friction_angle: Option<f64>,
+        #[serde(default)]
+        cohesion: f64,
+        #[serde(default)]
+        residual_cohesion: f64,
+        #[serde(default)]
+        tensile_strength: f64,
+        #[serde(with = "WeakeningDef")]
+        weakening: Weakening,
+        #[serde(default)]
+        normal_stiffness: Option<f64>,
+        #[serde(default)]
+        shear_stiffness: Option<f64>,
+    },
+    /// Friction falling from a peak to a residual angle with accumulated slip.
+    SlipFriction {
+        peak_friction_angle: f64,
+        residual_friction_angle: f64,
+        #[serde(with = "WeakeningDef")]
+        weakening: Weakening,
+        #[serde(default)]
+        normal_stiffness: Option<f64>,
+        #[serde(default)]
+        shear_stiffness: Option<f64>,
+    },
+    /// Friction falling from its static to its dynamic value as the slip
+    /// rate grows past `characteristic_rate` (m/s).
+    RateFriction {
+        static_friction_angle: f64,
+        dynamic_friction_angle: f64,
+        characteristic_rate: f64,
+        #[serde(default)]
+        normal_stiffness: Option<f64>,
+        #[serde(default)]
+        shear_stiffness: Option<f64>,
+    },
+    /// A law built by name through a [`dda_contact::LawRegistry`], like
+    /// `Custom(name: "coulomb", params: {"friction_angle": 30.0})`.
+    Custom {
+        name: String,
+        #[serde(default, with = "ordered_map")]
+        params: Vec<(String, f64)>,
     },
 }
 
@@ -198,6 +271,16 @@ impl Default for JointLaw {
             shear_stiffness: None,
         }
     }
+}
+
+/// The file names of [`Weakening`]: `Step(at: m)`, `Linear(start: m, end: m)`,
+/// `Exponential(length: m)`.
+#[derive(Serialize, Deserialize)]
+#[serde(remote = "Weakening", deny_unknown_fields)]
+enum WeakeningDef {
+    Step { at: f64 },
+    Linear { start: f64, end: f64 },
+    Exponential { length: f64 },
 }
 
 /// A block: its shape, material and initial state.
@@ -301,12 +384,19 @@ pub enum Load {
     },
 }
 
-/// A point of a block held in place by a penalty spring.
+/// A point of a block held by a penalty spring at `point + velocity·t`: in
+/// place when `velocity` is zero (the default), driven otherwise. With an
+/// `axis` only the motion along it is held (a roller); it need not be a unit
+/// vector.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FixedPointSpec {
     pub block: usize,
     pub point: [f64; 2],
+    #[serde(default)]
+    pub velocity: [f64; 2],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<[f64; 2]>,
 }
 
 /// Only the dimension, read first so a 3D scene gets a clear answer instead

@@ -4,10 +4,10 @@
 use std::fmt;
 
 use dda_2d::polygon::{self, PolygonError};
-use nalgebra::Point2;
+use nalgebra::{Point2, Vector2};
 
 use super::locate::Seg;
-use super::{BlockSpec, JointLaw, Load, Scene, SceneError};
+use super::{BlockSpec, JointLaw, Load, Scene, SceneError, Weakening};
 
 /// A path into the scene, like `blocks[2].vertices[1]`.
 #[derive(Debug, Clone, Default)]
@@ -243,7 +243,7 @@ impl Scene {
     }
 
     fn check_law(&self, at: &Place, law: &JointLaw) -> Result {
-        match law {
+        let (normal_stiffness, shear_stiffness) = match law {
             JointLaw::Coulomb {
                 friction_angle,
                 cohesion,
@@ -251,65 +251,258 @@ impl Scene {
                 normal_stiffness,
                 shear_stiffness,
             } => {
-                let phi = *friction_angle;
-                let at_phi = at.field("friction_angle");
-                self.finite(&at_phi, "the friction angle", phi)?;
-                if !(0.0..90.0).contains(&phi) {
-                    return Err(self.error(
-                        &at_phi,
-                        format!("the friction angle must lie in [0, 90) degrees, got {phi}"),
-                    ));
-                }
-                let hint = "use 0 for none";
-                self.non_negative(&at.field("cohesion"), "the cohesion", *cohesion, hint)?;
-                self.non_negative(
-                    &at.field("tensile_strength"),
+                self.angle(at, "friction_angle", "the friction angle", *friction_angle)?;
+                self.strength(at, "cohesion", "the cohesion", *cohesion)?;
+                self.strength(
+                    at,
+                    "tensile_strength",
                     "the tensile strength",
                     *tensile_strength,
-                    hint,
                 )?;
-                let auto = "give a positive stiffness or leave it out for an automatic one";
-                if let Some(k) = normal_stiffness {
-                    self.positive(
-                        &at.field("normal_stiffness"),
-                        "the normal stiffness",
-                        *k,
-                        auto,
-                    )?;
-                }
-                if let Some(k) = shear_stiffness {
-                    self.positive(
-                        &at.field("shear_stiffness"),
-                        "the shear stiffness",
-                        *k,
-                        auto,
-                    )?;
-                }
-                Ok(())
+                (normal_stiffness, shear_stiffness)
             }
+            JointLaw::ThresholdBond {
+                friction_angle,
+                max_opening,
+                max_shear,
+                normal_stiffness,
+                shear_stiffness,
+            } => {
+                self.angle(at, "friction_angle", "the friction angle", *friction_angle)?;
+                let hint = "it is the displacement (m) at which the bond breaks, like 1e-4";
+                self.positive(&at.field("max_opening"), "max_opening", *max_opening, hint)?;
+                self.positive(&at.field("max_shear"), "max_shear", *max_shear, hint)?;
+                (normal_stiffness, shear_stiffness)
+            }
+            JointLaw::DisplacementStrength {
+                friction_angle,
+                residual_friction_angle,
+                cohesion,
+                residual_cohesion,
+                tensile_strength,
+                weakening,
+                normal_stiffness,
+                shear_stiffness,
+            } => {
+                self.angle(at, "friction_angle", "the friction angle", *friction_angle)?;
+                if let Some(phi) = residual_friction_angle {
+                    self.angle(
+                        at,
+                        "residual_friction_angle",
+                        "the residual friction angle",
+                        *phi,
+                    )?;
+                }
+                self.strength(at, "cohesion", "the cohesion", *cohesion)?;
+                self.strength(
+                    at,
+                    "residual_cohesion",
+                    "the residual cohesion",
+                    *residual_cohesion,
+                )?;
+                self.strength(
+                    at,
+                    "tensile_strength",
+                    "the tensile strength",
+                    *tensile_strength,
+                )?;
+                self.check_weakening(&at.field("weakening"), weakening)?;
+                (normal_stiffness, shear_stiffness)
+            }
+            JointLaw::SlipFriction {
+                peak_friction_angle,
+                residual_friction_angle,
+                weakening,
+                normal_stiffness,
+                shear_stiffness,
+            } => {
+                self.angle(
+                    at,
+                    "peak_friction_angle",
+                    "the peak friction angle",
+                    *peak_friction_angle,
+                )?;
+                self.angle(
+                    at,
+                    "residual_friction_angle",
+                    "the residual friction angle",
+                    *residual_friction_angle,
+                )?;
+                self.check_weakening(&at.field("weakening"), weakening)?;
+                (normal_stiffness, shear_stiffness)
+            }
+            JointLaw::RateFriction {
+                static_friction_angle,
+                dynamic_friction_angle,
+                characteristic_rate,
+                normal_stiffness,
+                shear_stiffness,
+            } => {
+                self.angle(
+                    at,
+                    "static_friction_angle",
+                    "the static friction angle",
+                    *static_friction_angle,
+                )?;
+                self.angle(
+                    at,
+                    "dynamic_friction_angle",
+                    "the dynamic friction angle",
+                    *dynamic_friction_angle,
+                )?;
+                self.positive(
+                    &at.field("characteristic_rate"),
+                    "the characteristic rate",
+                    *characteristic_rate,
+                    "it is the slip rate (m/s) over which friction falls, like 0.1",
+                )?;
+                (normal_stiffness, shear_stiffness)
+            }
+            JointLaw::Custom { name, params } => {
+                if name.trim().is_empty() {
+                    return Err(self.error(
+                        &at.field("name"),
+                        "the law's name is empty; give the name it is registered under",
+                    ));
+                }
+                for (key, value) in params {
+                    self.finite(
+                        &at.field("params").key(key),
+                        &format!("the parameter {key:?}"),
+                        *value,
+                    )?;
+                }
+                // The registry checks the rest when the scene is built.
+                return Ok(());
+            }
+        };
+        let auto = "give a positive stiffness or leave it out for an automatic one";
+        if let Some(k) = normal_stiffness {
+            self.positive(
+                &at.field("normal_stiffness"),
+                "the normal stiffness",
+                *k,
+                auto,
+            )?;
         }
+        if let Some(k) = shear_stiffness {
+            self.positive(
+                &at.field("shear_stiffness"),
+                "the shear stiffness",
+                *k,
+                auto,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// A friction angle in [0, 90) degrees.
+    fn angle(&self, law: &Place, field: &str, what: &str, phi: f64) -> Result {
+        let at = law.field(field);
+        self.finite(&at, what, phi)?;
+        if (0.0..90.0).contains(&phi) {
+            Ok(())
+        } else {
+            Err(self.error(
+                &at,
+                format!("{what} must lie in [0, 90) degrees, got {phi}"),
+            ))
+        }
+    }
+
+    /// A cohesion or tensile strength: zero or positive.
+    fn strength(&self, law: &Place, field: &str, what: &str, v: f64) -> Result {
+        self.non_negative(&law.field(field), what, v, "use 0 for none")
+    }
+
+    fn check_weakening(&self, at: &Place, w: &Weakening) -> Result {
+        let values: &[f64] = match w {
+            Weakening::Step { at } => &[*at],
+            Weakening::Linear { start, end } => &[*start, *end],
+            Weakening::Exponential { length } => &[*length],
+        };
+        self.finite_all(at, "the weakening slip", values)?;
+        w.check().map_err(|reason| {
+            self.error(
+                at,
+                format!("{reason}; slips are in m, like Step(at: 0.001) or Linear(start: 0.0, end: 0.01)"),
+            )
+        })
     }
 
     fn check_joints(&self) -> Result {
         self.check_law(&Place::root().field("default_joint"), &self.default_joint)?;
+        let n = self.blocks.len();
         let mut pairs: Vec<(usize, usize)> = Vec::new();
+        let mut block_pairs: Vec<((usize, usize), usize)> = Vec::new();
         for (k, joint) in self.joints.iter().enumerate() {
             let at = Place::root().field("joints").index(k);
-            let mut pair = [0; 2];
-            for (side, name) in [&joint.between.0, &joint.between.1].into_iter().enumerate() {
-                pair[side] = self.find_material(&at.field("between").index(side), name)?;
+            match (&joint.between, &joint.blocks) {
+                (Some(between), None) => {
+                    let mut pair = [0; 2];
+                    for (side, name) in [&between.0, &between.1].into_iter().enumerate() {
+                        pair[side] = self.find_material(&at.field("between").index(side), name)?;
+                    }
+                    let pair = (pair[0].min(pair[1]), pair[0].max(pair[1]));
+                    if let Some(first) = pairs.iter().position(|p| *p == pair) {
+                        return Err(self.error(
+                            &at,
+                            format!(
+                                "the pair ({:?}, {:?}) already has a law in joints[{first}]; keep one of them",
+                                between.0, between.1
+                            ),
+                        ));
+                    }
+                    pairs.push(pair);
+                }
+                (None, Some(list)) => {
+                    if list.is_empty() {
+                        return Err(self.error(
+                            &at.field("blocks"),
+                            "the joint set lists no block pairs; add pairs like (0, 1) or remove the entry",
+                        ));
+                    }
+                    for (i, &[a, b]) in list.iter().enumerate() {
+                        let at_pair = at.field("blocks").index(i);
+                        for block in [a, b] {
+                            self.check_block_index(&at_pair, block, n)?;
+                        }
+                        if a == b {
+                            return Err(self.error(
+                                &at_pair,
+                                format!("({a}, {b}) pairs block {a} with itself; a joint is between two different blocks"),
+                            ));
+                        }
+                        let key = (a.min(b), a.max(b));
+                        if let Some(&(_, first)) = block_pairs.iter().find(|(p, _)| *p == key) {
+                            let where_ = if first == k {
+                                "earlier in this set".to_string()
+                            } else {
+                                format!("in joints[{first}]")
+                            };
+                            return Err(self.error(
+                                &at_pair,
+                                format!(
+                                    "the block pair ({a}, {b}) is already listed {where_}; a pair belongs to one joint set only"
+                                ),
+                            ));
+                        }
+                        block_pairs.push((key, k));
+                    }
+                }
+                (Some(_), Some(_)) => {
+                    return Err(self.error(
+                        &at,
+                        "give either between: (material, material) or blocks: [(i, j), ...], not both",
+                    ))
+                }
+                (None, None) => {
+                    return Err(self.error(
+                        &at,
+                        r#"the joint set says neither which materials nor which blocks; add between: ("rock", "rock") or blocks: [(0, 1)]"#,
+                    ))
+                }
             }
-            let pair = (pair[0].min(pair[1]), pair[0].max(pair[1]));
-            if let Some(first) = pairs.iter().position(|p| *p == pair) {
-                return Err(self.error(
-                    &at,
-                    format!(
-                        "the pair ({:?}, {:?}) already has a law in joints[{first}]; keep one of them",
-                        joint.between.0, joint.between.1
-                    ),
-                ));
-            }
-            pairs.push(pair);
             self.check_law(&at.field("law"), &joint.law)?;
         }
         Ok(())
@@ -470,6 +663,20 @@ impl Scene {
             let at = Place::root().field("fixed_points").index(k);
             self.check_block_index(&at.field("block"), fp.block, n)?;
             self.finite_all(&at.field("point"), "the fixed point", &fp.point)?;
+            self.finite_all(&at.field("velocity"), "the velocity", &fp.velocity)?;
+            if let Some(axis) = fp.axis {
+                let at = at.field("axis");
+                self.finite_all(&at, "the axis", &axis)?;
+                if unit_axis(axis).is_none() {
+                    return Err(self.error(
+                        &at,
+                        format!(
+                            "the axis ({}, {}) has no direction; give the direction to hold, like (1.0, 0.0), or leave axis out to hold both",
+                            axis[0], axis[1]
+                        ),
+                    ));
+                }
+            }
         }
         Ok(())
     }
@@ -477,6 +684,11 @@ impl Scene {
     fn check_block_index(&self, at: &Place, block: usize, n: usize) -> Result {
         if block < n {
             Ok(())
+        } else if n == 0 {
+            Err(self.error(
+                at,
+                format!("there is no block {block}: the scene has no blocks"),
+            ))
         } else {
             Err(self.error(
                 at,
@@ -510,6 +722,18 @@ impl Scene {
         }
         Ok(())
     }
+}
+
+/// The unit vector along `axis`, if it has a direction.
+pub(super) fn unit_axis(axis: [f64; 2]) -> Option<Vector2<f64>> {
+    let v = Vector2::from(axis);
+    let scale = v.amax();
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    // Scaled first so tiny or huge components neither underflow nor overflow.
+    let v = v / scale;
+    Some(v / v.norm())
 }
 
 pub(super) fn to_points(v: &[[f64; 2]]) -> Vec<Point2<f64>> {
