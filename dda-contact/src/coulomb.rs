@@ -51,14 +51,22 @@ impl Coulomb {
     }
 
     /// Shear strength and tensile capacity (forces) at the trial gap.
-    fn strengths(&self, springs: &Springs, kin: &LocalKinematics, history: &CoulombHistory) -> (f64, f64) {
+    fn strengths(
+        &self,
+        springs: &Springs,
+        kin: &LocalKinematics,
+        history: &CoulombHistory,
+    ) -> (f64, f64) {
         let (c, t0) = if history.bonded {
             (self.cohesion, self.tensile_strength)
         } else {
             (0.0, 0.0)
         };
         let normal = springs.normal_force(kin);
-        (mohr_coulomb(self.friction_angle, c, normal, kin), t0 * kin.length)
+        (
+            mohr_coulomb(self.friction_angle, c, normal, kin),
+            t0 * kin.length,
+        )
     }
 }
 
@@ -77,13 +85,23 @@ impl ContactLaw for Coulomb {
         }
     }
 
-    fn response(&self, state: ContactState, kin: &LocalKinematics, history: &CoulombHistory) -> ContactResponse {
+    fn response(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        history: &CoulombHistory,
+    ) -> ContactResponse {
         let springs = self.springs(kin);
         let (strength, _) = self.strengths(&springs, kin, history);
         springs.response(state, kin, strength)
     }
 
-    fn next_state(&self, state: ContactState, kin: &LocalKinematics, history: &CoulombHistory) -> ContactState {
+    fn next_state(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        history: &CoulombHistory,
+    ) -> ContactState {
         let springs = self.springs(kin);
         let (strength, tension) = self.strengths(&springs, kin, history);
         springs.next_state(state, kin, strength, tension)

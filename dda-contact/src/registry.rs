@@ -157,7 +157,10 @@ impl LawRegistry {
         let law = builder(params)?;
         match params.leftover().as_slice() {
             [] => Ok(law),
-            unused => Err(format!("the law `{name}` has no parameter {}", unused.join(", "))),
+            unused => Err(format!(
+                "the law `{name}` has no parameter {}",
+                unused.join(", ")
+            )),
         }
     }
 

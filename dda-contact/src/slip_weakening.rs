@@ -55,16 +55,31 @@ impl SlipWeakening {
         Springs::new(self.normal_stiffness, self.shear_stiffness, kin)
     }
 
-    fn strengths(&self, springs: &Springs, kin: &LocalKinematics, history: &SlipHistory) -> (f64, f64) {
+    fn strengths(
+        &self,
+        springs: &Springs,
+        kin: &LocalKinematics,
+        history: &SlipHistory,
+    ) -> (f64, f64) {
         let slip = kin.slip_path;
-        let phi = self.weakening.between(self.peak_friction_angle, self.residual_friction_angle, slip);
+        let phi =
+            self.weakening
+                .between(self.peak_friction_angle, self.residual_friction_angle, slip);
         let cohesion = if history.bonded {
-            self.weakening.between(self.peak_cohesion, self.residual_cohesion, slip)
+            self.weakening
+                .between(self.peak_cohesion, self.residual_cohesion, slip)
         } else {
             0.0
         };
-        let tension = if history.intact_in_tension { self.tensile_strength * kin.length } else { 0.0 };
-        (mohr_coulomb(phi, cohesion, springs.normal_force(kin), kin), tension)
+        let tension = if history.intact_in_tension {
+            self.tensile_strength * kin.length
+        } else {
+            0.0
+        };
+        (
+            mohr_coulomb(phi, cohesion, springs.normal_force(kin), kin),
+            tension,
+        )
     }
 }
 
@@ -85,13 +100,23 @@ impl ContactLaw for SlipWeakening {
         }
     }
 
-    fn response(&self, state: ContactState, kin: &LocalKinematics, history: &SlipHistory) -> ContactResponse {
+    fn response(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        history: &SlipHistory,
+    ) -> ContactResponse {
         let springs = self.springs(kin);
         let (strength, _) = self.strengths(&springs, kin, history);
         springs.response(state, kin, strength)
     }
 
-    fn next_state(&self, state: ContactState, kin: &LocalKinematics, history: &SlipHistory) -> ContactState {
+    fn next_state(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        history: &SlipHistory,
+    ) -> ContactState {
         let springs = self.springs(kin);
         let (strength, tension) = self.strengths(&springs, kin, history);
         springs.next_state(state, kin, strength, tension)

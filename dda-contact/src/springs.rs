@@ -33,7 +33,12 @@ impl Springs {
 
     /// Forces and stiffnesses in `state`; `strength` is the friction force
     /// a sliding contact carries.
-    pub fn response(&self, state: ContactState, kin: &LocalKinematics, strength: f64) -> ContactResponse {
+    pub fn response(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        strength: f64,
+    ) -> ContactResponse {
         let normal_force = self.normal_force(kin);
         match state {
             ContactState::Open => ContactResponse::default(),
@@ -56,7 +61,13 @@ impl Springs {
     /// closed one opens when its tension passes `tension` (a force); a locked
     /// one slides when its spring force passes `strength`; a sliding one
     /// locks when the slip reverses.
-    pub fn next_state(&self, state: ContactState, kin: &LocalKinematics, strength: f64, tension: f64) -> ContactState {
+    pub fn next_state(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        strength: f64,
+        tension: f64,
+    ) -> ContactState {
         let locked_or_sliding = if self.shear * kin.shear <= strength {
             ContactState::Locked
         } else {
@@ -75,7 +86,12 @@ impl Springs {
 
 /// Mohr-Coulomb shear strength: tan φ times the compressive normal force
 /// plus cohesion times the contact's length (or area).
-pub fn mohr_coulomb(friction_angle: f64, cohesion: f64, normal_force: f64, kin: &LocalKinematics) -> f64 {
+pub fn mohr_coulomb(
+    friction_angle: f64,
+    cohesion: f64,
+    normal_force: f64,
+    kin: &LocalKinematics,
+) -> f64 {
     friction_angle.to_radians().tan() * normal_force.max(0.0) + cohesion * kin.length
 }
 

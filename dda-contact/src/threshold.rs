@@ -44,14 +44,24 @@ impl ContactLaw for ThresholdBond {
         BondHistory { bonded: at_start }
     }
 
-    fn response(&self, state: ContactState, kin: &LocalKinematics, _history: &BondHistory) -> ContactResponse {
+    fn response(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        _history: &BondHistory,
+    ) -> ContactResponse {
         // A sliding contact has lost its bond (it breaks on the first slide).
         let springs = self.springs(kin);
         let strength = mohr_coulomb(self.friction_angle, 0.0, springs.normal_force(kin), kin);
         springs.response(state, kin, strength)
     }
 
-    fn next_state(&self, state: ContactState, kin: &LocalKinematics, history: &BondHistory) -> ContactState {
+    fn next_state(
+        &self,
+        state: ContactState,
+        kin: &LocalKinematics,
+        history: &BondHistory,
+    ) -> ContactState {
         let springs = self.springs(kin);
         if history.bonded && state == ContactState::Locked {
             return if kin.gap > self.max_opening + kin.tolerance {
@@ -89,16 +99,34 @@ mod tests {
         };
         let mut h = law.initial_history(true);
         let locked = ContactState::Locked;
-        assert_eq!(law.next_state(locked, &kinematics(0.9e-4, 0.0, 0.0), &h), locked);
-        assert_eq!(law.next_state(locked, &kinematics(1.1e-4, 0.0, 0.0), &h), ContactState::Open);
+        assert_eq!(
+            law.next_state(locked, &kinematics(0.9e-4, 0.0, 0.0), &h),
+            locked
+        );
+        assert_eq!(
+            law.next_state(locked, &kinematics(1.1e-4, 0.0, 0.0), &h),
+            ContactState::Open
+        );
         // Shear far beyond friction is held while bonded, released past max_shear.
-        assert_eq!(law.next_state(locked, &kinematics(-1e-6, 1.9e-4, 0.0), &h), locked);
-        assert_eq!(law.next_state(locked, &kinematics(-1e-6, 2.1e-4, 0.0), &h), ContactState::Sliding);
+        assert_eq!(
+            law.next_state(locked, &kinematics(-1e-6, 1.9e-4, 0.0), &h),
+            locked
+        );
+        assert_eq!(
+            law.next_state(locked, &kinematics(-1e-6, 2.1e-4, 0.0), &h),
+            ContactState::Sliding
+        );
         law.commit(ContactState::Sliding, &kinematics(0.0, 0.0, 0.0), &mut h);
         // Broken: frictional, no tension.
-        assert_eq!(law.next_state(locked, &kinematics(1e-6, 0.0, 0.0), &h), ContactState::Open);
+        assert_eq!(
+            law.next_state(locked, &kinematics(1e-6, 0.0, 0.0), &h),
+            ContactState::Open
+        );
         // Friction 577 N against a spring force of 800 N.
-        assert_eq!(law.next_state(locked, &kinematics(-1e-6, 2e-6, 0.0), &h), ContactState::Sliding);
+        assert_eq!(
+            law.next_state(locked, &kinematics(-1e-6, 2e-6, 0.0), &h),
+            ContactState::Sliding
+        );
         assert!(!law.initial_history(false).bonded);
     }
 }

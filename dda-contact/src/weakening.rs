@@ -44,15 +44,19 @@ impl Weakening {
     /// Whether the parameters make sense, with the reason if not.
     pub fn check(&self) -> Result<(), String> {
         match *self {
-            Weakening::Step { at } if !(at >= 0.0 && at.is_finite()) => {
-                Err(format!("the step slip `at` must be zero or positive, got {at}"))
-            }
-            Weakening::Linear { start, end } if !(start >= 0.0 && end > start && end.is_finite()) => Err(format!(
-                "a linear weakening needs 0 <= start < end, got start {start} and end {end}"
+            Weakening::Step { at } if !(at >= 0.0 && at.is_finite()) => Err(format!(
+                "the step slip `at` must be zero or positive, got {at}"
             )),
-            Weakening::Exponential { length } if !(length > 0.0 && length.is_finite()) => {
-                Err(format!("the exponential weakening length must be positive, got {length}"))
+            Weakening::Linear { start, end }
+                if !(start >= 0.0 && end > start && end.is_finite()) =>
+            {
+                Err(format!(
+                    "a linear weakening needs 0 <= start < end, got start {start} and end {end}"
+                ))
             }
+            Weakening::Exponential { length } if !(length > 0.0 && length.is_finite()) => Err(
+                format!("the exponential weakening length must be positive, got {length}"),
+            ),
             _ => Ok(()),
         }
     }
@@ -67,13 +71,21 @@ mod tests {
         let step = Weakening::Step { at: 0.05 };
         assert_eq!(step.between(25.0, 15.0, 0.0499), 25.0);
         assert_eq!(step.between(25.0, 15.0, 0.05), 15.0);
-        let linear = Weakening::Linear { start: 0.01, end: 0.03 };
+        let linear = Weakening::Linear {
+            start: 0.01,
+            end: 0.03,
+        };
         assert_eq!(linear.between(4.0, 2.0, 0.0), 4.0);
         assert!((linear.between(4.0, 2.0, 0.02) - 3.0).abs() < 1e-12);
         assert_eq!(linear.between(4.0, 2.0, 1.0), 2.0);
         let exp = Weakening::Exponential { length: 100.0 };
         assert!((exp.between(12.0, 6.0, 100.0) - (6.0 + 6.0 / std::f64::consts::E)).abs() < 1e-12);
-        assert!(Weakening::Linear { start: 0.1, end: 0.1 }.check().is_err());
+        assert!(Weakening::Linear {
+            start: 0.1,
+            end: 0.1
+        }
+        .check()
+        .is_err());
         assert!(Weakening::Exponential { length: 0.0 }.check().is_err());
         assert!(step.check().is_ok());
     }

@@ -40,3 +40,60 @@ pub fn at(rows: &[HistoryRow], block: usize, time: f64) -> &HistoryRow {
 pub fn distance(a: &HistoryRow, b: &HistoryRow) -> f64 {
     ((a.x - b.x).powi(2) + (a.y - b.y).powi(2)).sqrt()
 }
+
+/// One row of contacts.csv.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactRow {
+    pub step: usize,
+    pub time: f64,
+    pub label: String,
+    pub blocks: (usize, usize),
+    pub state: String,
+    pub normal: f64,
+    pub shear: f64,
+    pub slip: f64,
+}
+
+/// Reads contacts.csv, checking its header.
+pub fn read_contacts(path: &Path) -> Vec<ContactRow> {
+    let text = std::fs::read_to_string(path).expect("contacts.csv exists");
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("step,time,contact,block_a,block_b,state,fn,fs,slip")
+    );
+    lines
+        .map(|line| {
+            let f: Vec<&str> = line.split(',').collect();
+            let num = |i: usize| f[i].parse::<f64>().unwrap();
+            ContactRow {
+                step: f[0].parse().unwrap(),
+                time: num(1),
+                label: f[2].to_string(),
+                blocks: (f[3].parse().unwrap(), f[4].parse().unwrap()),
+                state: f[5].to_string(),
+                normal: num(6),
+                shear: num(7),
+                slip: num(8),
+            }
+        })
+        .collect()
+}
+
+/// Runs scene text (written to a temporary file) and returns the output
+/// folder; the caller removes it.
+pub fn run_text(name: &str, text: &str) -> PathBuf {
+    let out = out_dir(name);
+    std::fs::create_dir_all(&out).unwrap();
+    let scene = out.join(format!("{name}.ron"));
+    std::fs::write(&scene, text).unwrap();
+    dda::run::run(&scene, &out).expect("the scene runs");
+    out
+}
+
+/// An example's text with `from` replaced by `to` (which must occur).
+pub fn example_with(name: &str, from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(example(name)).unwrap();
+    assert!(text.contains(from), "{name} has no `{from}`");
+    text.replace(from, to)
+}
