@@ -115,7 +115,10 @@ pub fn contact_label(key: &ContactKey) -> String {
     } else {
         format!("e{}", key.feature_b)
     };
-    format!("{}:v{}/{}:{feature}", key.block_a, key.feature_a, key.block_b)
+    format!(
+        "{}:v{}/{}:{feature}",
+        key.block_a, key.feature_a, key.block_b
+    )
 }
 
 fn contact(
@@ -268,7 +271,9 @@ mod tests {
     fn vertex_edge_rows_are_the_derivatives_of_the_exact_gap_and_slip() {
         let blocks = pair();
         let contacts = pair_contacts(&blocks, 1, 0, 0.05, 0);
-        assert!(contacts.iter().any(|c| contact_label(&c.key) == "1:v0/0:e2"));
+        assert!(contacts
+            .iter()
+            .any(|c| contact_label(&c.key) == "1:v0/0:e2"));
         let c = contacts
             .iter()
             .find(|c| c.key.feature_a == 0 && c.key.feature_b == 2)
