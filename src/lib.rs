@@ -29,4 +29,4 @@ pub mod scene;
 
 pub use output::{read_contacts, read_history, ContactRow, HistoryRow};
 pub use run::{run, run_with_registry, Summary};
-pub use scene::{Model, Scene, SceneError};
+pub use scene::{Model, Scene, SceneBlock, SceneError};

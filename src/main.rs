@@ -75,7 +75,7 @@ fn execute(command: Command) -> anyhow::Result<()> {
             println!(
                 "{}: ok ({}, {}, {}, duration {} s, dt {dt:.4e} s{auto})",
                 path.display(),
-                count(scene.blocks.len(), "block"),
+                count(model.driver.system.blocks.len(), "block"),
                 count(scene.materials.len(), "material"),
                 count(laws.len(), "joint law"),
                 model.duration,

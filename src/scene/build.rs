@@ -19,6 +19,8 @@ pub struct Model {
     pub output_interval: Option<f64>,
     /// Whether to write `contacts.csv`.
     pub write_contacts: bool,
+    /// The settings the driver was made with.
+    pub settings: Settings,
 }
 
 /// Which law each joint uses: the distinct laws of a scene (the default
@@ -56,16 +58,22 @@ impl Scene {
                 }) as Box<dyn ConstitutiveLaw<3>>
             })
             .collect();
-        let mut blocks = Vec::with_capacity(self.blocks.len());
-        for (k, spec) in self.blocks.iter().enumerate() {
-            let at = blocks_at.index(k);
+        let specs = self.expanded_blocks();
+        let mut blocks = Vec::with_capacity(specs.len());
+        for spec in &specs {
+            let at = self.block_place(spec);
             let material = self
-                .material_index(spec)
-                .ok_or_else(|| self.error(&at, "the block's material is not defined"))?;
+                .material_index(&self.blocks[spec.entry])
+                .ok_or_else(|| {
+                    self.error(
+                        &blocks_at.index(spec.entry),
+                        "the block's material is not defined",
+                    )
+                })?;
             let density = self.materials[material].1.density;
-            let mut block = Block::new(&to_points(&spec.vertices()), material, density)
+            let mut block = Block::new(&to_points(&spec.vertices), material, density)
                 .map_err(|e| self.error(&at, polygon_message(&e)))?;
-            block.stress = Vector3::from(spec.stress());
+            block.stress = Vector3::from(spec.stress);
             blocks.push(block);
         }
 
@@ -112,9 +120,18 @@ impl Scene {
                 ..FixedPoint::at(fp.block, Point2::from(fp.point))
             });
         }
-        for (k, spec) in self.blocks.iter().enumerate() {
-            if spec.fixed() {
+        for (k, spec) in specs.iter().enumerate() {
+            if spec.fixed {
                 system.fix_block(k);
+            }
+        }
+        if let Some((driven, motion)) = self.ground_motion(&specs)? {
+            for fp in system
+                .fixed
+                .iter_mut()
+                .filter(|f| driven.contains(&f.block))
+            {
+                fp.ground = Some(motion.clone());
             }
         }
 
@@ -128,6 +145,7 @@ impl Scene {
             penalty: a.penalty,
             raise_penalty: a.raise_penalty,
             length_scale: a.length_scale,
+            mass_damping: a.damping.map_or(0.0, |d| d.mass_coefficient()),
             ..Settings::default()
         };
         let laws = table
@@ -138,10 +156,10 @@ impl Scene {
                     .map_err(|message| self.error(&self.law_place(law), message))
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let mut driver = Driver2d::new(system, laws, settings)
+        let mut driver = Driver2d::new(system, laws, settings.clone())
             .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
-        for (k, spec) in self.blocks.iter().enumerate() {
-            let [vx, vy, w] = spec.velocity();
+        for (k, spec) in specs.iter().enumerate() {
+            let [vx, vy, w] = spec.velocity;
             driver.set_velocity(k, Vector6::new(vx, vy, w, 0.0, 0.0, 0.0));
         }
         let interval = self.output.interval;
@@ -150,6 +168,7 @@ impl Scene {
             duration: a.duration,
             output_interval: (interval > 0.0).then_some(interval),
             write_contacts: self.output.contacts,
+            settings,
         })
     }
 

@@ -6,15 +6,18 @@
 
 mod build;
 mod error;
+mod generate;
 mod locate;
+mod motion;
 mod validate;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
 pub use dda_2d::{Plane, RotationUpdate};
 pub use dda_contact::Weakening;
+pub use dda_core::Quantity;
 
 pub use build::{LawTable, Model};
 pub use error::{Location, SceneError};
@@ -45,6 +48,9 @@ pub struct Scene {
     pub loads: Vec<Load>,
     #[serde(default)]
     pub fixed_points: Vec<FixedPointSpec>,
+    /// Shaking of fixed base blocks.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ground_motion: Option<GroundMotionSpec>,
     /// Where the scene came from, for error messages.
     #[serde(skip)]
     source: Source,
@@ -59,6 +65,9 @@ fn default_dimension() -> u32 {
 struct Source {
     origin: String,
     text: String,
+    /// The folder that files named in the scene are relative to; `None`
+    /// for the current one.
+    dir: Option<PathBuf>,
 }
 
 /// Analysis settings. `None` means automatic.
@@ -84,6 +93,26 @@ pub struct Analysis {
     #[serde(with = "RotationUpdateDef")]
     pub rotation_update: RotationUpdate,
     pub fixed_penalty: Option<f64>,
+    /// Mass-proportional viscous damping; none when left out.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub damping: Option<Damping>,
+}
+
+/// Mass-proportional damping giving the ratio `ratio` of critical damping
+/// at `frequency` (Hz): α = 2·ratio·2π·frequency (1/s), a force −α·m·v on
+/// every block. Lower frequencies are damped more, higher ones less.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Damping {
+    pub ratio: f64,
+    pub frequency: f64,
+}
+
+impl Damping {
+    /// The coefficient α in 1/s.
+    pub fn mass_coefficient(&self) -> f64 {
+        2.0 * self.ratio * std::f64::consts::TAU * self.frequency
+    }
 }
 
 impl Default for Analysis {
@@ -106,6 +135,7 @@ impl Default for Analysis {
             plane: Plane::Strain,
             rotation_update: RotationUpdate::Exact,
             fixed_penalty: None,
+            damping: None,
         }
     }
 }
@@ -283,7 +313,9 @@ enum WeakeningDef {
     Exponential { length: f64 },
 }
 
-/// A block: its shape, material and initial state.
+/// A block, or a generator of several (`Arch`, `Column`, `Wall`): shape,
+/// material and initial state. A generator's blocks take its place in the
+/// block numbering, in the order documented for each.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum BlockSpec {
@@ -316,41 +348,175 @@ pub enum BlockSpec {
         #[serde(default)]
         stress: [f64; 3],
     },
+    /// Voussoirs between radial joints (chords, no arc subdivision), numbered
+    /// from the left springing to the right, then (with `abutments`) a fixed
+    /// block under each springing joint, left then right.
+    Arch {
+        #[serde(default)]
+        material: Option<String>,
+        center: [f64; 2],
+        /// Of the centreline; the intrados is at radius − thickness/2, the
+        /// extrados at radius + thickness/2.
+        radius: f64,
+        thickness: f64,
+        voussoirs: usize,
+        /// Degrees, the arc's total angle, symmetric about the vertical
+        /// through `center`: 180 is semicircular, less is segmental.
+        #[serde(default = "default_span_angle")]
+        span_angle: f64,
+        /// Horizontal offset of the two centres of a pointed arch, as a
+        /// fraction of `radius`; 0 is a round arch.
+        #[serde(default)]
+        pointed: f64,
+        /// Fixed blocks under the springing joints: their top face lies along
+        /// the joint, t/2 longer at each end, and they reach t below it.
+        #[serde(default = "default_true")]
+        abutments: bool,
+        #[serde(default)]
+        fixed: bool,
+        #[serde(default)]
+        velocity: [f64; 3],
+        #[serde(default)]
+        stress: [f64; 3],
+    },
+    /// A stack of rectangular drums, the bottom one's base centred at `base`.
+    Column {
+        #[serde(default)]
+        material: Option<String>,
+        base: [f64; 2],
+        drums: usize,
+        drum_height: f64,
+        width: f64,
+        #[serde(default)]
+        fixed: bool,
+        #[serde(default)]
+        velocity: [f64; 3],
+        #[serde(default)]
+        stress: [f64; 3],
+    },
+    /// Courses of bricks from `origin` (the bottom-left corner) upward,
+    /// each spanning exactly `length`; bricks numbered course by course,
+    /// left to right.
+    Wall {
+        #[serde(default)]
+        material: Option<String>,
+        origin: [f64; 2],
+        length: f64,
+        courses: usize,
+        brick_length: f64,
+        brick_height: f64,
+        #[serde(default)]
+        bond: Bond,
+        #[serde(default)]
+        fixed: bool,
+        #[serde(default)]
+        velocity: [f64; 3],
+        #[serde(default)]
+        stress: [f64; 3],
+    },
+}
+
+fn default_span_angle() -> f64 {
+    180.0
+}
+
+fn default_true() -> bool {
+    true
+}
+
+/// How a wall's courses are cut.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Bond {
+    /// Every course cut at multiples of the brick length.
+    Stack,
+    /// Every second course starts with half a brick, so joints alternate.
+    #[default]
+    Running,
+}
+
+/// One block of a scene once generators are expanded: the numbering used by
+/// loads, fixed points, joint sets, the ground motion and the outputs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneBlock {
+    /// Index of the `blocks` entry that makes it.
+    pub entry: usize,
+    /// Which block of a generator it is, like "voussoir 3"; `None` for a
+    /// `Polygon` or `Rectangle`.
+    pub part: Option<String>,
+    /// The outline (as written for a polygon, counter-clockwise otherwise).
+    pub vertices: Vec<[f64; 2]>,
+    pub fixed: bool,
+    /// (vx, vy, ω).
+    pub velocity: [f64; 3],
+    /// (σx, σy, τxy), tension positive.
+    pub stress: [f64; 3],
 }
 
 impl BlockSpec {
     pub fn material(&self) -> Option<&str> {
         match self {
-            BlockSpec::Polygon { material, .. } | BlockSpec::Rectangle { material, .. } => {
-                material.as_deref()
-            }
+            BlockSpec::Polygon { material, .. }
+            | BlockSpec::Rectangle { material, .. }
+            | BlockSpec::Arch { material, .. }
+            | BlockSpec::Column { material, .. }
+            | BlockSpec::Wall { material, .. } => material.as_deref(),
         }
     }
 
     pub fn fixed(&self) -> bool {
         match self {
-            BlockSpec::Polygon { fixed, .. } | BlockSpec::Rectangle { fixed, .. } => *fixed,
+            BlockSpec::Polygon { fixed, .. }
+            | BlockSpec::Rectangle { fixed, .. }
+            | BlockSpec::Arch { fixed, .. }
+            | BlockSpec::Column { fixed, .. }
+            | BlockSpec::Wall { fixed, .. } => *fixed,
         }
     }
 
     pub fn velocity(&self) -> [f64; 3] {
         match self {
-            BlockSpec::Polygon { velocity, .. } | BlockSpec::Rectangle { velocity, .. } => {
-                *velocity
-            }
+            BlockSpec::Polygon { velocity, .. }
+            | BlockSpec::Rectangle { velocity, .. }
+            | BlockSpec::Arch { velocity, .. }
+            | BlockSpec::Column { velocity, .. }
+            | BlockSpec::Wall { velocity, .. } => *velocity,
         }
     }
 
     pub fn stress(&self) -> [f64; 3] {
         match self {
-            BlockSpec::Polygon { stress, .. } | BlockSpec::Rectangle { stress, .. } => *stress,
+            BlockSpec::Polygon { stress, .. }
+            | BlockSpec::Rectangle { stress, .. }
+            | BlockSpec::Arch { stress, .. }
+            | BlockSpec::Column { stress, .. }
+            | BlockSpec::Wall { stress, .. } => *stress,
         }
     }
 
-    /// The outline as written (a rectangle's corners counter-clockwise).
-    pub fn vertices(&self) -> Vec<[f64; 2]> {
-        match self {
-            BlockSpec::Polygon { vertices, .. } => vertices.clone(),
+    /// Whether the entry stands for several blocks.
+    pub fn is_generator(&self) -> bool {
+        !matches!(
+            self,
+            BlockSpec::Polygon { .. } | BlockSpec::Rectangle { .. }
+        )
+    }
+
+    /// The blocks of this entry (one for a polygon or rectangle), with
+    /// `entry` as their entry index. A generator with parameters that make
+    /// no sense (see [`Scene::validate`]) gives none.
+    pub fn expand(&self, entry: usize) -> Vec<SceneBlock> {
+        let single = |vertices: Vec<[f64; 2]>| {
+            vec![SceneBlock {
+                entry,
+                part: None,
+                vertices,
+                fixed: self.fixed(),
+                velocity: self.velocity(),
+                stress: self.stress(),
+            }]
+        };
+        let pieces = match self {
+            BlockSpec::Polygon { vertices, .. } => return single(vertices.clone()),
             BlockSpec::Rectangle {
                 center,
                 width,
@@ -360,13 +526,124 @@ impl BlockSpec {
             } => {
                 let (s, c) = angle.to_radians().sin_cos();
                 let (hw, hh) = (width / 2.0, height / 2.0);
-                [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
-                    .iter()
-                    .map(|&(x, y)| [center[0] + c * x - s * y, center[1] + s * x + c * y])
-                    .collect()
+                return single(
+                    [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
+                        .iter()
+                        .map(|&(x, y)| [center[0] + c * x - s * y, center[1] + s * x + c * y])
+                        .collect(),
+                );
             }
-        }
+            BlockSpec::Arch {
+                center,
+                radius,
+                thickness,
+                voussoirs,
+                span_angle,
+                pointed,
+                abutments,
+                ..
+            } => generate::arch(&generate::ArchShape {
+                center: *center,
+                radius: *radius,
+                thickness: *thickness,
+                voussoirs: *voussoirs,
+                span_angle: *span_angle,
+                pointed: *pointed,
+                abutments: *abutments,
+            }),
+            BlockSpec::Column {
+                base,
+                drums,
+                drum_height,
+                width,
+                ..
+            } => generate::column(*base, *drums, *drum_height, *width),
+            BlockSpec::Wall {
+                origin,
+                length,
+                courses,
+                brick_length,
+                brick_height,
+                bond,
+                ..
+            } => generate::wall(
+                *origin,
+                *length,
+                *courses,
+                *brick_length,
+                *brick_height,
+                *bond,
+            ),
+        };
+        pieces
+            .into_iter()
+            .map(|p| SceneBlock {
+                entry,
+                part: Some(p.name),
+                vertices: p.vertices,
+                fixed: self.fixed() || p.always_fixed,
+                // Abutments stay put.
+                velocity: if p.always_fixed {
+                    [0.0; 3]
+                } else {
+                    self.velocity()
+                },
+                stress: self.stress(),
+            })
+            .collect()
     }
+}
+
+/// Shaking of the ground under fixed base blocks: every fixed point of the
+/// listed blocks follows the ground's displacement.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroundMotionSpec {
+    /// Block indices (generators expanded); each must be fixed.
+    pub blocks: Vec<usize>,
+    pub motion: MotionSpec,
+}
+
+/// The ground's motion, starting from rest at t = 0.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum MotionSpec {
+    /// Acceleration `amplitude`·sin(2π·frequency·t) (m/s², Hz) for
+    /// `duration` seconds, then none.
+    Sine {
+        amplitude: [f64; 2],
+        frequency: f64,
+        duration: f64,
+    },
+    /// One sine pulse of acceleration (m/s²) lasting `period` seconds.
+    Pulse { amplitude: [f64; 2], period: f64 },
+    /// A CSV file of `time, ax, ay` rows (a header line and `#` comment
+    /// lines allowed), relative to the scene file's folder; values are
+    /// multiplied by `scale` (9.81 for records in g).
+    Record {
+        path: String,
+        #[serde(default = "default_quantity", with = "QuantityDef")]
+        quantity: Quantity,
+        #[serde(default = "default_scale")]
+        scale: f64,
+    },
+}
+
+fn default_quantity() -> Quantity {
+    Quantity::Acceleration
+}
+
+fn default_scale() -> f64 {
+    1.0
+}
+
+/// The file names of [`Quantity`].
+#[derive(Serialize, Deserialize)]
+#[serde(remote = "Quantity")]
+enum QuantityDef {
+    Acceleration,
+    Velocity,
+    Displacement,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -421,14 +698,21 @@ impl Scene {
             file: origin.clone(),
             error,
         })?;
-        Scene::from_str(&text, &origin)
+        let dir = path.parent().map(Path::to_path_buf);
+        Scene::parse(&text, &origin, dir)
     }
 
-    /// Parses and validates scene text; `origin` names it in errors.
+    /// Parses and validates scene text; `origin` names it in errors. Files
+    /// it names (ground-motion records) are relative to the current folder.
     pub fn from_str(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        Scene::parse(text, origin, None)
+    }
+
+    fn parse(text: &str, origin: &str, dir: Option<PathBuf>) -> Result<Scene, SceneError> {
         let source = Source {
             origin: origin.to_string(),
             text: text.to_string(),
+            dir,
         };
         if let Ok(d) = ron_options().from_str::<DimensionOnly>(text) {
             if d.dimension != 2 {
@@ -452,6 +736,32 @@ impl Scene {
     /// The name of the file (or other origin) the scene was read from.
     pub fn origin(&self) -> &str {
         &self.source.origin
+    }
+
+    /// Where a file named in the scene is: relative paths are taken from
+    /// the scene file's folder (the current one for [`Scene::from_str`]).
+    pub fn resolve(&self, path: impl AsRef<Path>) -> PathBuf {
+        let path = path.as_ref();
+        match &self.source.dir {
+            Some(dir) if path.is_relative() => dir.join(path),
+            _ => path.to_path_buf(),
+        }
+    }
+
+    /// The blocks with generators expanded in place: what block indices in
+    /// the scene (loads, fixed points, joint sets, ground motion) and in the
+    /// outputs count.
+    pub fn expanded_blocks(&self) -> Vec<SceneBlock> {
+        self.blocks
+            .iter()
+            .enumerate()
+            .flat_map(|(k, spec)| spec.expand(k))
+            .collect()
+    }
+
+    /// How many blocks the scene has, generators expanded.
+    pub fn block_count(&self) -> usize {
+        self.expanded_blocks().len()
     }
 
     /// Index of the block's material, if it names one that exists (or the

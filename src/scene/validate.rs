@@ -2,12 +2,19 @@
 //! at the file instead of surfacing mid-run.
 
 use std::fmt;
+use std::sync::Arc;
 
 use dda_2d::polygon::{self, PolygonError};
+use dda_core::{GroundMotion, Record};
 use nalgebra::{Point2, Vector2};
 
+use super::generate::{self, MAX_PARTS};
 use super::locate::Seg;
-use super::{BlockSpec, JointLaw, Load, Scene, SceneError, Weakening};
+use super::motion::read_record;
+use super::{
+    BlockSpec, GroundMotionSpec, JointLaw, Load, MotionSpec, Scene, SceneBlock, SceneError,
+    Weakening,
+};
 
 /// A path into the scene, like `blocks[2].vertices[1]`.
 #[derive(Debug, Clone, Default)]
@@ -18,6 +25,8 @@ enum Part {
     Field(String),
     Index(usize),
     Key(String),
+    /// Which block of a generator; shown, not located.
+    Label(String),
 }
 
 impl Place {
@@ -43,11 +52,17 @@ impl Place {
         self.with(Part::Key(k.to_string()))
     }
 
+    /// A note after the place, like `blocks[0] (voussoir 3)`.
+    pub fn label(&self, label: &str) -> Self {
+        self.with(Part::Label(label.to_string()))
+    }
+
     pub fn segs(&self) -> impl Iterator<Item = Seg<'_>> {
-        self.0.iter().map(|p| match p {
-            Part::Field(f) => Seg::Field(f),
-            Part::Index(k) => Seg::Index(*k),
-            Part::Key(k) => Seg::Key(k),
+        self.0.iter().filter_map(|p| match p {
+            Part::Field(f) => Some(Seg::Field(f)),
+            Part::Index(k) => Some(Seg::Index(*k)),
+            Part::Key(k) => Some(Seg::Key(k)),
+            Part::Label(_) => None,
         })
     }
 }
@@ -60,6 +75,7 @@ impl fmt::Display for Place {
                 Part::Field(name) => write!(f, ".{name}")?,
                 Part::Index(k) => write!(f, "[{k}]")?,
                 Part::Key(k) => write!(f, "[{k:?}]")?,
+                Part::Label(label) => write!(f, " ({label})")?,
             }
         }
         Ok(())
@@ -92,9 +108,11 @@ impl Scene {
             ));
         }
         self.check_materials()?;
-        self.check_joints()?;
-        self.check_blocks()?;
-        self.check_loads()
+        let blocks = self.check_blocks()?;
+        self.check_joints(&blocks)?;
+        self.check_loads(&blocks)?;
+        self.ground_motion(&blocks)?;
+        Ok(())
     }
 
     pub(super) fn error(&self, place: &Place, message: impl Into<String>) -> SceneError {
@@ -210,7 +228,23 @@ impl Scene {
         if let Some(p) = a.fixed_penalty {
             self.positive(&at("fixed_penalty"), "the fixed-point penalty", p, auto)?;
         }
-        self.finite_all(&at("gravity"), "gravity", &a.gravity)
+        self.finite_all(&at("gravity"), "gravity", &a.gravity)?;
+        if let Some(d) = &a.damping {
+            let at = at("damping");
+            self.non_negative(
+                &at.field("ratio"),
+                "the damping ratio",
+                d.ratio,
+                "it is a fraction of critical damping, like 0.05",
+            )?;
+            self.positive(
+                &at.field("frequency"),
+                "the damping frequency",
+                d.frequency,
+                "give the frequency (Hz) at which the ratio holds, like the structure's first mode",
+            )?;
+        }
+        Ok(())
     }
 
     fn check_materials(&self) -> Result {
@@ -430,9 +464,8 @@ impl Scene {
         })
     }
 
-    fn check_joints(&self) -> Result {
+    fn check_joints(&self, blocks: &[SceneBlock]) -> Result {
         self.check_law(&Place::root().field("default_joint"), &self.default_joint)?;
-        let n = self.blocks.len();
         let mut pairs: Vec<(usize, usize)> = Vec::new();
         let mut block_pairs: Vec<((usize, usize), usize)> = Vec::new();
         for (k, joint) in self.joints.iter().enumerate() {
@@ -465,7 +498,7 @@ impl Scene {
                     for (i, &[a, b]) in list.iter().enumerate() {
                         let at_pair = at.field("blocks").index(i);
                         for block in [a, b] {
-                            self.check_block_index(&at_pair, block, n)?;
+                            self.check_block_index(&at_pair, block, blocks)?;
                         }
                         if a == b {
                             return Err(self.error(
@@ -535,21 +568,67 @@ impl Scene {
         names.join(", ")
     }
 
-    fn check_blocks(&self) -> Result {
+    /// Checks every entry, expands the generators and checks the blocks
+    /// they make; returns the expanded blocks.
+    fn check_blocks(&self) -> Result<Vec<SceneBlock>> {
         if self.blocks.is_empty() {
             return Err(self.error(
                 &Place::root().field("blocks"),
                 "the scene has no blocks; add at least one, like Rectangle(center: (0.0, 0.0), width: 1.0, height: 1.0)",
             ));
         }
-        let mut outlines = Vec::with_capacity(self.blocks.len());
-        for (k, block) in self.blocks.iter().enumerate() {
-            outlines.push(self.check_block(k, block)?);
+        let mut blocks = Vec::new();
+        let mut outlines = Vec::new();
+        for (k, spec) in self.blocks.iter().enumerate() {
+            self.check_block(k, spec)?;
+            for block in spec.expand(k) {
+                let points = to_points(&block.vertices);
+                polygon::validate(&points).map_err(|e| {
+                    let message = polygon_message(&e);
+                    let message = match block.part {
+                        // "Remove a vertex" is no help with generated blocks.
+                        Some(_) => format!(
+                            "the generated block is degenerate: {}; change the generator's sizes",
+                            message.split(';').next().unwrap_or_default()
+                        ),
+                        None => message,
+                    };
+                    self.error(&self.block_place(&block), message)
+                })?;
+                outlines.push(points);
+                blocks.push(block);
+            }
         }
-        self.check_overlaps(&outlines)
+        self.check_overlaps(&blocks, &outlines)?;
+        Ok(blocks)
     }
 
-    fn check_block(&self, k: usize, block: &BlockSpec) -> Result<Vec<Point2<f64>>> {
+    /// `blocks[k]`, with the part for a generated block.
+    pub(super) fn block_place(&self, block: &SceneBlock) -> Place {
+        let at = Place::root().field("blocks").index(block.entry);
+        match &block.part {
+            Some(part) => at.label(part),
+            None => at,
+        }
+    }
+
+    /// "block 7", and which entry makes it when that is not plain.
+    fn block_name(&self, index: usize, blocks: &[SceneBlock]) -> String {
+        match blocks.get(index) {
+            Some(SceneBlock {
+                entry,
+                part: Some(part),
+                ..
+            }) => format!("block {index} (blocks[{entry}], {part})"),
+            Some(SceneBlock { entry, .. }) if *entry != index => {
+                format!("block {index} (blocks[{entry}])")
+            }
+            _ => format!("block {index}"),
+        }
+    }
+
+    /// The entry's own values: material, sizes, counts, initial state.
+    fn check_block(&self, k: usize, block: &BlockSpec) -> Result {
         let at = Place::root().field("blocks").index(k);
         match block.material() {
             Some(name) => {
@@ -594,19 +673,176 @@ impl Scene {
                 )?;
                 self.finite(&at.field("angle"), "the angle", *angle)?;
             }
+            BlockSpec::Arch {
+                center,
+                radius,
+                thickness,
+                voussoirs,
+                span_angle,
+                pointed,
+                ..
+            } => self.check_arch(
+                &at,
+                &generate::ArchShape {
+                    center: *center,
+                    radius: *radius,
+                    thickness: *thickness,
+                    voussoirs: *voussoirs,
+                    span_angle: *span_angle,
+                    pointed: *pointed,
+                    abutments: true,
+                },
+            )?,
+            BlockSpec::Column {
+                base,
+                drums,
+                drum_height,
+                width,
+                ..
+            } => {
+                self.finite_all(&at.field("base"), "the base", base)?;
+                self.count(&at.field("drums"), "drums", *drums, 1)?;
+                let hint = "give the column's size in m";
+                self.positive(
+                    &at.field("drum_height"),
+                    "the drum height",
+                    *drum_height,
+                    hint,
+                )?;
+                self.positive(&at.field("width"), "the width", *width, hint)?;
+            }
+            BlockSpec::Wall {
+                origin,
+                length,
+                courses,
+                brick_length,
+                brick_height,
+                ..
+            } => {
+                self.finite_all(&at.field("origin"), "the origin", origin)?;
+                let hint = "give the wall's sizes in m";
+                self.positive(&at.field("length"), "the length", *length, hint)?;
+                self.count(&at.field("courses"), "courses", *courses, 1)?;
+                self.positive(
+                    &at.field("brick_length"),
+                    "the brick length",
+                    *brick_length,
+                    hint,
+                )?;
+                self.positive(
+                    &at.field("brick_height"),
+                    "the brick height",
+                    *brick_height,
+                    hint,
+                )?;
+                let n = generate::wall_count(*length, *courses, *brick_length);
+                if n > MAX_PARTS as f64 {
+                    return Err(self.error(
+                        &at,
+                        format!(
+                            "the wall would have about {n:.0} bricks, more than {MAX_PARTS}; use longer bricks, fewer courses or a shorter wall"
+                        ),
+                    ));
+                }
+            }
         }
         self.finite_all(
             &at.field("velocity"),
             "the initial velocity",
             &block.velocity(),
         )?;
-        self.finite_all(&at.field("stress"), "the initial stress", &block.stress())?;
-        let points = to_points(&block.vertices());
-        polygon::validate(&points).map_err(|e| self.error(&at, polygon_message(&e)))
+        self.finite_all(&at.field("stress"), "the initial stress", &block.stress())
+    }
+
+    /// A number of generated blocks: at least `min`, at most [`MAX_PARTS`].
+    fn count(&self, at: &Place, what: &str, n: usize, min: usize) -> Result {
+        if n < min {
+            Err(self.error(at, format!("{what} must be at least {min}, got {n}")))
+        } else if n > MAX_PARTS {
+            Err(self.error(
+                at,
+                format!("{n} {what} is more than the {MAX_PARTS} a generator makes; use fewer"),
+            ))
+        } else {
+            Ok(())
+        }
+    }
+
+    fn check_arch(&self, at: &Place, arch: &generate::ArchShape) -> Result {
+        self.finite_all(&at.field("center"), "the center", &arch.center)?;
+        let hint = "give the arch's size in m";
+        self.positive(&at.field("radius"), "the radius", arch.radius, hint)?;
+        self.positive(
+            &at.field("thickness"),
+            "the thickness",
+            arch.thickness,
+            hint,
+        )?;
+        if arch.radius <= arch.thickness / 2.0 {
+            return Err(self.error(
+                &at.field("radius"),
+                format!(
+                    "the radius ({}) must exceed half the thickness ({}): it is the centreline's, with the intrados at radius − thickness/2; use a larger radius or a thinner arch",
+                    arch.radius, arch.thickness
+                ),
+            ));
+        }
+        self.count(&at.field("voussoirs"), "voussoirs", arch.voussoirs, 2)?;
+        let span = arch.span_angle;
+        self.finite(&at.field("span_angle"), "the span angle", span)?;
+        if !(span > 0.0 && span <= 180.0) {
+            return Err(self.error(
+                &at.field("span_angle"),
+                format!(
+                    "the span angle must lie in (0, 180] degrees, got {span}; 180 is a semicircular arch, less a segmental one"
+                ),
+            ));
+        }
+        let e = arch.pointed;
+        self.finite(&at.field("pointed"), "pointed", e)?;
+        if !(0.0..1.0).contains(&e) {
+            return Err(self.error(
+                &at.field("pointed"),
+                format!(
+                    "pointed must lie in [0, 1), got {e}; it is the offset of the two centres as a fraction of the radius (0 for a round arch)"
+                ),
+            ));
+        }
+        if e > 0.0 {
+            if arch.voussoirs % 2 == 1 {
+                return Err(self.error(
+                    &at.field("voussoirs"),
+                    format!(
+                        "a pointed arch needs an even number of voussoirs (half on each side of the crown joint), got {}",
+                        arch.voussoirs
+                    ),
+                ));
+            }
+            let (ri, _) = arch.radii();
+            if ri <= e * arch.radius {
+                return Err(self.error(
+                    &at.field("pointed"),
+                    format!(
+                        "the intrados (radius {ri}) does not reach the crown: the centres are {} from it; use a smaller pointed or a thinner arch",
+                        e * arch.radius
+                    ),
+                ));
+            }
+        }
+        if arch.springing_angle() <= arch.crown_angle() {
+            return Err(self.error(
+                &at.field("span_angle"),
+                format!(
+                    "a span angle of {span} degrees ends above the crown of this pointed arch; use more than {} degrees",
+                    2.0 * (arch.crown_angle() - 90.0)
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// Blocks may touch at the start but not overlap (beyond 1e-6 of the model size).
-    fn check_overlaps(&self, outlines: &[Vec<Point2<f64>>]) -> Result {
+    fn check_overlaps(&self, blocks: &[SceneBlock], outlines: &[Vec<Point2<f64>>]) -> Result {
         let bounds: Vec<(Point2<f64>, Point2<f64>)> = outlines.iter().map(|o| bounds(o)).collect();
         let lo = bounds.iter().fold(bounds[0].0, |a, b| a.inf(&b.0));
         let hi = bounds.iter().fold(bounds[0].1, |a, b| a.sup(&b.1));
@@ -622,9 +858,10 @@ impl Scene {
                 if polygon::overlap(&outlines[i], &outlines[j], tol) {
                     let (a, b) = (i.min(j), i.max(j));
                     return Err(self.error(
-                        &Place::root().field("blocks").index(b),
+                        &self.block_place(&blocks[b]),
                         format!(
-                            "the block overlaps blocks[{a}] at the start; move or resize one of them so they touch at most"
+                            "the block overlaps {} at the start; move or resize one of them so they touch at most",
+                            self.block_place(&blocks[a])
                         ),
                     ));
                 }
@@ -633,8 +870,7 @@ impl Scene {
         Ok(())
     }
 
-    fn check_loads(&self) -> Result {
-        let n = self.blocks.len();
+    fn check_loads(&self, blocks: &[SceneBlock]) -> Result {
         for (k, load) in self.loads.iter().enumerate() {
             let at = Place::root().field("loads").index(k);
             match load {
@@ -644,7 +880,7 @@ impl Scene {
                     force,
                     history,
                 } => {
-                    self.check_block_index(&at.field("block"), *block, n)?;
+                    self.check_block_index(&at.field("block"), *block, blocks)?;
                     self.finite_all(&at.field("point"), "the load point", point)?;
                     match (force, history) {
                         (Some(f), None) => self.finite_all(&at.field("force"), "the force", f)?,
@@ -661,7 +897,7 @@ impl Scene {
         }
         for (k, fp) in self.fixed_points.iter().enumerate() {
             let at = Place::root().field("fixed_points").index(k);
-            self.check_block_index(&at.field("block"), fp.block, n)?;
+            self.check_block_index(&at.field("block"), fp.block, blocks)?;
             self.finite_all(&at.field("point"), "the fixed point", &fp.point)?;
             self.finite_all(&at.field("velocity"), "the velocity", &fp.velocity)?;
             if let Some(axis) = fp.axis {
@@ -681,23 +917,149 @@ impl Scene {
         Ok(())
     }
 
-    fn check_block_index(&self, at: &Place, block: usize, n: usize) -> Result {
+    fn check_block_index(&self, at: &Place, block: usize, blocks: &[SceneBlock]) -> Result {
+        let n = blocks.len();
         if block < n {
-            Ok(())
-        } else if n == 0 {
-            Err(self.error(
-                at,
-                format!("there is no block {block}: the scene has no blocks"),
-            ))
-        } else {
-            Err(self.error(
-                at,
-                format!(
-                    "there is no block {block}: the scene has {n} blocks, numbered from 0 to {}",
-                    n - 1
-                ),
-            ))
+            return Ok(());
         }
+        let generated = if self.blocks.iter().any(BlockSpec::is_generator) {
+            " (generators counted block by block)"
+        } else {
+            ""
+        };
+        Err(self.error(
+            at,
+            format!(
+                "there is no block {block}: the scene has {n} blocks{generated}, numbered from 0 to {}",
+                n - 1
+            ),
+        ))
+    }
+
+    /// Checks the ground motion (reading its record, if any) and returns it
+    /// with the blocks it drives.
+    pub(super) fn ground_motion(
+        &self,
+        blocks: &[SceneBlock],
+    ) -> Result<Option<(Vec<usize>, Arc<GroundMotion<2>>)>> {
+        let Some(GroundMotionSpec {
+            blocks: driven,
+            motion,
+        }) = &self.ground_motion
+        else {
+            return Ok(None);
+        };
+        let root = Place::root().field("ground_motion");
+        let at = root.field("blocks");
+        if driven.is_empty() {
+            return Err(self.error(
+                &at,
+                "the ground motion drives no blocks; list the fixed base blocks, like blocks: [0]",
+            ));
+        }
+        for (i, &b) in driven.iter().enumerate() {
+            let at = at.index(i);
+            self.check_block_index(&at, b, blocks)?;
+            if driven[..i].contains(&b) {
+                return Err(self.error(
+                    &at,
+                    format!("block {b} is listed twice; list each base block once"),
+                ));
+            }
+            let block = &blocks[b];
+            if !block.fixed {
+                let fix = match block.part {
+                    Some(_) => {
+                        "list fixed base blocks instead, like an arch's abutments".to_string()
+                    }
+                    None => format!(
+                        "add fixed: true to blocks[{}], or list the fixed base blocks",
+                        block.entry
+                    ),
+                };
+                return Err(self.error(
+                    &at,
+                    format!(
+                        "{} is not fixed, so the ground cannot carry it; {fix}",
+                        self.block_name(b, blocks),
+                    ),
+                ));
+            }
+        }
+        let at = root.field("motion");
+        let amplitude = |a: &[f64; 2]| Vector2::from(*a);
+        let motion = match motion {
+            MotionSpec::Sine {
+                amplitude: a,
+                frequency,
+                duration,
+            } => {
+                self.finite_all(&at.field("amplitude"), "the amplitude", a)?;
+                self.positive(
+                    &at.field("frequency"),
+                    "the frequency",
+                    *frequency,
+                    "give it in Hz",
+                )?;
+                self.positive(
+                    &at.field("duration"),
+                    "the duration",
+                    *duration,
+                    "give how long the shaking lasts, in s",
+                )?;
+                GroundMotion::Sine {
+                    amplitude: amplitude(a),
+                    frequency: *frequency,
+                    duration: *duration,
+                }
+            }
+            MotionSpec::Pulse {
+                amplitude: a,
+                period,
+            } => {
+                self.finite_all(&at.field("amplitude"), "the amplitude", a)?;
+                self.positive(
+                    &at.field("period"),
+                    "the period",
+                    *period,
+                    "give the pulse's length in s",
+                )?;
+                GroundMotion::Pulse {
+                    amplitude: amplitude(a),
+                    period: *period,
+                }
+            }
+            MotionSpec::Record {
+                path,
+                quantity,
+                scale,
+            } => {
+                self.finite(&at.field("scale"), "the scale", *scale)?;
+                if path.trim().is_empty() {
+                    return Err(self.error(
+                        &at.field("path"),
+                        "the record's path is empty; name a CSV file of rows `time, ax, ay`",
+                    ));
+                }
+                let file = self.resolve(path);
+                let samples = read_record(&file).map_err(|message| {
+                    let place = if file.is_file() {
+                        at.clone()
+                    } else {
+                        at.field("path")
+                    };
+                    self.error(&place, message)
+                })?;
+                let samples: Vec<(f64, Vector2<f64>)> = samples
+                    .iter()
+                    .map(|&(_, t, v)| (t, amplitude(&v) * *scale))
+                    .collect();
+                let record = Record::new(*quantity, &samples)
+                    .map_err(|e| self.error(&at, format!("{}: {e}", file.display())))?;
+                GroundMotion::Record(record)
+            }
+        };
+        Ok(Some((driven.clone(), Arc::new(motion))))
     }
 
     fn check_history(&self, at: &Place, samples: &[[f64; 3]]) -> Result {

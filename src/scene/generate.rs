@@ -1,0 +1,312 @@
+//! Generators: scene entries that stand for several blocks (arches, columns,
+//! walls). The geometry here assumes parameters already checked by
+//! `validate`; nonsense (too few voussoirs, non-positive sizes, too many
+//! blocks) gives no blocks rather than a panic or an endless loop.
+
+use super::Bond;
+
+/// More blocks than this from one generator is taken as a mistake.
+pub(crate) const MAX_PARTS: usize = 100_000;
+
+/// One block made by a generator.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Piece {
+    /// Like "voussoir 3" or "course 1, brick 2".
+    pub name: String,
+    /// Counter-clockwise.
+    pub vertices: Vec<[f64; 2]>,
+    /// Held whatever the generator says (an arch's abutments).
+    pub always_fixed: bool,
+}
+
+impl Piece {
+    fn new(name: String, vertices: Vec<[f64; 2]>) -> Self {
+        Self {
+            name,
+            vertices,
+            always_fixed: false,
+        }
+    }
+}
+
+/// The arch's shape, as a scene gives it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ArchShape {
+    pub center: [f64; 2],
+    pub radius: f64,
+    pub thickness: f64,
+    pub voussoirs: usize,
+    /// Degrees.
+    pub span_angle: f64,
+    /// Offset of the two centres as a fraction of the radius.
+    pub pointed: f64,
+    pub abutments: bool,
+}
+
+impl ArchShape {
+    /// Intrados and extrados radii.
+    pub fn radii(&self) -> (f64, f64) {
+        (
+            self.radius - self.thickness / 2.0,
+            self.radius + self.thickness / 2.0,
+        )
+    }
+
+    /// Angle (degrees from +x, about the left half's centre) of the left
+    /// springing joint.
+    pub fn springing_angle(&self) -> f64 {
+        90.0 + self.span_angle / 2.0
+    }
+
+    /// Angle (degrees, about the left half's centre) where the centreline
+    /// meets the vertical through the centre: 90 for a round arch.
+    pub fn crown_angle(&self) -> f64 {
+        if self.pointed == 0.0 {
+            90.0
+        } else {
+            (-self.pointed).acos().to_degrees()
+        }
+    }
+
+    fn makes_sense(&self) -> bool {
+        let (ri, _) = self.radii();
+        let e = self.pointed;
+        self.center.iter().all(|c| c.is_finite())
+            && self.radius.is_finite()
+            && self.thickness > 0.0
+            && ri > 0.0
+            && (2..=MAX_PARTS).contains(&self.voussoirs)
+            && self.span_angle > 0.0
+            && self.span_angle <= 180.0
+            && (0.0..1.0).contains(&e)
+            && (e == 0.0 || (self.voussoirs.is_multiple_of(2) && ri > e * self.radius))
+            && self.springing_angle() > self.crown_angle()
+    }
+}
+
+/// (cos, sin) of an angle in degrees, exact at multiples of 90°.
+fn direction(degrees: f64) -> [f64; 2] {
+    let r = degrees.rem_euclid(360.0);
+    if r == 0.0 {
+        [1.0, 0.0]
+    } else if r == 90.0 {
+        [0.0, 1.0]
+    } else if r == 180.0 {
+        [-1.0, 0.0]
+    } else if r == 270.0 {
+        [0.0, -1.0]
+    } else {
+        let (s, c) = degrees.to_radians().sin_cos();
+        [c, s]
+    }
+}
+
+/// Voussoirs from the left springing to the right, then the left and right
+/// abutments. Joints are radial about the centre of their half (one centre
+/// for a round arch); a pointed arch's crown joint is the vertical through
+/// the centre. The right half mirrors the left exactly.
+pub(crate) fn arch(shape: &ArchShape) -> Vec<Piece> {
+    if !shape.makes_sense() {
+        return Vec::new();
+    }
+    let n = shape.voussoirs;
+    let (ri, re) = shape.radii();
+    let offset = shape.pointed * shape.radius;
+    let (spring, crown) = (shape.springing_angle(), shape.crown_angle());
+    let half = n as f64 / 2.0;
+    // Joints as (intrados, extrados), relative to the centre.
+    let left = |j: usize| -> [[f64; 2]; 2] {
+        if 2 * j == n {
+            let up = |r: f64| {
+                if offset == 0.0 {
+                    r
+                } else {
+                    (r * r - offset * offset).sqrt()
+                }
+            };
+            return [[0.0, up(ri)], [0.0, up(re)]];
+        }
+        let [c, s] = direction(spring - j as f64 * (spring - crown) / half);
+        [[offset + ri * c, ri * s], [offset + re * c, re * s]]
+    };
+    let joints: Vec<[[f64; 2]; 2]> = (0..=n)
+        .map(|j| {
+            if 2 * j <= n {
+                left(j)
+            } else {
+                let [i, e] = left(n - j);
+                [[-i[0], i[1]], [-e[0], e[1]]]
+            }
+        })
+        .collect();
+    let [cx, cy] = shape.center;
+    let at = |p: [f64; 2]| [cx + p[0], cy + p[1]];
+    let mut pieces: Vec<Piece> = joints
+        .windows(2)
+        .enumerate()
+        .map(|(k, w)| {
+            let ([i0, e0], [i1, e1]) = (w[0], w[1]);
+            Piece::new(
+                format!("voussoir {k}"),
+                vec![at(i0), at(i1), at(e1), at(e0)],
+            )
+        })
+        .collect();
+    if shape.abutments {
+        let t = shape.thickness;
+        // The springing joint's line, t/2 longer at each end, on a block
+        // reaching t below the joint's lowest point.
+        let [i, e] = joints[0];
+        let (a, b) = if e[0] <= i[0] { (e, i) } else { (i, e) };
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let len = dx.hypot(dy);
+        let (ux, uy) = (dx / len * t / 2.0, dy / len * t / 2.0);
+        let p = [a[0] - ux, a[1] - uy];
+        let q = [b[0] + ux, b[1] + uy];
+        let bottom = i[1].min(e[1]) - t;
+        let left = vec![[p[0], bottom], [q[0], bottom], q, p];
+        let right = vec![
+            [-q[0], bottom],
+            [-p[0], bottom],
+            [-p[0], p[1]],
+            [-q[0], q[1]],
+        ];
+        for (name, outline) in [("left abutment", left), ("right abutment", right)] {
+            pieces.push(Piece {
+                name: name.to_string(),
+                vertices: outline.into_iter().map(at).collect(),
+                always_fixed: true,
+            });
+        }
+    }
+    pieces
+}
+
+/// Drums from the bottom up, the first with its bottom centre at `base`.
+pub(crate) fn column(base: [f64; 2], drums: usize, drum_height: f64, width: f64) -> Vec<Piece> {
+    if !(drum_height > 0.0 && width > 0.0 && drums <= MAX_PARTS) {
+        return Vec::new();
+    }
+    let [bx, by] = base;
+    let (x0, x1) = (bx - width / 2.0, bx + width / 2.0);
+    let y = |k: usize| by + k as f64 * drum_height;
+    (0..drums)
+        .map(|k| {
+            let (y0, y1) = (y(k), y(k + 1));
+            Piece::new(
+                format!("drum {k}"),
+                vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]],
+            )
+        })
+        .collect()
+}
+
+/// The brick joints of one course, as distances from the wall's start:
+/// 0, the cuts, then `length`.
+pub(crate) fn course_cuts(length: f64, brick_length: f64, offset: f64) -> Vec<f64> {
+    let mut cuts = vec![0.0];
+    // A brick shorter than this at an end is rounding, not a brick.
+    let tiny = 1e-9 * length;
+    let mut k = 0;
+    loop {
+        let x = offset + k as f64 * brick_length;
+        if x >= length - tiny {
+            break;
+        }
+        if x > tiny {
+            cuts.push(x);
+        }
+        k += 1;
+    }
+    cuts.push(length);
+    cuts
+}
+
+/// How many bricks a wall has, without making them.
+pub(crate) fn wall_count(length: f64, courses: usize, brick_length: f64) -> f64 {
+    courses as f64 * ((length / brick_length).ceil() + 1.0)
+}
+
+/// Courses from the bottom up, bricks from left to right.
+pub(crate) fn wall(
+    origin: [f64; 2],
+    length: f64,
+    courses: usize,
+    brick_length: f64,
+    brick_height: f64,
+    bond: Bond,
+) -> Vec<Piece> {
+    let sizes = [length, brick_length, brick_height];
+    if !(sizes.iter().all(|s| *s > 0.0 && s.is_finite())
+        && wall_count(length, courses, brick_length) <= MAX_PARTS as f64)
+    {
+        return Vec::new();
+    }
+    let [x0, y0] = origin;
+    let y = |c: usize| y0 + c as f64 * brick_height;
+    let mut pieces = Vec::new();
+    for c in 0..courses {
+        let offset = match bond {
+            Bond::Running if c % 2 == 1 => brick_length / 2.0,
+            _ => 0.0,
+        };
+        let cuts = course_cuts(length, brick_length, offset);
+        let (ya, yb) = (y(c), y(c + 1));
+        for (k, w) in cuts.windows(2).enumerate() {
+            let (xa, xb) = (x0 + w[0], x0 + w[1]);
+            pieces.push(Piece::new(
+                format!("course {c}, brick {k}"),
+                vec![[xa, ya], [xb, ya], [xb, yb], [xa, yb]],
+            ));
+        }
+    }
+    pieces
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn running_courses_start_with_half_a_brick() {
+        assert_eq!(course_cuts(2.0, 0.5, 0.0), [0.0, 0.5, 1.0, 1.5, 2.0]);
+        assert_eq!(
+            course_cuts(2.0, 0.5, 0.25),
+            [0.0, 0.25, 0.75, 1.25, 1.75, 2.0]
+        );
+        // Not a multiple: a shorter last brick.
+        assert_eq!(course_cuts(1.2, 0.5, 0.0), [0.0, 0.5, 1.0, 1.2]);
+        // No sliver from rounding.
+        assert_eq!(course_cuts(0.3, 0.1, 0.0).len(), 4);
+    }
+
+    #[test]
+    fn nonsense_makes_nothing() {
+        let shape = ArchShape {
+            center: [0.0, 0.0],
+            radius: 1.0,
+            thickness: 0.2,
+            voussoirs: 1,
+            span_angle: 180.0,
+            pointed: 0.0,
+            abutments: true,
+        };
+        assert!(arch(&shape).is_empty());
+        assert_eq!(
+            arch(&ArchShape {
+                voussoirs: 4,
+                ..shape
+            })
+            .len(),
+            6
+        );
+        assert!(arch(&ArchShape {
+            voussoirs: 5,
+            pointed: 0.2,
+            ..shape
+        })
+        .is_empty());
+        assert!(column([0.0, 0.0], MAX_PARTS + 1, 1.0, 1.0).is_empty());
+        assert!(wall([0.0, 0.0], 1e9, 10, 1e-3, 0.1, Bond::Stack).is_empty());
+    }
+}

@@ -1,0 +1,128 @@
+//! Ground-motion records: reading `time, ax, ay` CSV files.
+
+use std::path::Path;
+
+/// One line of a record, 1-based, and its sample (time, x, y).
+pub(crate) type Sample = (usize, f64, [f64; 2]);
+
+/// The samples of a record file, each with its line, as written (not
+/// scaled). Blank lines and lines starting with `#` are skipped, and so is a
+/// first line that does not start with a number (a header). Fields are
+/// separated by commas, or by spaces when a line has no comma. A fourth
+/// column (az) must be zero throughout. Errors name the file and line and
+/// say what to change.
+pub(crate) fn read_record(path: &Path) -> Result<Vec<Sample>, String> {
+    let file = path.display();
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        format!("cannot read the record file {file}: {e}; check the path (relative to the scene file's folder)")
+    })?;
+    let mut samples: Vec<Sample> = Vec::new();
+    let mut first = true;
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let content = raw.trim();
+        if content.is_empty() || content.starts_with('#') {
+            continue;
+        }
+        let fields: Vec<&str> = if content.contains(',') {
+            content.split(',').map(str::trim).collect()
+        } else {
+            content.split_whitespace().collect()
+        };
+        let header = first && fields[0].parse::<f64>().is_err();
+        first = false;
+        if header {
+            continue;
+        }
+        let numbers: Vec<f64> = fields
+            .iter()
+            .map(|f| f.parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| {
+                format!(
+                    "{file}:{line}: {content:?} is not a row of numbers `time, ax, ay`; correct the line or comment it out with #"
+                )
+            })?;
+        if !(3..=4).contains(&numbers.len()) {
+            return Err(format!(
+                "{file}:{line}: {content:?} has {} columns; a row is `time, ax, ay`",
+                numbers.len()
+            ));
+        }
+        if let Some(v) = numbers.iter().find(|v| !v.is_finite()) {
+            return Err(format!(
+                "{file}:{line}: {v} is not a finite number; write finite values"
+            ));
+        }
+        if let Some(&z) = numbers.get(3) {
+            if z != 0.0 {
+                return Err(format!(
+                    "{file}:{line}: the third component is {z}: a 3D record in a 2D scene; give `time, ax, ay` (a third column is accepted only if it is zero throughout)"
+                ));
+            }
+        }
+        let t = numbers[0];
+        if let Some(&(previous_line, t0, _)) = samples.last() {
+            if t <= t0 {
+                return Err(format!(
+                    "{file}:{line}: the time {t} does not come after the previous sample's ({t0}, line {previous_line}); times must increase"
+                ));
+            }
+        }
+        samples.push((line, t, [numbers[1], numbers[2]]));
+    }
+    if samples.is_empty() {
+        return Err(format!("{file} has no samples; give rows `time, ax, ay`"));
+    }
+    Ok(samples)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(name: &str, text: &str) -> Result<Vec<Sample>, String> {
+        let path =
+            std::env::temp_dir().join(format!("dda-record-{}-{name}.csv", std::process::id()));
+        std::fs::write(&path, text).unwrap();
+        let result = read_record(&path);
+        let _ = std::fs::remove_file(&path);
+        result
+    }
+
+    #[test]
+    fn headers_comments_and_separators() {
+        let samples = read(
+            "good",
+            "time, ax, ay\n# comment\n\n0.0, 1.0, 2.0\n0.5 3.0 4.0\n1.0,5.0,6.0,0.0\n",
+        )
+        .unwrap();
+        assert_eq!(
+            samples,
+            [
+                (4, 0.0, [1.0, 2.0]),
+                (5, 0.5, [3.0, 4.0]),
+                (6, 1.0, [5.0, 6.0])
+            ]
+        );
+    }
+
+    #[test]
+    fn bad_rows_name_their_line() {
+        let e = read("word", "0.0, 1.0, 2.0\n0.1, x, 2.0\n").unwrap_err();
+        assert!(
+            e.contains(".csv:2: \"0.1, x, 2.0\" is not a row of numbers"),
+            "{e}"
+        );
+        let e = read("short", "0.0, 1.0\n").unwrap_err();
+        assert!(e.contains(":1: \"0.0, 1.0\" has 2 columns"), "{e}");
+        let e = read("time", "0.0, 1.0, 2.0\n0.0, 1.0, 2.0\n").unwrap_err();
+        assert!(e.contains(":2: the time 0 does not come after"), "{e}");
+        let e = read("z", "0.0, 1.0, 2.0, 0.5\n").unwrap_err();
+        assert!(e.contains("3D record in a 2D scene"), "{e}");
+        let e = read("nan", "0.0, NaN, 2.0\n").unwrap_err();
+        assert!(e.contains(":1: NaN is not a finite number"), "{e}");
+        let e = read("empty", "t, a, b\n# nothing\n").unwrap_err();
+        assert!(e.contains("has no samples"), "{e}");
+    }
+}
