@@ -878,3 +878,460 @@ fn driven_points_need_a_direction_and_finite_values() {
     let axis = fixed.iter().find_map(|f| f.axis).expect("the point's axis");
     assert!((axis.norm() - 1.0).abs() < 1e-15 && axis.x > 0.0);
 }
+
+/// GOOD with `entry` added to the blocks (as blocks[2]).
+fn with_block(entry: &str) -> String {
+    with(
+        "    ],\n    loads",
+        &format!("        {entry},\n    ],\n    loads"),
+    )
+}
+
+/// An arch clear of GOOD's blocks, with `extra` parameters.
+fn arch(extra: &str) -> String {
+    with_block(&format!(
+        "Arch(center: (10.0, 0.0), radius: 2.0, thickness: 0.4, voussoirs: 6{extra})"
+    ))
+}
+
+#[test]
+fn generators_build_and_are_counted() {
+    let text = arch(", span_angle: 150.0");
+    let scene = Scene::from_str(&text, "good.ron").unwrap();
+    assert_eq!(scene.blocks.len(), 3);
+    assert_eq!(
+        scene.block_count(),
+        10,
+        "2 blocks, 6 voussoirs, 2 abutments"
+    );
+    let model = scene.build().unwrap();
+    assert_eq!(model.driver.system.blocks.len(), 10);
+    // The abutments are fixed: four corners each, besides the base's.
+    let held = |b: usize| {
+        model
+            .driver
+            .system
+            .fixed
+            .iter()
+            .filter(|f| f.block == b)
+            .count()
+    };
+    assert_eq!((held(8), held(9), held(7)), (4, 4, 0));
+    // Indices past the first two now exist.
+    let text = text.replace("PointLoad(block: 1", "PointLoad(block: 9");
+    load_and_build(&text).unwrap();
+}
+
+#[test]
+fn bad_arch_parameters_are_located() {
+    let line = "Arch(";
+    assert_error(
+        &arch(", pointed: 0.2").replace("voussoirs: 6", "voussoirs: 1"),
+        line,
+        "blocks[2].voussoirs",
+        "voussoirs must be at least 2, got 1",
+    );
+    assert_error(
+        &arch("").replace("radius: 2.0", "radius: 0.2"),
+        line,
+        "blocks[2].radius",
+        "the radius (0.2) must exceed half the thickness (0.4)",
+    );
+    assert_error(
+        &arch("").replace("thickness: 0.4", "thickness: -0.4"),
+        line,
+        "blocks[2].thickness",
+        "the thickness must be positive, got -0.4",
+    );
+    assert_error(
+        &arch(", span_angle: 200.0"),
+        line,
+        "blocks[2].span_angle",
+        "the span angle must lie in (0, 180] degrees, got 200",
+    );
+    assert_error(
+        &arch(", span_angle: 0.0"),
+        line,
+        "blocks[2].span_angle",
+        "(0, 180]",
+    );
+    assert_error(
+        &arch(", pointed: 1.0"),
+        line,
+        "blocks[2].pointed",
+        "pointed must lie in [0, 1), got 1",
+    );
+    assert_error(
+        &arch(", pointed: 0.2").replace("voussoirs: 6", "voussoirs: 7"),
+        line,
+        "blocks[2].voussoirs",
+        "a pointed arch needs an even number of voussoirs",
+    );
+    assert_error(
+        &arch(", pointed: 0.95"),
+        line,
+        "blocks[2].pointed",
+        "the intrados (radius 1.8) does not reach the crown",
+    );
+    assert_error(
+        &arch(", pointed: 0.5, span_angle: 40.0"),
+        line,
+        "blocks[2].span_angle",
+        "ends above the crown of this pointed arch",
+    );
+    assert_error(
+        &arch("").replace("center: (10.0, 0.0)", "center: (10.0, NaN)"),
+        line,
+        "blocks[2].center",
+        "is NaN, not a finite number",
+    );
+    // Unknown fields and missing ones are syntax errors at their place.
+    let text = arch(", keystone: true");
+    let message = error_of(&text);
+    assert!(
+        message.starts_with(&format!("bad.ron:{}:", line_of(&text, line))),
+        "{message}"
+    );
+    assert!(message.contains("`keystone`"), "{message}");
+    let message = error_of(&arch("").replace("voussoirs: 6", "voussoirs: -6"));
+    assert!(message.starts_with("bad.ron:"), "{message}");
+}
+
+#[test]
+fn bad_column_and_wall_parameters_are_located() {
+    let column = |c: &str| with_block(&format!("Column(base: (10.0, 0.0), {c})"));
+    assert_error(
+        &column("drums: 0, drum_height: 0.5, width: 0.3"),
+        "Column(",
+        "blocks[2].drums",
+        "drums must be at least 1, got 0",
+    );
+    assert_error(
+        &column("drums: 2, drum_height: 0.0, width: 0.3"),
+        "Column(",
+        "blocks[2].drum_height",
+        "the drum height must be positive, got 0",
+    );
+    assert_error(
+        &column("drums: 2, drum_height: 0.5, width: inf"),
+        "Column(",
+        "blocks[2].width",
+        "is inf, not a finite number",
+    );
+    assert_error(
+        &column("drums: 2000000, drum_height: 0.5, width: 0.3"),
+        "Column(",
+        "blocks[2].drums",
+        "more than the 100000 a generator makes",
+    );
+    let wall = |w: &str| with_block(&format!("Wall(origin: (10.0, 0.0), {w})"));
+    assert_error(
+        &wall("length: 2.0, courses: 0, brick_length: 0.5, brick_height: 0.2"),
+        "Wall(",
+        "blocks[2].courses",
+        "courses must be at least 1, got 0",
+    );
+    assert_error(
+        &wall("length: 2.0, courses: 3, brick_length: -0.5, brick_height: 0.2"),
+        "Wall(",
+        "blocks[2].brick_length",
+        "the brick length must be positive, got -0.5",
+    );
+    assert_error(
+        &wall("length: 0.0, courses: 3, brick_length: 0.5, brick_height: 0.2"),
+        "Wall(",
+        "blocks[2].length",
+        "the length must be positive, got 0",
+    );
+    assert_error(
+        &wall("length: 1e6, courses: 100, brick_length: 0.5, brick_height: 0.2"),
+        "Wall(",
+        "blocks[2]",
+        "more than 100000",
+    );
+    let text = wall("length: 2.0, courses: 3, brick_length: 0.5, brick_height: 0.2, bond: Flemish");
+    let message = error_of(&text);
+    assert!(
+        message.starts_with(&format!("bad.ron:{}:", line_of(&text, "Flemish"))),
+        "{message}"
+    );
+    assert!(
+        message.contains("Flemish") && message.contains("use one of the listed names"),
+        "{message}"
+    );
+}
+
+#[test]
+fn generated_blocks_are_named_by_their_part() {
+    // A column standing in the loose block: its first drum overlaps it.
+    let text = with_block("Column(base: (0.5, 0.0), drums: 2, drum_height: 0.5, width: 0.4)");
+    assert_error(
+        &text,
+        "Column(",
+        "blocks[2] (drum 0)",
+        "the block overlaps blocks[1] at the start",
+    );
+    // Two generators: the second arch's left abutment overlaps the first's right one.
+    let text = with_block(
+        "Arch(center: (10.0, 0.0), radius: 2.0, thickness: 0.4, voussoirs: 6),\n        Arch(center: (14.6, 0.0), radius: 2.0, thickness: 0.4, voussoirs: 6)",
+    );
+    assert_error(
+        &text,
+        "center: (14.6",
+        "blocks[3] (left abutment)",
+        "the block overlaps blocks[2] (right abutment) at the start",
+    );
+    // A wall whose courses are too thin for their bricks.
+    let text = with_block(
+        "Wall(origin: (10.0, 0.0), length: 1.0, courses: 2, brick_length: 0.5, brick_height: 1e-14)",
+    );
+    assert_error(
+        &text,
+        "Wall(",
+        "blocks[2] (course 0, brick 0)",
+        "the generated block is degenerate: vertices 0 and 3 coincide; change the generator's sizes",
+    );
+    // Indices count generated blocks.
+    let text = with_block("Column(base: (10.0, 0.0), drums: 3, drum_height: 0.5, width: 0.4)")
+        .replace("PointLoad(block: 1", "PointLoad(block: 5");
+    assert_error(
+        &text,
+        "PointLoad",
+        "loads[0].block",
+        "there is no block 5: the scene has 5 blocks (generators counted block by block), numbered from 0 to 4",
+    );
+}
+
+/// GOOD with a ground motion.
+fn with_ground(spec: &str) -> String {
+    with(
+        "    fixed_points:",
+        &format!("    ground_motion: {spec},\n    fixed_points:"),
+    )
+}
+
+/// A record file with `text` in the temporary folder, and its path.
+fn record_file(name: &str, text: &str) -> std::path::PathBuf {
+    let path = std::env::temp_dir().join(format!("dda-bad-{}-{name}.csv", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn record_motion(path: &std::path::Path) -> String {
+    format!(
+        "(blocks: [0], motion: Record(path: {:?}, scale: 9.81))",
+        path.display().to_string()
+    )
+}
+
+#[test]
+fn ground_motions_build_on_fixed_base_blocks() {
+    let text = with_ground(
+        "(blocks: [0], motion: Sine(amplitude: (2.0, 0.0), frequency: 2.0, duration: 1.0))",
+    );
+    let model = Scene::from_str(&text, "good.ron").unwrap().build().unwrap();
+    let fixed = &model.driver.system.fixed;
+    // All five points of the base (its corners and the scene's point) move
+    // with one shared motion.
+    assert!(fixed.iter().all(|f| f.block == 0 && f.ground.is_some()));
+    let first = fixed[0].ground.as_ref().unwrap();
+    assert!(fixed
+        .iter()
+        .all(|f| std::sync::Arc::ptr_eq(f.ground.as_ref().unwrap(), first)));
+    let a = first.acceleration(0.125);
+    assert!((a.x - 2.0).abs() < 1e-12 && a.y == 0.0, "{a}");
+    // A point held at t follows the ground's displacement.
+    let u = first.displacement(0.3);
+    assert_eq!(fixed[0].target_at(0.3), fixed[0].target + u);
+
+    let path = record_file("good", "t, ax, ay\n0.0, 0.1, 0.0\n1.0, 0.1, 0.0\n");
+    let text = with_ground(&record_motion(&path));
+    let model = Scene::from_str(&text, "good.ron").unwrap().build().unwrap();
+    let ground = model.driver.system.fixed[0].ground.as_ref().unwrap();
+    // Scaled by 9.81, integrated twice.
+    assert!((ground.displacement(1.0).x - 0.981 / 2.0).abs() < 1e-12);
+    let _ = std::fs::remove_file(&path);
+}
+
+#[test]
+fn ground_motion_errors_are_located() {
+    let motion = "motion: Pulse(amplitude: (3.0, 0.0), period: 0.5)";
+    assert_error(
+        &with_ground(&format!("(blocks: [1], {motion})")),
+        "ground_motion",
+        "ground_motion.blocks[0]",
+        "block 1 is not fixed, so the ground cannot carry it; add fixed: true to blocks[1]",
+    );
+    assert_error(
+        &with_ground(&format!("(blocks: [0, 7], {motion})")),
+        "ground_motion",
+        "ground_motion.blocks[1]",
+        "there is no block 7: the scene has 2 blocks",
+    );
+    assert_error(
+        &with_ground(&format!("(blocks: [], {motion})")),
+        "ground_motion",
+        "ground_motion.blocks",
+        "drives no blocks",
+    );
+    assert_error(
+        &with_ground(&format!("(blocks: [0, 0], {motion})")),
+        "ground_motion",
+        "ground_motion.blocks[1]",
+        "listed twice",
+    );
+    assert_error(
+        &with_ground("(blocks: [0], motion: Pulse(amplitude: (3.0, 0.0), period: -0.5))"),
+        "ground_motion",
+        "ground_motion.motion.period",
+        "the period must be positive, got -0.5",
+    );
+    assert_error(
+        &with_ground(
+            "(blocks: [0], motion: Sine(amplitude: (2.0, 0.0), frequency: 0.0, duration: 1.0))",
+        ),
+        "ground_motion",
+        "ground_motion.motion.frequency",
+        "the frequency must be positive, got 0",
+    );
+    assert_error(
+        &with_ground(
+            "(blocks: [0], motion: Sine(amplitude: (2.0, 0.0), frequency: 2.0, duration: 0.0))",
+        ),
+        "ground_motion",
+        "ground_motion.motion.duration",
+        "the duration must be positive",
+    );
+    assert_error(
+        &with_ground(
+            "(blocks: [0], motion: Sine(amplitude: (NaN, 0.0), frequency: 2.0, duration: 1.0))",
+        ),
+        "ground_motion",
+        "ground_motion.motion.amplitude",
+        "is NaN, not a finite number",
+    );
+    // A generated base: an arch's abutment can be driven, a voussoir cannot.
+    let text = with_block("Arch(center: (10.0, 0.0), radius: 2.0, thickness: 0.4, voussoirs: 6)");
+    load_and_build(&with_ground_on(&text, "[0, 8, 9]")).unwrap();
+    assert_error(
+        &with_ground_on(&text, "[0, 4]"),
+        "ground_motion",
+        "ground_motion.blocks[1]",
+        "block 4 (blocks[2], voussoir 2) is not fixed, so the ground cannot carry it; list fixed base blocks instead",
+    );
+}
+
+fn with_ground_on(text: &str, blocks: &str) -> String {
+    text.replace(
+        "    fixed_points:",
+        &format!(
+            "    ground_motion: (blocks: {blocks}, motion: Pulse(amplitude: (3.0, 0.0), period: 0.5)),\n    fixed_points:"
+        ),
+    )
+}
+
+#[test]
+fn bad_record_files_are_named_with_their_line() {
+    // A missing file: the resolved path, at the record's path.
+    let missing = std::env::temp_dir().join("dda-no-such-record.csv");
+    let text = with_ground(&record_motion(&missing));
+    let message = error_of(&text);
+    assert_error(
+        &text,
+        "ground_motion",
+        "ground_motion.motion.path",
+        &format!("cannot read the record file {}", missing.display()),
+    );
+    assert!(
+        message.contains("relative to the scene file's folder"),
+        "{message}"
+    );
+
+    // A relative path from a string scene is taken from the current folder.
+    let text = with_ground(
+        r#"(blocks: [0], motion: Record(path: "tests/data/constant_acceleration.csv"))"#,
+    );
+    load_and_build(&text).unwrap();
+    let text = with_ground(r#"(blocks: [0], motion: Record(path: "data/none.csv"))"#);
+    assert_error(
+        &text,
+        "ground_motion",
+        "ground_motion.motion.path",
+        "cannot read the record file data/none.csv",
+    );
+
+    let cases = [
+        ("word", "time, ax, ay\n0.0, 0.1, 0.0\n0.5, 0.1x, 0.0\n", ":3: \"0.5, 0.1x, 0.0\" is not a row of numbers `time, ax, ay`"),
+        ("columns", "0.0, 0.1\n", ":1: \"0.0, 0.1\" has 2 columns"),
+        ("order", "# t, ax, ay\n0.0, 0.1, 0.0\n1.0, 0.1, 0.0\n1.0, 0.2, 0.0\n", ":4: the time 1 does not come after the previous sample's (1, line 3); times must increase"),
+        ("nan", "0.0, 0.1, 0.0\n0.1, NaN, 0.0\n", ":2: NaN is not a finite number"),
+        ("three_d", "0.0, 0.1, 0.0, 0.0\n0.1, 0.1, 0.0, 0.2\n", ":2: the third component is 0.2: a 3D record in a 2D scene"),
+        ("empty", "time, ax, ay\n# nothing yet\n", "has no samples"),
+    ];
+    for (name, csv, phrase) in cases {
+        let path = record_file(name, csv);
+        let text = with_ground(&record_motion(&path));
+        assert_error(
+            &text,
+            "ground_motion",
+            "ground_motion.motion",
+            &format!(
+                "{}{phrase}",
+                if phrase.starts_with(':') {
+                    path.display().to_string()
+                } else {
+                    String::new()
+                }
+            ),
+        );
+        let _ = std::fs::remove_file(&path);
+    }
+
+    // A third column of zeros is fine.
+    let path = record_file("zeros", "0.0, 0.1, 0.0, 0.0\n1.0, 0.1, 0.0, 0.0\n");
+    load_and_build(&with_ground(&record_motion(&path))).unwrap();
+    let _ = std::fs::remove_file(&path);
+    // A scale that is not a number.
+    let path = record_file("scale", "0.0, 0.1, 0.0\n");
+    let text = with_ground(&record_motion(&path).replace("scale: 9.81", "scale: inf"));
+    assert_error(
+        &text,
+        "ground_motion",
+        "ground_motion.motion.scale",
+        "is inf",
+    );
+    let _ = std::fs::remove_file(&path);
+}
+
+#[test]
+fn damping_is_checked_and_set() {
+    let damped = |d: &str| with("penalty: 1e9,", &format!("penalty: 1e9, damping: {d},"));
+    let model = Scene::from_str(&damped("(ratio: 0.05, frequency: 2.0)"), "good.ron")
+        .unwrap()
+        .build()
+        .unwrap();
+    let alpha = 2.0 * 0.05 * 2.0 * std::f64::consts::PI * 2.0;
+    assert!((model.settings.mass_damping - alpha).abs() < 1e-15);
+    let model = Scene::from_str(GOOD, "good.ron").unwrap().build().unwrap();
+    assert_eq!(model.settings.mass_damping, 0.0, "off by default");
+    assert_error(
+        &damped("(ratio: -0.05, frequency: 2.0)"),
+        "damping",
+        "analysis.damping.ratio",
+        "the damping ratio must not be negative, got -0.05",
+    );
+    assert_error(
+        &damped("(ratio: 0.05, frequency: 0.0)"),
+        "damping",
+        "analysis.damping.frequency",
+        "the damping frequency must be positive, got 0",
+    );
+    assert_error(
+        &damped("(ratio: NaN, frequency: 2.0)"),
+        "damping",
+        "analysis.damping.ratio",
+        "is NaN, not a finite number",
+    );
+    let message = error_of(&damped("(ratio: 0.05)"));
+    assert!(message.contains("frequency"), "{message}");
+}

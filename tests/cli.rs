@@ -380,3 +380,53 @@ fn the_custom_law_example_slides_as_its_mobilised_friction_says() {
         "travel {travel} m, expected {expected} m for φ = {phi}°"
     );
 }
+
+#[test]
+fn a_recorded_ground_motion_carries_the_base() {
+    // tests/data/shaken_base.ron names its record relative to its own folder.
+    let out = scratch("shaken-base");
+    let result = dda(&[
+        "run",
+        &data("shaken_base.ron"),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(result.status.success(), "stderr: {stderr}");
+    let rows = read_history(out.join("history.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+
+    // 0.1 g from t = 0: x = a t² / 2, to the fixed points' stiffness.
+    let a = 0.1 * 9.81;
+    let base: Vec<_> = rows.iter().filter(|r| r.block == 0).collect();
+    assert_eq!(base.len(), 6);
+    for r in &base {
+        let x = a * r.time * r.time / 2.0;
+        assert!(
+            (r.x - x).abs() <= 1e-6 * x.max(1e-3),
+            "t = {}: x = {} expected {x}",
+            r.time,
+            r.x
+        );
+        assert!(
+            (r.vx - a * r.time).abs() < 1e-5,
+            "t = {}: vx = {}",
+            r.time,
+            r.vx
+        );
+    }
+    let end = base.last().unwrap();
+    assert_eq!(end.time, 0.5);
+    let x = a * 0.25 / 2.0;
+    assert!(((end.x - x) / x).abs() < 1e-6, "x = {} expected {x}", end.x);
+    // The block resting on it rides along (a < g tan 30°), lagging by its
+    // contacts' shear compliance only.
+    let rider = rows.iter().rfind(|r| r.block == 1).unwrap();
+    assert!((rider.x - end.x).abs() < 1e-4, "{} vs {}", rider.x, end.x);
+
+    // check names the record's blocks like any others.
+    let result = dda(&["check", &data("shaken_base.ron")]);
+    assert!(result.status.success());
+    let stdout = String::from_utf8(result.stdout).unwrap();
+    assert!(stdout.contains("ok (2 blocks"), "{stdout}");
+}
