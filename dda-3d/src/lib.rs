@@ -1,6 +1,30 @@
-//! Three-dimensional DDA with polyhedral blocks (12 DOF: translation,
-//! rotation, uniform strain).
+//! Three-dimensional DDA (Shi 2001): polyhedral blocks, convex or not, with
+//! twelve degrees of freedom (u0, v0, w0, rx, ry, rz, εx, εy, εz, γyz, γzx,
+//! γxy) about the centroid.
 //!
-//! Not implemented yet: this crate holds the place of the 3D dimension in the
-//! workspace. The core driver, contact laws and scene format are already
-//! dimension-agnostic and will run it unchanged.
+//! [`Polyhedra`] implements the core's block system; run it with
+//! [`Driver3d`]. Blocks are validated closed surfaces ([`polyhedron`]); the
+//! end-of-step motion applies the strain first and then the exact rotation of
+//! the step's rotation vector, so a spinning block keeps its volume. Contacts
+//! are vertex-face and edge-edge entrances, grouped at corners and edges so
+//! the driver can choose among them ([`contact`] explains the rules,
+//! including how non-convex blocks are handled).
+
+pub mod block;
+pub mod broad_phase;
+pub mod contact;
+pub mod face;
+pub mod kinematics;
+pub mod material;
+pub mod polyhedron;
+pub mod system;
+
+pub use block::Block;
+pub use contact::contact_label;
+pub use kinematics::RotationUpdate;
+pub use material::IsotropicElastic;
+pub use polyhedron::{Polyhedron, PolyhedronError};
+pub use system::{FixedPoint, Force, PointLoad, Polyhedra};
+
+/// The core driver running polyhedra: 12 DOF per block, two tangents per contact.
+pub type Driver3d = dda_core::Driver<Polyhedra, 12, 2>;

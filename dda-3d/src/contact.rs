@@ -1,0 +1,808 @@
+//! Narrow phase: contacts between two polyhedra, linearised about the start
+//! of the step with the normal held fixed (A9.5, A9.6).
+//!
+//! Two mechanical entrance types are assembled:
+//!
+//! * vertex-face (VF): a convex vertex enters a face's plane. Its edges must
+//!   all point to the outer side of the plane (within 3°).
+//! * edge-edge (EE): two convex edges cross. The normal ±(e_a × e_b) is
+//!   oriented so each block's wedge lies on its own side of the contact plane
+//!   (within 3°), pointing from block b to block a.
+//!
+//! A contact is one of:
+//!
+//! * **VF**: a convex vertex over the inside of a face, farther than the
+//!   range from the face's convex corners and edges. Next to a reflex edge
+//!   of the face the projection may fall outside the face by up to the range
+//!   (the material continues there), so a vertex in a reflex crease makes a
+//!   VF contact with each face of the crease.
+//! * **Vertex-edge group**: a convex vertex near the inside of a convex (or
+//!   flat) edge. Entrances: the planes of the edge's two faces and the EE
+//!   crossings of the vertex's edges with that edge.
+//! * **Vertex-vertex group**: two convex vertices within range. Entrances:
+//!   the planes of every face at either vertex and the EE crossings of every
+//!   pair of their edges.
+//! * **EE**: two convex edges whose closest points lie inside both, with no
+//!   convex end of either within range of the other.
+//!
+//! In a group the driver uses the entrance with the largest gap at each pass
+//! (Shi's entrance choice). For two convex corners this is the
+//! separating-axis distance: the gap along each face normal and edge-pair
+//! cross product whose plane separates the two corners, largest first.
+//! Face-face contacts thus become VF contacts at the corners of each face
+//! lying over the other plus EE contacts where their boundary edges cross;
+//! edge-face contacts become VF (or groups) at the ends plus EE where the edge
+//! crosses the face's boundary.
+//!
+//! Non-convex blocks: reflex edges never enter or get entered by EE, and
+//! non-convex vertices never enter; a convex vertex near a non-convex one
+//! makes ordinary VF and vertex-edge contacts with the faces and edges there.
+//! Concave faces are handled by point-in-polygon tests and ear-clipped
+//! triangles.
+
+use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
+use nalgebra::{Point2, Point3, Vector3};
+
+use crate::block::Block;
+use crate::face;
+use crate::kinematics::Vector12;
+use crate::polyhedron::{EdgeKind, Polyhedron, ANGLE_TOLERANCE};
+
+/// A 3D contact: 12 DOF per block, two tangential directions.
+pub type Contact3 = Contact<12, 2>;
+
+/// Marks a feature as a vertex (`feature_b` of a vertex-vertex group).
+const VERTEX: u32 = 1 << 31;
+/// Marks a feature as an edge (`feature_b` of a vertex-edge group, both
+/// features of an edge-edge contact's `feature_a`).
+const EDGE: u32 = 1 << 30;
+
+fn sin_tol() -> f64 {
+    ANGLE_TOLERANCE.sin()
+}
+
+/// Contacts between blocks `i` and `j` within `range`, with law index `law`.
+pub fn pair_contacts(
+    blocks: &[Block],
+    i: usize,
+    j: usize,
+    range: f64,
+    law: usize,
+) -> Vec<Contact3> {
+    let (a, b) = (&blocks[i], &blocks[j]);
+    let (sa, sb) = (a.shape(), b.shape());
+    let mut out = Vec::new();
+    // Vertex-vertex groups between convex corners.
+    for (p, pv) in sa.vertices().iter().enumerate() {
+        if !sa.is_convex_vertex(p) {
+            continue;
+        }
+        for (q, qv) in sb.vertices().iter().enumerate() {
+            if (pv - qv).norm() >= range || !sb.is_convex_vertex(q) {
+                continue;
+            }
+            let entrances = vertex_vertex(a, p, b, q);
+            if entrances.is_empty() {
+                continue;
+            }
+            let length = sb
+                .vertex_faces(q)
+                .iter()
+                .map(|&f| vertex_area(a, p, b, f))
+                .chain(sa.vertex_faces(p).iter().map(|&g| vertex_area(b, q, a, g)))
+                .fold(0.0, f64::max);
+            out.push(contact(
+                (i, p as u32),
+                (j, VERTEX | q as u32),
+                law,
+                length,
+                entrances,
+            ));
+        }
+    }
+    for (x, y, bx, by) in [(i, j, a, b), (j, i, b, a)] {
+        let (sx, sy) = (bx.shape(), by.shape());
+        for (p, pv) in sx.vertices().iter().enumerate() {
+            if !sx.is_convex_vertex(p) {
+                continue;
+            }
+            // Vertex-edge groups.
+            for (e, edge) in sy.edges().iter().enumerate() {
+                if sy.edge_kind(e) == EdgeKind::Reflex || near_convex_end(sy, edge.ends, pv, range)
+                {
+                    continue;
+                }
+                let [q0, q1] = edge.ends.map(|k| sy.vertices()[k]);
+                let (distance, s) = segment_distance(pv, &q0, &q1);
+                if distance >= range || s <= 0.0 || s >= 1.0 {
+                    continue;
+                }
+                let entrances = vertex_edge(bx, p, by, e);
+                if entrances.is_empty() {
+                    continue;
+                }
+                let length = edge
+                    .faces
+                    .iter()
+                    .map(|&f| vertex_area(bx, p, by, f))
+                    .fold(0.0, f64::max);
+                out.push(contact(
+                    (x, p as u32),
+                    (y, EDGE | e as u32),
+                    law,
+                    length,
+                    entrances,
+                ));
+            }
+            // Vertex-face contacts.
+            for f in 0..sy.faces().len() {
+                if vertex_over_face(sx, p, sy, f, range) {
+                    let en = face_entrance(bx, p, by, f, false);
+                    let length = vertex_area(bx, p, by, f);
+                    out.push(contact((x, p as u32), (y, f as u32), law, length, vec![en]));
+                }
+            }
+        }
+    }
+    // Edge-edge crossings away from corners.
+    for (ea, edge_a) in sa.edges().iter().enumerate() {
+        if sa.edge_kind(ea) != EdgeKind::Convex {
+            continue;
+        }
+        for (eb, edge_b) in sb.edges().iter().enumerate() {
+            if sb.edge_kind(eb) != EdgeKind::Convex {
+                continue;
+            }
+            if let Some(en) = edge_edge(a, ea, edge_a.ends, b, eb, edge_b.ends, range) {
+                out.push(contact(
+                    (i, EDGE | ea as u32),
+                    (j, eb as u32),
+                    law,
+                    0.0,
+                    vec![en],
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// A readable, stable name for a contact: `block:feature/block:feature`, a
+/// feature being a vertex (`v3`), an edge (`e3`) or a face (`f3`). For
+/// example `1:v0/0:f2` is vertex 0 of block 1 against face 2 of block 0,
+/// `1:e4/0:e7` a crossing of edges, `1:v0/0:v5` and `1:v0/0:e7` vertex groups.
+pub fn contact_label(key: &ContactKey) -> String {
+    let a = if key.feature_a & EDGE != 0 {
+        format!("e{}", key.feature_a & !EDGE)
+    } else {
+        format!("v{}", key.feature_a)
+    };
+    let b = if key.feature_b & VERTEX != 0 {
+        format!("v{}", key.feature_b & !VERTEX)
+    } else if key.feature_b & EDGE != 0 || key.feature_a & EDGE != 0 {
+        format!("e{}", key.feature_b & !EDGE)
+    } else {
+        format!("f{}", key.feature_b)
+    };
+    format!("{}:{a}/{}:{b}", key.block_a, key.block_b)
+}
+
+fn contact(
+    (i, feature_a): (usize, u32),
+    (j, feature_b): (usize, u32),
+    law: usize,
+    length: f64,
+    entrances: Vec<Entrance<12, 2>>,
+) -> Contact3 {
+    Contact {
+        key: ContactKey {
+            block_a: i as u32,
+            feature_a,
+            block_b: j as u32,
+            feature_b,
+        },
+        blocks: [i, j],
+        law,
+        length,
+        entrances,
+        record: ContactRecord::default(),
+    }
+}
+
+/// Whether a convex end of an edge lies within `range` of `p` (a corner
+/// group handles that vertex instead).
+fn near_convex_end(s: &Polyhedron, ends: [usize; 2], p: &Point3<f64>, range: f64) -> bool {
+    ends.iter()
+        .any(|&k| s.is_convex_vertex(k) && (s.vertices()[k] - p).norm() < range)
+}
+
+/// Convex vertex `p` of `x` can enter a plane with normal `n` (pointing
+/// towards `x`): every edge at `p` points to the plane's outer side.
+fn vertex_enters(x: &Polyhedron, p: usize, n: &Vector3<f64>) -> bool {
+    x.is_convex_vertex(p)
+        && x.vertex_edges(p)
+            .iter()
+            .all(|&e| n.dot(&x.edge_direction(e, p)) >= -sin_tol())
+}
+
+/// The corner of `y` at `q` lies below a plane with normal `n`.
+fn vertex_below(y: &Polyhedron, q: usize, n: &Vector3<f64>) -> bool {
+    y.vertex_edges(q)
+        .iter()
+        .all(|&e| n.dot(&y.edge_direction(e, q)) <= sin_tol())
+}
+
+/// The wedge of edge `e` of `x` lies above a plane with normal `n`.
+fn edge_enters(x: &Polyhedron, e: usize, n: &Vector3<f64>) -> bool {
+    x.edge_wedge(e).iter().all(|w| n.dot(w) >= -sin_tol())
+}
+
+/// The wedge of edge `e` of `y` lies below a plane with normal `n`.
+fn edge_below(y: &Polyhedron, e: usize, n: &Vector3<f64>) -> bool {
+    y.edge_wedge(e).iter().all(|w| n.dot(w) <= sin_tol())
+}
+
+/// The linearised contact of a point `pa` of block `enter` with a point `pb`
+/// of block `entered` along unit normal `n` (from `entered` to `enter`),
+/// tangents `t1` and n × t1. With `swap` the rows are given in the order
+/// (entered, enter).
+fn entrance(
+    enter: &Block,
+    pa: &Point3<f64>,
+    entered: &Block,
+    pb: &Point3<f64>,
+    n: &Vector3<f64>,
+    t1: &Vector3<f64>,
+    swap: bool,
+) -> Entrance<12, 2> {
+    let (ta, tb) = (enter.t_matrix(pa), entered.t_matrix(pb));
+    let t2 = n.cross(t1);
+    let rows = |d: &Vector3<f64>| -> [Vector12; 2] {
+        let (ra, rb) = (ta.transpose() * d, -(tb.transpose() * d));
+        if swap {
+            [rb, ra]
+        } else {
+            [ra, rb]
+        }
+    };
+    Entrance {
+        gap: n.dot(&(pa - pb)),
+        normal: rows(n),
+        tangents: [rows(t1), rows(&t2)],
+    }
+}
+
+/// Vertex `p` of `x` against the plane of face `f` of `y`, measured at the
+/// vertex's projection on the plane; tangents along the face's first edge.
+fn face_entrance(x: &Block, p: usize, y: &Block, f: usize, swap: bool) -> Entrance<12, 2> {
+    let frame = y.shape().face_frame(f);
+    let pv = x.vertices()[p];
+    let foot = pv - frame.normal * frame.height(&pv);
+    entrance(x, &pv, y, &foot, &frame.normal, &frame.u, swap)
+}
+
+/// Edge `ea` of `x` against edge `eb` of `y` along `n`, measured between the
+/// closest points of the two lines; tangents along `eb`. `None` if parallel.
+fn edge_entrance(
+    x: &Block,
+    ea: usize,
+    y: &Block,
+    eb: usize,
+    n: &Vector3<f64>,
+    swap: bool,
+) -> Option<Entrance<12, 2>> {
+    let [p1, q1] = x.shape().edges()[ea].ends.map(|k| x.vertices()[k]);
+    let [p2, q2] = y.shape().edges()[eb].ends.map(|k| y.vertices()[k]);
+    let (s, t) = line_closest(&p1, &q1, &p2, &q2)?;
+    let pa = p1 + (q1 - p1) * s;
+    let pb = p2 + (q2 - p2) * t;
+    let along = (q2 - p2).normalize();
+    let t1 = (along - n * n.dot(&along)).normalize();
+    Some(entrance(x, &pa, y, &pb, n, &t1, swap))
+}
+
+/// The unit normal of the plane spanned by two edge directions, oriented by
+/// `valid` (which must accept exactly one sign); `None` for parallel edges or
+/// when neither or both signs fit.
+fn crossing_normal(
+    da: &Vector3<f64>,
+    db: &Vector3<f64>,
+    valid: impl Fn(&Vector3<f64>) -> bool,
+) -> Option<Vector3<f64>> {
+    let c = da.normalize().cross(&db.normalize());
+    if c.norm() < sin_tol() {
+        return None;
+    }
+    let n = c.normalize();
+    match (valid(&n), valid(&-n)) {
+        (true, false) => Some(n),
+        (false, true) => Some(-n),
+        _ => None,
+    }
+}
+
+/// Entrances of two convex corners: every face plane and edge-pair plane
+/// that separates them.
+fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize) -> Vec<Entrance<12, 2>> {
+    let (sa, sb) = (a.shape(), b.shape());
+    let mut out = Vec::new();
+    for &f in sb.vertex_faces(q) {
+        let n = sb.normal(f);
+        if vertex_enters(sa, p, &n) && vertex_below(sb, q, &n) {
+            out.push(face_entrance(a, p, b, f, false));
+        }
+    }
+    for &g in sa.vertex_faces(p) {
+        let n = sa.normal(g);
+        if vertex_enters(sb, q, &n) && vertex_below(sa, p, &n) {
+            out.push(face_entrance(b, q, a, g, true));
+        }
+    }
+    for &ea in sa.vertex_edges(p) {
+        for &eb in sb.vertex_edges(q) {
+            let valid = |n: &Vector3<f64>| vertex_enters(sa, p, n) && vertex_below(sb, q, n);
+            let da = sa.edge_direction(ea, p);
+            let db = sb.edge_direction(eb, q);
+            if let Some(n) = crossing_normal(&da, &db, valid) {
+                out.extend(edge_entrance(a, ea, b, eb, &n, false));
+            }
+        }
+    }
+    out
+}
+
+/// Entrances of convex vertex `p` of `x` near the inside of edge `e` of `y`:
+/// the planes of the edge's faces and the crossings of the vertex's edges
+/// with it.
+fn vertex_edge(x: &Block, p: usize, y: &Block, e: usize) -> Vec<Entrance<12, 2>> {
+    let (sx, sy) = (x.shape(), y.shape());
+    let mut out = Vec::new();
+    for &f in &sy.edges()[e].faces {
+        let n = sy.normal(f);
+        if vertex_enters(sx, p, &n) && edge_below(sy, e, &n) {
+            out.push(face_entrance(x, p, y, f, false));
+        }
+    }
+    let [e0, e1] = sy.edges()[e].ends;
+    let de = sy.vertices()[e1] - sy.vertices()[e0];
+    for &ex in sx.vertex_edges(p) {
+        let valid = |n: &Vector3<f64>| vertex_enters(sx, p, n) && edge_below(sy, e, n);
+        if let Some(n) = crossing_normal(&sx.edge_direction(ex, p), &de, valid) {
+            out.extend(edge_entrance(x, ex, y, e, &n, false));
+        }
+    }
+    out
+}
+
+/// Whether convex vertex `p` of `x` makes a plain VF contact with face `f`
+/// of `y` (see the module notes).
+fn vertex_over_face(x: &Polyhedron, p: usize, y: &Polyhedron, f: usize, range: f64) -> bool {
+    let n = y.normal(f);
+    if !vertex_enters(x, p, &n) {
+        return false;
+    }
+    let pv = x.vertices()[p];
+    let frame = y.face_frame(f);
+    if frame.height(&pv).abs() >= range {
+        return false;
+    }
+    let face = &y.faces()[f];
+    // Corners and edges nearby belong to the groups.
+    if face
+        .iter()
+        .any(|&q| y.is_convex_vertex(q) && (y.vertices()[q] - pv).norm() < range)
+    {
+        return false;
+    }
+    let mut near_reflex = false;
+    let polygon = y.face_polygon(f);
+    let at = frame.to_plane(&pv);
+    for (k, &e) in y.face_edges(f).iter().enumerate() {
+        let [q0, q1] = y.edges()[e].ends.map(|i| y.vertices()[i]);
+        if y.edge_kind(e) == EdgeKind::Reflex {
+            let next = (k + 1) % polygon.len();
+            near_reflex |= face::segment_distance(&at, &polygon[k], &polygon[next]).0 < range;
+            continue;
+        }
+        let (distance, s) = segment_distance(&pv, &q0, &q1);
+        if distance < range && s > 0.0 && s < 1.0 {
+            return false;
+        }
+    }
+    near_reflex || face::contains(&polygon, &at)
+}
+
+/// Edge-edge crossing of convex edges away from their ends.
+fn edge_edge(
+    a: &Block,
+    ea: usize,
+    ends_a: [usize; 2],
+    b: &Block,
+    eb: usize,
+    ends_b: [usize; 2],
+    range: f64,
+) -> Option<Entrance<12, 2>> {
+    let (sa, sb) = (a.shape(), b.shape());
+    let [p1, q1] = ends_a.map(|k| sa.vertices()[k]);
+    let [p2, q2] = ends_b.map(|k| sb.vertices()[k]);
+    // Cheap rejection before anything else.
+    let reach = range + (q1 - p1).norm() + (q2 - p2).norm();
+    if (p1 - p2).norm() > reach {
+        return None;
+    }
+    let (s, t) = line_closest(&p1, &q1, &p2, &q2)?;
+    if !(s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0) {
+        return None;
+    }
+    let (pa, pb) = (p1 + (q1 - p1) * s, p2 + (q2 - p2) * t);
+    if (pa - pb).norm() >= range {
+        return None;
+    }
+    let end_near = |ends: [usize; 2], s: &Polyhedron, from: &Point3<f64>, to: &Point3<f64>| {
+        ends.iter().any(|&k| {
+            s.is_convex_vertex(k) && segment_distance(&s.vertices()[k], from, to).0 < range
+        })
+    };
+    if end_near(ends_a, sa, &p2, &q2) || end_near(ends_b, sb, &p1, &q1) {
+        return None;
+    }
+    let valid = |n: &Vector3<f64>| edge_enters(sa, ea, n) && edge_below(sb, eb, n);
+    let n = crossing_normal(&(q1 - p1), &(q2 - p2), valid)?;
+    edge_entrance(a, ea, b, eb, &n, false)
+}
+
+/// Parameters (s, t) of the closest points of the lines p1 + s(q1 − p1) and
+/// p2 + t(q2 − p2); `None` if they are parallel.
+fn line_closest(
+    p1: &Point3<f64>,
+    q1: &Point3<f64>,
+    p2: &Point3<f64>,
+    q2: &Point3<f64>,
+) -> Option<(f64, f64)> {
+    let (d1, d2, r) = (q1 - p1, q2 - p2, p1 - p2);
+    let (a, e, b) = (d1.dot(&d1), d2.dot(&d2), d1.dot(&d2));
+    let (c, f) = (d1.dot(&r), d2.dot(&r));
+    let denom = a * e - b * b;
+    if denom <= 1e-12 * a * e {
+        return None;
+    }
+    Some(((b * f - c * e) / denom, (a * f - b * c) / denom))
+}
+
+/// Distance from `p` to the segment (a, b) and the parameter of the nearest
+/// point, clamped to [0, 1].
+fn segment_distance(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>) -> (f64, f64) {
+    let ab = b - a;
+    let l2 = ab.norm_squared();
+    let s = if l2 > 0.0 {
+        ((p - a).dot(&ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    ((p - (a + ab * s)).norm(), s)
+}
+
+/// Area a vertex stands for against a face: for each face at the vertex
+/// lying on the contact plane (facing the entered face within 3°), the
+/// vertex's share of it (the quadrilateral of the vertex, the midpoints of
+/// its two sides and the face's centroid: a quarter of a rectangle, a third of
+/// a triangle), clipped to the entered face.
+fn vertex_area(x: &Block, p: usize, y: &Block, f: usize) -> f64 {
+    let (sx, sy) = (x.shape(), y.shape());
+    let n = sy.normal(f);
+    let frame = sy.face_frame(f);
+    let triangles: Vec<[Point2<f64>; 3]> = sy
+        .face_triangles(f)
+        .iter()
+        .map(|t| t.map(|k| frame.to_plane(&sy.vertices()[k])))
+        .collect();
+    let mut total = 0.0;
+    for &g in sx.vertex_faces(p) {
+        if sx.normal(g).dot(&n) > -ANGLE_TOLERANCE.cos() {
+            continue;
+        }
+        let face = &sx.faces()[g];
+        let k = face.iter().position(|&v| v == p).unwrap_or(0);
+        let m = face.len();
+        let at = |i: usize| sx.vertices()[face[i]];
+        let corner = at(k);
+        let next = Point3::from((corner.coords + at((k + 1) % m).coords) / 2.0);
+        let prev = Point3::from((corner.coords + at((k + m - 1) % m).coords) / 2.0);
+        // Counter-clockwise about g's normal is clockwise in f's frame.
+        let share: Vec<Point2<f64>> = [prev, sx.face_centroid(g), next, corner]
+            .iter()
+            .map(|q| frame.to_plane(q))
+            .collect();
+        total += triangles
+            .iter()
+            .map(|t| face::area(&face::clip_convex(&share, t)).abs())
+            .sum::<f64>();
+    }
+    total
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinematics::{move_point, RotationUpdate};
+    use crate::polyhedron::cuboid;
+    use nalgebra::Rotation3;
+
+    fn block(center: Point3<f64>, size: Vector3<f64>, rotation: Rotation3<f64>) -> Block {
+        let (v, f) = cuboid(center, size, rotation);
+        Block::new(&v, &f, 0, 1000.0).unwrap()
+    }
+
+    fn moved(b: &Block, p: &Point3<f64>, d: &Vector12) -> Point3<f64> {
+        move_point(p, &b.centroid(), d, RotationUpdate::Exact)
+    }
+
+    /// A small increment on one of the 24 DOF of a pair.
+    fn increment(k: usize, h: f64) -> (Vector12, Vector12) {
+        let (mut da, mut db) = (Vector12::zeros(), Vector12::zeros());
+        if k < 12 {
+            da[k] = h
+        } else {
+            db[k - 12] = h
+        }
+        (da, db)
+    }
+
+    /// A tilted base and a tilted cube whose lowest corner (vertex 0) sits on
+    /// the base's top face, clear of its edges.
+    fn corner_on_face() -> Vec<Block> {
+        let tilt = Rotation3::from_euler_angles(0.2, -0.1, 0.3);
+        let base = block(
+            Point3::new(0.3, -0.2, -0.5),
+            Vector3::new(6.0, 5.0, 1.0),
+            tilt,
+        );
+        let top = base.shape().face_frame(1);
+        let spot = top.origin + top.u * 2.5 + top.v * 2.0;
+        // Cube corner 0 is (−½, −½, −½) in its frame: rotate it so the corner
+        // points down along the base's normal, then place it at `spot`.
+        let r =
+            Rotation3::rotation_between(&Vector3::new(-1.0, -1.0, -1.0), &(-top.normal)).unwrap();
+        let c = spot - r * Vector3::new(-0.5, -0.5, -0.5);
+        vec![base, block(c, Vector3::new(1.0, 1.0, 1.0), r)]
+    }
+
+    #[test]
+    fn vertex_face_rows_are_the_derivatives_of_the_exact_gap_and_slip() {
+        let blocks = corner_on_face();
+        let contacts = pair_contacts(&blocks, 1, 0, 0.05, 0);
+        let c = contacts
+            .iter()
+            .find(|c| contact_label(&c.key) == "1:v0/0:f1")
+            .unwrap_or_else(|| panic!("corner on the top face: {contacts:?}"));
+        assert_eq!(contacts.len(), 1, "only the corner is near");
+        assert_eq!(c.blocks, [1, 0]);
+        let (cube, base) = (&blocks[1], &blocks[0]);
+        let e = &c.entrances[0];
+        let pv = cube.vertices()[0];
+        let face = &base.faces()[1];
+        let frame = base.shape().face_frame(1);
+        assert!(e.gap.abs() < 1e-12);
+        let foot = pv - frame.normal * frame.height(&pv);
+        // The exact gap: distance from the moved face's plane; the exact slip:
+        // the moved vertex relative to the moved foot, along the moved face's
+        // first edge and its in-plane perpendicular.
+        let exact = |da: &Vector12, db: &Vector12| {
+            let q: Vec<Point3<f64>> = face
+                .iter()
+                .map(|&k| moved(base, &base.vertices()[k], db))
+                .collect();
+            let n = (q[1] - q[0]).cross(&(q[2] - q[0])).normalize();
+            let p = moved(cube, &pv, da);
+            let t1 = (q[1] - q[0]).normalize();
+            let t2 = n.cross(&t1);
+            let rel = p - moved(base, &foot, db);
+            (n.dot(&(p - q[0])), t1.dot(&rel), t2.dot(&rel))
+        };
+        let h = 1e-6;
+        for k in 0..24 {
+            let (da, db) = increment(k, h);
+            let (g1, s1, r1) = exact(&da, &db);
+            let (g0, s0, r0) = exact(&-da, &-db);
+            let fd = [(g1 - g0), (s1 - s0), (r1 - r0)].map(|x| x / (2.0 * h));
+            let rows = [
+                e.gap_at(&da, &db) - e.gap,
+                e.shear_at(&da, &db)[0],
+                e.shear_at(&da, &db)[1],
+            ]
+            .map(|x| x / h);
+            for (what, (f, r)) in ["gap", "slip 1", "slip 2"].iter().zip(fd.iter().zip(rows)) {
+                assert!((f - r).abs() < 1e-8, "{what}, DOF {k}: {f} vs {r}");
+            }
+        }
+        // Off the face the gap is still exact to first order.
+        let mut lifted = blocks.clone();
+        let mut up = Vector12::zeros();
+        up.fixed_rows_mut::<3>(0).copy_from(&(frame.normal * 0.01));
+        lifted[1].commit(&up, nalgebra::Vector6::zeros(), RotationUpdate::Exact);
+        let c = pair_contacts(&lifted, 1, 0, 0.05, 0);
+        let e = &c[0].entrances[0];
+        assert!((e.gap - 0.01).abs() < 1e-12);
+    }
+
+    /// Two boxes whose long edges cross at right angles-ish, touching.
+    fn crossing_edges() -> (Vec<Block>, Point3<f64>) {
+        let lower = block(
+            Point3::new(0.0, 0.0, -0.5),
+            Vector3::new(4.0, 1.0, 1.0),
+            Rotation3::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_4),
+        );
+        // The lower box's top ridge runs along x at height z = −0.5 + √2/2.
+        let ridge = -0.5 + std::f64::consts::SQRT_2 / 2.0;
+        let r = Rotation3::from_axis_angle(&Vector3::z_axis(), 1.2)
+            * Rotation3::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_4);
+        // Its bottom ridge runs along the rotated x axis, √2/2 below its centre.
+        let c = Point3::new(0.3, 0.0, ridge + std::f64::consts::SQRT_2 / 2.0);
+        let upper = block(c, Vector3::new(4.0, 1.0, 1.0), r);
+        (vec![lower, upper], Point3::new(0.3, 0.0, ridge))
+    }
+
+    #[test]
+    fn edge_edge_rows_are_the_derivatives_of_the_exact_gap_and_slip() {
+        let (blocks, touch) = crossing_edges();
+        let contacts = pair_contacts(&blocks, 0, 1, 0.05, 0);
+        assert_eq!(contacts.len(), 1, "{contacts:?}");
+        let c = &contacts[0];
+        let label = contact_label(&c.key);
+        assert!(
+            label.starts_with("0:e") && label.contains("/1:e"),
+            "{label}"
+        );
+        let e = &c.entrances[0];
+        assert!(e.gap.abs() < 1e-12, "touching: {}", e.gap);
+        // The normal is vertical and points from the upper block (b) to the lower (a).
+        let push = Vector12::from_fn(|i, _| if i == 2 { 1e-3 } else { 0.0 });
+        assert!((e.gap_at(&Vector12::zeros(), &push) - 1e-3).abs() < 1e-12);
+        let (lo, up) = (&blocks[0], &blocks[1]);
+        let ea = c.key.feature_a & !EDGE;
+        let eb = c.key.feature_b;
+        let ends = |b: &Block, e: u32| b.shape().edges()[e as usize].ends.map(|k| b.vertices()[k]);
+        let ([p1, q1], [p2, q2]) = (ends(lo, ea), ends(up, eb));
+        assert!(segment_distance(&touch, &p1, &q1).0 < 1e-12);
+        let n0 = (q1 - p1).cross(&(q2 - p2)).normalize();
+        let sign = if n0.z < 0.0 { 1.0 } else { -1.0 }; // from the upper to the lower block
+        let exact = |da: &Vector12, db: &Vector12| {
+            let [m1, n1] = [p1, q1].map(|p| moved(lo, &p, da));
+            let [m2, n2] = [p2, q2].map(|p| moved(up, &p, db));
+            let n = (n1 - m1).cross(&(n2 - m2)).normalize() * sign;
+            let (s, t) = line_closest(&m1, &n1, &m2, &n2).unwrap();
+            let gap = n.dot(&((m1 + (n1 - m1) * s) - (m2 + (n2 - m2) * t)));
+            let t1 = (n2 - m2).normalize();
+            let t2 = n.cross(&t1);
+            let rel = moved(lo, &touch, da) - moved(up, &touch, db);
+            (gap, t1.dot(&rel), t2.dot(&rel))
+        };
+        let h = 1e-6;
+        for k in 0..24 {
+            let (da, db) = increment(k, h);
+            let (g1, s1, r1) = exact(&da, &db);
+            let (g0, s0, r0) = exact(&-da, &-db);
+            let fd = [(g1 - g0), (s1 - s0), (r1 - r0)].map(|x| x / (2.0 * h));
+            let rows = [
+                e.gap_at(&da, &db) - e.gap,
+                e.shear_at(&da, &db)[0],
+                e.shear_at(&da, &db)[1],
+            ]
+            .map(|x| x / h);
+            for (what, (f, r)) in ["gap", "slip 1", "slip 2"].iter().zip(fd.iter().zip(rows)) {
+                assert!((f - r).abs() < 1e-8, "{what}, DOF {k}: {f} vs {r}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_cube_on_a_larger_face_makes_four_vertex_face_contacts_standing_for_its_base() {
+        let base = block(
+            Point3::new(0.0, 0.0, -0.5),
+            Vector3::new(10.0, 10.0, 1.0),
+            Rotation3::identity(),
+        );
+        let cube = block(
+            Point3::new(0.4, -0.3, 1.0),
+            Vector3::new(2.0, 2.0, 2.0),
+            Rotation3::from_axis_angle(&Vector3::z_axis(), 0.3),
+        );
+        let blocks = vec![base, cube];
+        let contacts = pair_contacts(&blocks, 0, 1, 0.05, 0);
+        assert_eq!(contacts.len(), 4, "{contacts:?}");
+        for c in &contacts {
+            assert!(contact_label(&c.key).starts_with("1:v"));
+            assert!(contact_label(&c.key).ends_with("/0:f1"));
+            assert!(c.entrances[0].gap.abs() < 1e-12);
+        }
+        let total: f64 = contacts.iter().map(|c| c.length).sum();
+        assert!(
+            (total - 4.0).abs() < 1e-12,
+            "stands for the 2 × 2 base: {total}"
+        );
+        // Overhanging by half: each contact stands for the part over the base.
+        let edge = block(
+            Point3::new(5.0, 0.0, 1.0),
+            Vector3::new(2.0, 2.0, 2.0),
+            Rotation3::identity(),
+        );
+        let blocks = vec![blocks[0].clone(), edge];
+        let contacts = pair_contacts(&blocks, 0, 1, 0.05, 0);
+        let total: f64 = contacts.iter().map(|c| c.length).sum();
+        assert!(
+            (total - 2.0).abs() < 1e-12,
+            "half the base is supported: {total}"
+        );
+    }
+
+    #[test]
+    fn equal_cubes_stacked_make_one_group_per_corner_and_resist_only_pushing() {
+        let lower = block(
+            Point3::new(0.0, 0.0, 0.5),
+            Vector3::repeat(1.0),
+            Rotation3::identity(),
+        );
+        let upper = block(
+            Point3::new(0.0, 0.0, 1.5),
+            Vector3::repeat(1.0),
+            Rotation3::identity(),
+        );
+        let blocks = vec![lower, upper];
+        let contacts = pair_contacts(&blocks, 0, 1, 0.02, 0);
+        assert_eq!(contacts.len(), 4, "{contacts:?}");
+        let down = Vector12::from_fn(|i, _| if i == 2 { -1e-4 } else { 0.0 });
+        let side = Vector12::from_fn(|i, _| if i == 1 { 1e-4 } else { 0.0 });
+        for c in &contacts {
+            assert!(
+                contact_label(&c.key).contains("/1:v"),
+                "{}",
+                contact_label(&c.key)
+            );
+            assert!(c.entrances.len() >= 2);
+            for e in &c.entrances {
+                assert!((e.gap_at(&Vector12::zeros(), &down) + 1e-4).abs() < 1e-12);
+                assert!(e.gap_at(&Vector12::zeros(), &side).abs() < 1e-12);
+            }
+            assert!((c.length - 0.25).abs() < 1e-12);
+        }
+        // Side by side: moving the right cube left penetrates every contact.
+        let right = block(
+            Point3::new(1.0, 0.0, 0.5),
+            Vector3::repeat(1.0),
+            Rotation3::identity(),
+        );
+        let blocks = vec![blocks[0].clone(), right];
+        let left = Vector12::from_fn(|i, _| if i == 0 { -1e-4 } else { 0.0 });
+        let contacts = pair_contacts(&blocks, 0, 1, 0.02, 0);
+        assert_eq!(contacts.len(), 4);
+        for c in &contacts {
+            let widest = c
+                .entrances
+                .iter()
+                .map(|e| e.gap_at(&Vector12::zeros(), &left))
+                .fold(f64::MIN, f64::max);
+            assert!((widest + 1e-4).abs() < 1e-12, "{widest}");
+        }
+    }
+
+    #[test]
+    fn a_vertex_beside_a_block_is_not_in_contact() {
+        // The upper cube's bottom is below the lower one's top, but the two
+        // stand apart by 0.03 sideways: the widest entrance is open.
+        let lower = block(
+            Point3::new(0.0, 0.0, 0.5),
+            Vector3::repeat(1.0),
+            Rotation3::identity(),
+        );
+        let beside = block(
+            Point3::new(1.03, 0.2, 1.45),
+            Vector3::repeat(1.0),
+            Rotation3::identity(),
+        );
+        let blocks = vec![lower, beside];
+        for c in pair_contacts(&blocks, 0, 1, 0.1, 0) {
+            let widest = c.entrances.iter().map(|e| e.gap).fold(f64::MIN, f64::max);
+            assert!(widest > 0.029, "{}: {widest}", contact_label(&c.key));
+        }
+    }
+}

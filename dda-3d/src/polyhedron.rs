@@ -1,0 +1,857 @@
+//! Closed polyhedral surfaces: validation, topology, volume integrals,
+//! generators and an overlap test.
+//!
+//! A polyhedron is a list of vertices and a list of faces, each face a loop of
+//! vertex indices ordered counter-clockwise seen from outside (so the
+//! right-hand normal points out). Faces may be concave polygons and the
+//! polyhedron may be non-convex; faces must be planar and simple, and the
+//! surface closed, manifold and consistently oriented.
+//!
+//! Volume integrals sum signed tetrahedra from a local origin over a
+//! triangulation of every face (A9.2), so they are exact for any closed
+//! polyhedron, convex or not, and keep their digits far from the global origin.
+
+use std::collections::{BTreeMap, HashMap, VecDeque};
+use std::sync::Arc;
+
+use nalgebra::{Matrix3, Point2, Point3, Rotation3, Vector3};
+
+use crate::face::{self, FaceFrame};
+
+/// Angle tolerance of the convexity and entrance tests (Shi's h1 = 3°).
+pub const ANGLE_TOLERANCE: f64 = 3.0 * std::f64::consts::PI / 180.0;
+
+/// A face vertex farther than this fraction of the block size from the face's
+/// plane makes the face non-planar.
+pub const PLANARITY_TOLERANCE: f64 = 1e-6;
+
+/// A face area below this fraction of size² is zero.
+const AREA_EPS: f64 = 1e-14;
+/// A volume below this fraction of size³ is zero.
+const VOLUME_EPS: f64 = 1e-12;
+
+/// Why a polyhedron was rejected. Indices are those of the input.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PolyhedronError {
+    #[error("a polyhedron needs at least 4 vertices, this one has {0}")]
+    TooFewVertices(usize),
+    #[error("a closed polyhedron needs at least 4 faces, this one has {0}")]
+    TooFewFaces(usize),
+    #[error("vertex {vertex} is not a finite point")]
+    NotFinite { vertex: usize },
+    #[error("face {face} has {count} vertices; a face needs at least 3")]
+    FaceTooSmall { face: usize, count: usize },
+    #[error("face {face} refers to vertex {index}, but there are only {count} vertices")]
+    IndexOutOfRange {
+        face: usize,
+        index: usize,
+        count: usize,
+    },
+    #[error("face {face} visits vertex {vertex} twice")]
+    RepeatedVertex { face: usize, vertex: usize },
+    #[error("faces {first} and {second} have the same vertices")]
+    DuplicateFace { first: usize, second: usize },
+    #[error("the surface is open: edge {a}-{b} of face {face} belongs to no other face")]
+    OpenEdge { face: usize, a: usize, b: usize },
+    #[error("the surface is not manifold: edge {a}-{b} belongs to {count} faces, not 2")]
+    NonManifoldEdge { a: usize, b: usize, count: usize },
+    #[error("face {face} is oriented against its neighbours: list its vertices counter-clockwise seen from outside")]
+    InconsistentOrientation { face: usize },
+    #[error("the surface is in several pieces: face {face} is not connected to face 0")]
+    Disconnected { face: usize },
+    #[error("vertex {vertex} is not used by any face")]
+    UnusedVertex { vertex: usize },
+    #[error("the surface is not manifold at vertex {vertex}: its faces do not form one fan")]
+    NonManifoldVertex { vertex: usize },
+    #[error("face {face} has zero area")]
+    DegenerateFace { face: usize },
+    #[error("face {face} is not planar: vertex {vertex} is {distance:.3e} off its plane")]
+    NonPlanarFace {
+        face: usize,
+        vertex: usize,
+        distance: f64,
+    },
+    #[error("face {face} is not a simple polygon: two of its edges cross")]
+    SelfIntersectingFace { face: usize },
+    #[error("the polyhedron has zero volume")]
+    ZeroVolume,
+}
+
+/// An edge between two vertices and the two faces that share it: `faces[0]`
+/// runs from `ends[0]` to `ends[1]`, `faces[1]` the other way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Edge {
+    pub ends: [usize; 2],
+    pub faces: [usize; 2],
+}
+
+/// Whether the solid angle at an edge is below, at or above 180°.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EdgeKind {
+    Convex,
+    /// The two faces are coplanar within the angle tolerance.
+    Flat,
+    Reflex,
+}
+
+/// Volume, centroid and central second moments J_ab = ∫ a b dV (a, b ∈ {X,
+/// Y, Z} measured from the centroid).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CentralMoments {
+    pub volume: f64,
+    pub centroid: Point3<f64>,
+    pub second: Matrix3<f64>,
+}
+
+/// What never changes when a block moves: faces and their adjacency.
+#[derive(Debug)]
+struct Topology {
+    faces: Vec<Vec<usize>>,
+    edges: Vec<Edge>,
+    vertex_edges: Vec<Vec<usize>>,
+    vertex_faces: Vec<Vec<usize>>,
+    /// Edge id of each face side: side k runs from vertex k to vertex k + 1.
+    face_edges: Vec<Vec<usize>>,
+    /// Triangles of each face (vertex indices). Affine motions keep them valid.
+    triangles: Vec<Vec<[usize; 3]>>,
+}
+
+/// A validated closed polyhedron with its derived geometry.
+#[derive(Debug, Clone)]
+pub struct Polyhedron {
+    vertices: Vec<Point3<f64>>,
+    topology: Arc<Topology>,
+    normals: Vec<Vector3<f64>>,
+    areas: Vec<f64>,
+    moments: CentralMoments,
+    edge_kinds: Vec<EdgeKind>,
+    convex_vertices: Vec<bool>,
+}
+
+impl Polyhedron {
+    pub fn vertices(&self) -> &[Point3<f64>] {
+        &self.vertices
+    }
+
+    /// Faces as counter-clockwise loops seen from outside.
+    pub fn faces(&self) -> &[Vec<usize>] {
+        &self.topology.faces
+    }
+
+    /// Edges, sorted by their end vertices; the index is the edge id.
+    pub fn edges(&self) -> &[Edge] {
+        &self.topology.edges
+    }
+
+    /// Edge ids at a vertex.
+    pub fn vertex_edges(&self, v: usize) -> &[usize] {
+        &self.topology.vertex_edges[v]
+    }
+
+    /// Face ids at a vertex.
+    pub fn vertex_faces(&self, v: usize) -> &[usize] {
+        &self.topology.vertex_faces[v]
+    }
+
+    /// Edge ids of a face's sides: side k runs from its vertex k to k + 1.
+    pub fn face_edges(&self, f: usize) -> &[usize] {
+        &self.topology.face_edges[f]
+    }
+
+    /// Triangles of a face, as vertex indices, counter-clockwise from outside.
+    pub fn face_triangles(&self, f: usize) -> &[[usize; 3]] {
+        &self.topology.triangles[f]
+    }
+
+    /// Outward unit normal of a face.
+    pub fn normal(&self, f: usize) -> Vector3<f64> {
+        self.normals[f]
+    }
+
+    pub fn face_area(&self, f: usize) -> f64 {
+        self.areas[f]
+    }
+
+    /// The face's frame: origin at its first vertex, `u` along its first edge.
+    pub fn face_frame(&self, f: usize) -> FaceFrame {
+        let face = &self.topology.faces[f];
+        FaceFrame::new(
+            self.vertices[face[0]],
+            self.vertices[face[1]],
+            self.normals[f],
+        )
+    }
+
+    /// The face's vertices in its own frame (counter-clockwise).
+    pub fn face_polygon(&self, f: usize) -> Vec<Point2<f64>> {
+        let frame = self.face_frame(f);
+        self.topology.faces[f]
+            .iter()
+            .map(|&v| frame.to_plane(&self.vertices[v]))
+            .collect()
+    }
+
+    /// Area centroid of a face.
+    pub fn face_centroid(&self, f: usize) -> Point3<f64> {
+        let mut sum = Vector3::zeros();
+        let mut total = 0.0;
+        for t in &self.topology.triangles[f] {
+            let [a, b, c] = t.map(|i| self.vertices[i]);
+            let w = (b - a).cross(&(c - a)).dot(&self.normals[f]) / 2.0;
+            sum += (a.coords + b.coords + c.coords) * (w / 3.0);
+            total += w;
+        }
+        if total.abs() > 0.0 {
+            Point3::from(sum / total)
+        } else {
+            self.vertices[self.topology.faces[f][0]]
+        }
+    }
+
+    pub fn moments(&self) -> &CentralMoments {
+        &self.moments
+    }
+
+    pub fn volume(&self) -> f64 {
+        self.moments.volume
+    }
+
+    pub fn centroid(&self) -> Point3<f64> {
+        self.moments.centroid
+    }
+
+    pub fn edge_kind(&self, e: usize) -> EdgeKind {
+        self.edge_kinds[e]
+    }
+
+    /// Whether the solid at a vertex is a convex cone: every edge at the
+    /// vertex lies on the inner side of every face at it (within the angle
+    /// tolerance). Flat vertices count as convex.
+    pub fn is_convex_vertex(&self, v: usize) -> bool {
+        self.convex_vertices[v]
+    }
+
+    /// Unit direction of edge `e` leaving vertex `from`.
+    pub fn edge_direction(&self, e: usize, from: usize) -> Vector3<f64> {
+        let [a, b] = self.topology.edges[e].ends;
+        let other = if a == from { b } else { a };
+        (self.vertices[other] - self.vertices[from]).normalize()
+    }
+
+    /// Unit directions perpendicular to edge `e`, in each of its two faces,
+    /// pointing into the face: the edge's solid wedge lies between them.
+    pub fn edge_wedge(&self, e: usize) -> [Vector3<f64>; 2] {
+        let edge = self.topology.edges[e];
+        let d = (self.vertices[edge.ends[1]] - self.vertices[edge.ends[0]]).normalize();
+        // Face 0 runs along d, face 1 against it; the face lies to the left.
+        [
+            self.normals[edge.faces[0]].cross(&d),
+            -self.normals[edge.faces[1]].cross(&d),
+        ]
+    }
+
+    /// Axis-aligned bounds (min, max).
+    pub fn bounds(&self) -> (Point3<f64>, Point3<f64>) {
+        bounds(&self.vertices)
+    }
+
+    /// The same polyhedron with every vertex moved by `f` (an
+    /// orientation-preserving affine motion keeps it valid).
+    pub fn moved(&self, f: impl Fn(&Point3<f64>) -> Point3<f64>) -> Self {
+        let vertices = self.vertices.iter().map(f).collect();
+        Self::with_topology(vertices, self.topology.clone())
+    }
+
+    fn with_topology(vertices: Vec<Point3<f64>>, topology: Arc<Topology>) -> Self {
+        let (normals, areas): (Vec<_>, Vec<_>) = topology
+            .faces
+            .iter()
+            .map(|f| {
+                let n = newell(&vertices, f);
+                let a = n.norm();
+                (n / a.max(f64::MIN_POSITIVE), a / 2.0)
+            })
+            .unzip();
+        let moments = central_moments(&vertices, &topology.faces);
+        let edge_kinds = topology
+            .edges
+            .iter()
+            .map(|e| {
+                let d = (vertices[e.ends[1]] - vertices[e.ends[0]]).normalize();
+                let (n0, n1) = (normals[e.faces[0]], normals[e.faces[1]]);
+                let turn = n0.cross(&n1).dot(&d).atan2(n0.dot(&n1));
+                if turn > ANGLE_TOLERANCE {
+                    EdgeKind::Convex
+                } else if turn < -ANGLE_TOLERANCE {
+                    EdgeKind::Reflex
+                } else {
+                    EdgeKind::Flat
+                }
+            })
+            .collect();
+        let sin_tol = ANGLE_TOLERANCE.sin();
+        let convex_vertices = (0..vertices.len())
+            .map(|v| {
+                topology.vertex_faces[v].iter().all(|&f| {
+                    topology.vertex_edges[v].iter().all(|&e| {
+                        let [a, b] = topology.edges[e].ends;
+                        let other = if a == v { b } else { a };
+                        let dir = (vertices[other] - vertices[v]).normalize();
+                        normals[f].dot(&dir) <= sin_tol
+                    })
+                })
+            })
+            .collect();
+        Self {
+            vertices,
+            topology,
+            normals,
+            areas,
+            moments,
+            edge_kinds,
+            convex_vertices,
+        }
+    }
+
+    /// Whether `p` lies inside, farther than `tol` from the surface.
+    pub fn contains(&self, p: &Point3<f64>, tol: f64) -> bool {
+        let mut solid_angle = 0.0;
+        let mut nearest = f64::INFINITY;
+        for tris in &self.topology.triangles {
+            for t in tris {
+                let [a, b, c] = t.map(|i| self.vertices[i]);
+                nearest = nearest.min((closest_on_triangle(p, &a, &b, &c) - p).norm());
+                solid_angle += triangle_solid_angle(&(a - p), &(b - p), &(c - p));
+            }
+        }
+        // The solid angle is 4π inside and 0 outside.
+        nearest > tol && solid_angle > 2.0 * std::f64::consts::PI
+    }
+}
+
+/// Newell's normal of a face: twice its area times its unit normal.
+fn newell(vertices: &[Point3<f64>], face: &[usize]) -> Vector3<f64> {
+    let o = vertices[face[0]];
+    let mut n = Vector3::zeros();
+    for k in 1..face.len().saturating_sub(1) {
+        n += (vertices[face[k]] - o).cross(&(vertices[face[k + 1]] - o));
+    }
+    n
+}
+
+fn bounds(vertices: &[Point3<f64>]) -> (Point3<f64>, Point3<f64>) {
+    let mut lo = Point3::from(Vector3::repeat(f64::INFINITY));
+    let mut hi = Point3::from(Vector3::repeat(f64::NEG_INFINITY));
+    for v in vertices {
+        lo = lo.inf(v);
+        hi = hi.sup(v);
+    }
+    (lo, hi)
+}
+
+/// Volume, centroid and central second moments of a closed surface, by signed
+/// tetrahedra from the mean vertex over fan triangles of each face. Signed: an
+/// inward-oriented surface gives a negative volume. Exact for planar faces,
+/// concave or not.
+pub fn central_moments(vertices: &[Point3<f64>], faces: &[Vec<usize>]) -> CentralMoments {
+    let origin = if vertices.is_empty() {
+        Point3::origin()
+    } else {
+        Point3::from(
+            vertices.iter().fold(Vector3::zeros(), |s, v| s + v.coords) / vertices.len() as f64,
+        )
+    };
+    let mut volume = 0.0;
+    let mut first = Vector3::zeros();
+    let mut second = Matrix3::zeros();
+    for face in faces {
+        let a = vertices[face[0]] - origin;
+        for k in 1..face.len().saturating_sub(1) {
+            let b = vertices[face[k]] - origin;
+            let c = vertices[face[k + 1]] - origin;
+            let v = a.dot(&b.cross(&c)) / 6.0;
+            let s = a + b + c;
+            volume += v;
+            first += s * (v / 4.0);
+            // ∫x_i x_j over the tetrahedron (0, a, b, c).
+            second +=
+                (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose())
+                    * (v / 20.0);
+        }
+    }
+    let c = if volume != 0.0 {
+        first / volume
+    } else {
+        Vector3::zeros()
+    };
+    CentralMoments {
+        volume,
+        centroid: origin + c,
+        second: second - c * c.transpose() * volume,
+    }
+}
+
+/// Checks a closed surface and builds the polyhedron.
+///
+/// Rejects, in this order: fewer than 4 vertices or faces, NaN/inf, faces
+/// with fewer than 3 vertices, indices out of range or a vertex repeated in a
+/// face, duplicate faces, open or non-manifold edges (every edge must belong to
+/// exactly two faces), inconsistent orientation (an edge used twice in the
+/// same direction: the error names the face of the smaller group), several
+/// pieces, unused vertices, non-manifold vertices, zero-area, non-planar (off
+/// the plane by more than 1e-6 of the block size) or self-intersecting faces,
+/// and zero volume. A surface oriented consistently inward is accepted and
+/// flipped. Self-intersection of the surface as a whole is not checked.
+pub fn validate(
+    vertices: &[Point3<f64>],
+    faces: &[Vec<usize>],
+) -> Result<Polyhedron, PolyhedronError> {
+    let n = vertices.len();
+    if n < 4 {
+        return Err(PolyhedronError::TooFewVertices(n));
+    }
+    if let Some(vertex) = vertices
+        .iter()
+        .position(|v| !v.coords.iter().all(|x| x.is_finite()))
+    {
+        return Err(PolyhedronError::NotFinite { vertex });
+    }
+    if faces.len() < 4 {
+        return Err(PolyhedronError::TooFewFaces(faces.len()));
+    }
+    for (face, f) in faces.iter().enumerate() {
+        if f.len() < 3 {
+            return Err(PolyhedronError::FaceTooSmall {
+                face,
+                count: f.len(),
+            });
+        }
+        for (k, &index) in f.iter().enumerate() {
+            if index >= n {
+                return Err(PolyhedronError::IndexOutOfRange {
+                    face,
+                    index,
+                    count: n,
+                });
+            }
+            if f[..k].contains(&index) {
+                return Err(PolyhedronError::RepeatedVertex {
+                    face,
+                    vertex: index,
+                });
+            }
+        }
+    }
+    let mut seen: HashMap<Vec<usize>, usize> = HashMap::new();
+    for (face, f) in faces.iter().enumerate() {
+        let mut key = f.clone();
+        key.sort_unstable();
+        if let Some(&first) = seen.get(&key) {
+            return Err(PolyhedronError::DuplicateFace {
+                first,
+                second: face,
+            });
+        }
+        seen.insert(key, face);
+    }
+
+    // Each undirected edge with the faces using it and their directions.
+    let mut uses: BTreeMap<(usize, usize), Vec<(usize, bool)>> = BTreeMap::new();
+    for (face, f) in faces.iter().enumerate() {
+        for k in 0..f.len() {
+            let (a, b) = (f[k], f[(k + 1) % f.len()]);
+            uses.entry((a.min(b), a.max(b)))
+                .or_default()
+                .push((face, a < b));
+        }
+    }
+    for (&(a, b), u) in &uses {
+        match u.len() {
+            2 => {}
+            1 => {
+                let face = u[0].0;
+                let (a, b) = if u[0].1 { (a, b) } else { (b, a) };
+                return Err(PolyhedronError::OpenEdge { face, a, b });
+            }
+            count => return Err(PolyhedronError::NonManifoldEdge { a, b, count }),
+        }
+    }
+    check_orientation(faces, &uses)?;
+    let mut used = vec![false; n];
+    for f in faces {
+        for &v in f {
+            used[v] = true;
+        }
+    }
+    if let Some(vertex) = used.iter().position(|u| !u) {
+        return Err(PolyhedronError::UnusedVertex { vertex });
+    }
+    check_vertex_fans(n, faces)?;
+
+    let (lo, hi) = bounds(vertices);
+    let size = (hi - lo).norm();
+    for (face, f) in faces.iter().enumerate() {
+        let nn = newell(vertices, f);
+        if nn.norm() / 2.0 <= AREA_EPS * size * size {
+            return Err(PolyhedronError::DegenerateFace { face });
+        }
+        let normal = nn.normalize();
+        let centre = f
+            .iter()
+            .fold(Vector3::zeros(), |s, &v| s + vertices[v].coords)
+            / f.len() as f64;
+        for &vertex in f {
+            let distance = normal.dot(&(vertices[vertex].coords - centre)).abs();
+            if distance > PLANARITY_TOLERANCE * size {
+                return Err(PolyhedronError::NonPlanarFace {
+                    face,
+                    vertex,
+                    distance,
+                });
+            }
+        }
+        let frame = FaceFrame::new(vertices[f[0]], vertices[f[1]], normal);
+        let poly: Vec<Point2<f64>> = f.iter().map(|&v| frame.to_plane(&vertices[v])).collect();
+        if f.len() > 3 && face::self_intersects(&poly) {
+            return Err(PolyhedronError::SelfIntersectingFace { face });
+        }
+    }
+    let volume = central_moments(vertices, faces).volume;
+    if volume.abs() <= VOLUME_EPS * size * size * size {
+        return Err(PolyhedronError::ZeroVolume);
+    }
+    let faces: Vec<Vec<usize>> = if volume < 0.0 {
+        faces
+            .iter()
+            .map(|f| f.iter().rev().copied().collect())
+            .collect()
+    } else {
+        faces.to_vec()
+    };
+    let topology = build_topology(vertices, faces);
+    Ok(Polyhedron::with_topology(
+        vertices.to_vec(),
+        Arc::new(topology),
+    ))
+}
+
+/// Orients every face like face 0 across shared edges; any disagreement is
+/// an error naming a face of the smaller group. Also checks connectivity.
+fn check_orientation(
+    faces: &[Vec<usize>],
+    uses: &BTreeMap<(usize, usize), Vec<(usize, bool)>>,
+) -> Result<(), PolyhedronError> {
+    let mut neighbours: Vec<Vec<(usize, bool)>> = vec![Vec::new(); faces.len()];
+    for u in uses.values() {
+        let ((f, df), (g, dg)) = (u[0], u[1]);
+        // Consistent neighbours use the shared edge in opposite directions.
+        let same = df != dg;
+        neighbours[f].push((g, same));
+        neighbours[g].push((f, same));
+    }
+    let mut sign: Vec<Option<bool>> = vec![None; faces.len()];
+    sign[0] = Some(true);
+    let mut queue = VecDeque::from([0]);
+    let mut conflict = None;
+    while let Some(f) = queue.pop_front() {
+        let s = sign[f].unwrap_or(true);
+        for &(g, same) in &neighbours[f] {
+            let want = if same { s } else { !s };
+            match sign[g] {
+                None => {
+                    sign[g] = Some(want);
+                    queue.push_back(g);
+                }
+                Some(have) if have != want => conflict = conflict.or(Some(g)),
+                _ => {}
+            }
+        }
+    }
+    if let Some(face) = sign.iter().position(|s| s.is_none()) {
+        return Err(PolyhedronError::Disconnected { face });
+    }
+    let flipped: Vec<usize> = (0..faces.len())
+        .filter(|&f| sign[f] == Some(false))
+        .collect();
+    if !flipped.is_empty() {
+        let face = if 2 * flipped.len() <= faces.len() {
+            flipped[0]
+        } else {
+            (0..faces.len())
+                .find(|f| sign[*f] == Some(true))
+                .unwrap_or(0)
+        };
+        return Err(PolyhedronError::InconsistentOrientation { face });
+    }
+    if let Some(face) = conflict {
+        return Err(PolyhedronError::InconsistentOrientation { face });
+    }
+    Ok(())
+}
+
+/// Every vertex's faces must form a single fan around it.
+fn check_vertex_fans(n: usize, faces: &[Vec<usize>]) -> Result<(), PolyhedronError> {
+    // Directed edge (a, b) -> the face that runs along it.
+    let mut along: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut at_vertex: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (fi, f) in faces.iter().enumerate() {
+        for k in 0..f.len() {
+            along.insert((f[k], f[(k + 1) % f.len()]), fi);
+            at_vertex[f[k]].push(fi);
+        }
+    }
+    for (vertex, incident) in at_vertex.iter().enumerate() {
+        let Some(&start) = incident.first() else {
+            continue;
+        };
+        // Walk around the vertex: leave each face by its edge into the vertex.
+        let mut face = start;
+        let mut visited = 0;
+        loop {
+            let f = &faces[face];
+            let k = f.iter().position(|&v| v == vertex).unwrap_or(0);
+            let prev = f[(k + f.len() - 1) % f.len()];
+            // The neighbour runs (vertex, prev).
+            match along.get(&(vertex, prev)) {
+                Some(&g) => face = g,
+                None => break,
+            }
+            visited += 1;
+            if face == start || visited > incident.len() {
+                break;
+            }
+        }
+        if visited != incident.len() {
+            return Err(PolyhedronError::NonManifoldVertex { vertex });
+        }
+    }
+    Ok(())
+}
+
+fn build_topology(vertices: &[Point3<f64>], faces: Vec<Vec<usize>>) -> Topology {
+    let mut edge_faces: BTreeMap<(usize, usize), [usize; 2]> = BTreeMap::new();
+    for (fi, f) in faces.iter().enumerate() {
+        for k in 0..f.len() {
+            let (a, b) = (f[k], f[(k + 1) % f.len()]);
+            let slot = edge_faces.entry((a.min(b), a.max(b))).or_insert([0, 0]);
+            slot[usize::from(a > b)] = fi;
+        }
+    }
+    let edges: Vec<Edge> = edge_faces
+        .into_iter()
+        .map(|((a, b), faces)| Edge {
+            ends: [a, b],
+            faces,
+        })
+        .collect();
+    let id: HashMap<(usize, usize), usize> = edges
+        .iter()
+        .enumerate()
+        .map(|(e, edge)| ((edge.ends[0], edge.ends[1]), e))
+        .collect();
+    let face_edges = faces
+        .iter()
+        .map(|f| {
+            (0..f.len())
+                .map(|k| {
+                    let (a, b) = (f[k], f[(k + 1) % f.len()]);
+                    id[&(a.min(b), a.max(b))]
+                })
+                .collect()
+        })
+        .collect();
+    let mut vertex_edges = vec![Vec::new(); vertices.len()];
+    for (e, edge) in edges.iter().enumerate() {
+        vertex_edges[edge.ends[0]].push(e);
+        vertex_edges[edge.ends[1]].push(e);
+    }
+    let mut vertex_faces = vec![Vec::new(); vertices.len()];
+    for (fi, f) in faces.iter().enumerate() {
+        for &v in f {
+            vertex_faces[v].push(fi);
+        }
+    }
+    let triangles = faces
+        .iter()
+        .map(|f| {
+            let normal = newell(vertices, f).normalize();
+            let frame = FaceFrame::new(vertices[f[0]], vertices[f[1]], normal);
+            let poly: Vec<Point2<f64>> = f.iter().map(|&v| frame.to_plane(&vertices[v])).collect();
+            face::triangulate(&poly)
+                .into_iter()
+                .map(|t| t.map(|k| f[k]))
+                .collect()
+        })
+        .collect();
+    Topology {
+        faces,
+        edges,
+        vertex_edges,
+        vertex_faces,
+        face_edges,
+        triangles,
+    }
+}
+
+/// A box with the given centre, edge lengths (along its own axes) and
+/// rotation. Vertices 0-3 are the bottom (local −z) corners counter-clockwise
+/// seen from above, 4-7 the top ones above them.
+pub fn cuboid(
+    center: Point3<f64>,
+    size: Vector3<f64>,
+    rotation: Rotation3<f64>,
+) -> (Vec<Point3<f64>>, Vec<Vec<usize>>) {
+    let h = size / 2.0;
+    let corners = [
+        (-1.0, -1.0, -1.0),
+        (1.0, -1.0, -1.0),
+        (1.0, 1.0, -1.0),
+        (-1.0, 1.0, -1.0),
+        (-1.0, -1.0, 1.0),
+        (1.0, -1.0, 1.0),
+        (1.0, 1.0, 1.0),
+        (-1.0, 1.0, 1.0),
+    ];
+    let vertices = corners
+        .iter()
+        .map(|&(x, y, z)| center + rotation * Vector3::new(x * h.x, y * h.y, z * h.z))
+        .collect();
+    let faces = vec![
+        vec![0, 3, 2, 1], // bottom
+        vec![4, 5, 6, 7], // top
+        vec![0, 1, 5, 4], // −y
+        vec![1, 2, 6, 5], // +x
+        vec![2, 3, 7, 6], // +y
+        vec![3, 0, 4, 7], // −x
+    ];
+    (vertices, faces)
+}
+
+/// A vertical prism over a counter-clockwise outline in the xy plane (convex
+/// or concave), from `z0` to `z1`. Vertices `0..n` are the outline at `z0`,
+/// `n..2n` the outline at `z1`; face 0 is the bottom, face 1 the top, face
+/// 2 + k the side over outline edge k.
+pub fn prism(outline: &[Point2<f64>], z0: f64, z1: f64) -> (Vec<Point3<f64>>, Vec<Vec<usize>>) {
+    let n = outline.len();
+    let mut vertices: Vec<Point3<f64>> =
+        outline.iter().map(|p| Point3::new(p.x, p.y, z0)).collect();
+    vertices.extend(outline.iter().map(|p| Point3::new(p.x, p.y, z1)));
+    let mut faces = vec![(0..n).rev().collect(), (n..2 * n).collect()];
+    for k in 0..n {
+        let next = (k + 1) % n;
+        faces.push(vec![k, next, n + next, n + k]);
+    }
+    (vertices, faces)
+}
+
+/// Whether two polyhedra overlap by more than `tol` ("blocks overlapping at
+/// the start"). Touching faces, edges or vertices are not an overlap.
+///
+/// Tested, both ways: a vertex, edge midpoint or face-triangle centroid of
+/// one lying inside the other deeper than `tol`; an edge of one crossing the
+/// interior of a face of the other with both ends farther than `tol` from its
+/// plane and the crossing farther than `tol` from the face's boundary; and a
+/// point just inside each face (by the larger of 2·tol and 1e-9 of the size)
+/// lying inside both deeper than `tol`, which catches coincident blocks.
+pub fn overlap(a: &Polyhedron, b: &Polyhedron, tol: f64) -> bool {
+    let (alo, ahi) = a.bounds();
+    let (blo, bhi) = b.bounds();
+    let apart = (0..3).any(|k| alo[k] > bhi[k] + tol || blo[k] > ahi[k] + tol);
+    if apart {
+        return false;
+    }
+    one_way_overlap(a, b, tol) || one_way_overlap(b, a, tol)
+}
+
+fn one_way_overlap(a: &Polyhedron, b: &Polyhedron, tol: f64) -> bool {
+    if a.vertices.iter().any(|v| b.contains(v, tol)) {
+        return true;
+    }
+    for edge in a.edges() {
+        let [p, q] = edge.ends.map(|i| a.vertices[i]);
+        if b.contains(&Point3::from((p.coords + q.coords) / 2.0), tol) {
+            return true;
+        }
+        for f in 0..b.faces().len() {
+            let frame = b.face_frame(f);
+            let (hp, hq) = (frame.height(&p), frame.height(&q));
+            if !((hp > tol && hq < -tol) || (hp < -tol && hq > tol)) {
+                continue;
+            }
+            let x = p + (q - p) * (hp / (hp - hq));
+            let poly = b.face_polygon(f);
+            let x2 = frame.to_plane(&x);
+            let inside = face::contains(&poly, &x2);
+            let clear = (0..poly.len()).all(|k| {
+                face::segment_distance(&x2, &poly[k], &poly[(k + 1) % poly.len()]).0 > tol
+            });
+            if inside && clear {
+                return true;
+            }
+        }
+    }
+    let (lo, hi) = a.bounds();
+    let step = (2.0 * tol).max(1e-9 * (hi - lo).norm());
+    for f in 0..a.faces().len() {
+        for t in a.face_triangles(f) {
+            let [p, q, r] = t.map(|i| a.vertices[i]);
+            let c = Point3::from((p.coords + q.coords + r.coords) / 3.0);
+            if b.contains(&c, tol) {
+                return true;
+            }
+            let inner = c - a.normal(f) * step;
+            if a.contains(&inner, 0.0) && b.contains(&inner, tol) {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// Solid angle of the triangle (a, b, c) seen from the origin (Van Oosterom
+/// and Strackee), signed by orientation.
+fn triangle_solid_angle(a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>) -> f64 {
+    let (la, lb, lc) = (a.norm(), b.norm(), c.norm());
+    let numerator = a.dot(&b.cross(c));
+    let denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    2.0 * numerator.atan2(denominator)
+}
+
+/// The point of triangle (a, b, c) nearest to p (Ericson, Real-Time Collision
+/// Detection, 5.1.5).
+pub fn closest_on_triangle(
+    p: &Point3<f64>,
+    a: &Point3<f64>,
+    b: &Point3<f64>,
+    c: &Point3<f64>,
+) -> Point3<f64> {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return *a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return *b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return *c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
+}
