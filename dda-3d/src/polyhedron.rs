@@ -500,15 +500,17 @@ pub fn validate(
             .iter()
             .fold(Vector3::zeros(), |s, &v| s + vertices[v].coords)
             / f.len() as f64;
-        for &vertex in f {
-            let distance = normal.dot(&(vertices[vertex].coords - centre)).abs();
-            if distance > PLANARITY_TOLERANCE * size {
-                return Err(PolyhedronError::NonPlanarFace {
-                    face,
-                    vertex,
-                    distance,
-                });
-            }
+        // Name the vertex farthest from the plane through the face's centre.
+        let (vertex, distance) = f
+            .iter()
+            .map(|&v| (v, normal.dot(&(vertices[v].coords - centre)).abs()))
+            .fold((f[0], 0.0), |best, x| if x.1 > best.1 { x } else { best });
+        if distance > PLANARITY_TOLERANCE * size {
+            return Err(PolyhedronError::NonPlanarFace {
+                face,
+                vertex,
+                distance,
+            });
         }
         let frame = FaceFrame::new(vertices[f[0]], vertices[f[1]], normal);
         let poly: Vec<Point2<f64>> = f.iter().map(|&v| frame.to_plane(&vertices[v])).collect();
@@ -854,4 +856,445 @@ pub fn closest_on_triangle(
     }
     let denom = 1.0 / (va + vb + vc);
     a + ab * (vb * denom) + ac * (vc * denom)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_cube() -> (Vec<Point3<f64>>, Vec<Vec<usize>>) {
+        cuboid(
+            Point3::new(0.5, 0.5, 0.5),
+            Vector3::repeat(1.0),
+            Rotation3::identity(),
+        )
+    }
+
+    fn l_prism() -> (Vec<Point3<f64>>, Vec<Vec<usize>>) {
+        let outline = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ]
+        .map(|(x, y)| Point2::new(x, y));
+        prism(&outline, 0.0, 3.0)
+    }
+
+    fn tetrahedron() -> (Vec<Point3<f64>>, Vec<Vec<usize>>) {
+        let v = vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(2.0, 0.0, 0.0),
+            Point3::new(0.0, 3.0, 0.0),
+            Point3::new(0.0, 0.0, 4.0),
+        ];
+        let f = vec![vec![0, 2, 1], vec![0, 1, 3], vec![1, 2, 3], vec![0, 3, 2]];
+        (v, f)
+    }
+
+    fn check(
+        (v, f): &(Vec<Point3<f64>>, Vec<Vec<usize>>),
+        volume: f64,
+        centroid: [f64; 3],
+        j: [[f64; 3]; 3],
+    ) {
+        let p = validate(v, f).unwrap();
+        let m = p.moments();
+        assert!(
+            (m.volume - volume).abs() < 1e-12 * volume,
+            "volume {}",
+            m.volume
+        );
+        let c = Vector3::from(centroid);
+        assert!(
+            (m.centroid.coords - c).norm() < 1e-12,
+            "centroid {}",
+            m.centroid
+        );
+        let j = Matrix3::from_fn(|r, s| j[r][s]);
+        assert!(
+            (m.second - j).norm() < 1e-12 * j.norm(),
+            "J = {} expected {j}",
+            m.second
+        );
+        // Far from the origin the central moments keep their digits.
+        let shift = Vector3::new(1e6, -2e6, 3e5);
+        let far: Vec<Point3<f64>> = v.iter().map(|p| p + shift).collect();
+        let m2 = *validate(&far, f).unwrap().moments();
+        assert!((m2.volume - volume).abs() < 1e-9 * volume);
+        assert!((m2.centroid.coords - c - shift).norm() < 1e-9 * shift.norm());
+        assert!(
+            (m2.second - j).norm() < 1e-9 * j.norm(),
+            "{}",
+            (m2.second - j).norm()
+        );
+    }
+
+    #[test]
+    fn integrals_match_the_closed_forms() {
+        let d = 1.0 / 12.0;
+        check(
+            &unit_cube(),
+            1.0,
+            [0.5; 3],
+            [[d, 0.0, 0.0], [0.0, d, 0.0], [0.0, 0.0, d]],
+        );
+        // Box a × b × c: J_xx = V a² / 12 …
+        let (a, b, c) = (3.0, 0.5, 2.0);
+        let v = a * b * c;
+        let boxed = cuboid(
+            Point3::new(1.0, -2.0, 0.5),
+            Vector3::new(a, b, c),
+            Rotation3::identity(),
+        );
+        check(
+            &boxed,
+            v,
+            [1.0, -2.0, 0.5],
+            [
+                [v * a * a / 12.0, 0.0, 0.0],
+                [0.0, v * b * b / 12.0, 0.0],
+                [0.0, 0.0, v * c * c / 12.0],
+            ],
+        );
+        // Tetrahedron (0, 2x, 3y, 4z): V = 4, ∫x_i x_j = V/20 (Σ p_i p_j + Σp_i Σp_j).
+        check(
+            &tetrahedron(),
+            4.0,
+            [0.5, 0.75, 1.0],
+            [[0.6, -0.3, -0.4], [-0.3, 1.35, -0.6], [-0.4, -0.6, 2.4]],
+        );
+        // L-shaped (non-convex) prism: area 3, height 3, centroid (5/6, 5/6, 3/2).
+        check(
+            &l_prism(),
+            9.0,
+            [5.0 / 6.0, 5.0 / 6.0, 1.5],
+            [[2.75, -1.0, 0.0], [-1.0, 2.75, 0.0], [0.0, 0.0, 6.75]],
+        );
+    }
+
+    #[test]
+    fn a_rotated_box_has_the_rotated_moments() {
+        let r = Rotation3::from_euler_angles(0.3, -0.7, 1.2);
+        let (v, f) = cuboid(Point3::new(4.0, 5.0, 6.0), Vector3::new(1.0, 2.0, 3.0), r);
+        let p = validate(&v, &f).unwrap();
+        let local = Matrix3::from_diagonal(&Vector3::new(1.0, 4.0, 9.0)) * (6.0 / 12.0);
+        let expect = r.matrix() * local * r.matrix().transpose();
+        assert!((p.moments().second - expect).norm() < 1e-12 * expect.norm());
+        assert!((p.volume() - 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn topology_and_convexity_are_found() {
+        let cube = validate(&unit_cube().0, &unit_cube().1).unwrap();
+        assert_eq!(cube.edges().len(), 12);
+        assert!((0..12).all(|e| cube.edge_kind(e) == EdgeKind::Convex));
+        assert!((0..8).all(|v| cube.is_convex_vertex(v)));
+        for f in 0..6 {
+            assert!((cube.face_area(f) - 1.0).abs() < 1e-15);
+            assert_eq!(cube.face_edges(f).len(), 4);
+        }
+        assert!(
+            (cube.normal(1) - Vector3::z()).norm() < 1e-15,
+            "top faces up"
+        );
+        let (v, f) = l_prism();
+        let l = validate(&v, &f).unwrap();
+        // The inner corner of the L: vertices 3 and 9 and the edge between them.
+        let reflex: Vec<usize> = (0..l.edges().len())
+            .filter(|&e| l.edge_kind(e) == EdgeKind::Reflex)
+            .collect();
+        assert_eq!(reflex.len(), 1);
+        assert_eq!(l.edges()[reflex[0]].ends, [3, 9]);
+        let concave: Vec<usize> = (0..12).filter(|&k| !l.is_convex_vertex(k)).collect();
+        assert_eq!(concave, vec![3, 9]);
+        // The concave top and bottom are triangulated into 4 triangles each.
+        assert_eq!(l.face_triangles(0).len(), 4);
+        assert_eq!(l.face_triangles(1).len(), 4);
+        assert!((l.face_area(1) - 3.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_surfaces_are_rejected_with_their_indices() {
+        let (v, f) = unit_cube();
+        let err = |v: &[Point3<f64>], f: &[Vec<usize>]| validate(v, f).unwrap_err();
+        // Open: the top is missing.
+        let open: Vec<Vec<usize>> = f
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| *k != 1)
+            .map(|(_, x)| x.clone())
+            .collect();
+        assert!(matches!(err(&v, &open), PolyhedronError::OpenEdge { .. }));
+        // One face listed clockwise.
+        let mut flipped = f.clone();
+        flipped[3].reverse();
+        assert_eq!(
+            err(&v, &flipped),
+            PolyhedronError::InconsistentOrientation { face: 3 }
+        );
+        let mut first = f.clone();
+        first[0].reverse();
+        assert_eq!(
+            err(&v, &first),
+            PolyhedronError::InconsistentOrientation { face: 0 }
+        );
+        // A face listed twice.
+        let mut twice = f.clone();
+        twice.push(f[2].clone());
+        assert_eq!(
+            err(&v, &twice),
+            PolyhedronError::DuplicateFace {
+                first: 2,
+                second: 6
+            }
+        );
+        // Flat: four coplanar points as a tetrahedron.
+        let flat = vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+        ];
+        let tf = tetrahedron().1;
+        assert_eq!(err(&flat, &tf), PolyhedronError::ZeroVolume);
+        // A box of zero height has zero-area sides.
+        let (v0, f0) = cuboid(
+            Point3::origin(),
+            Vector3::new(1.0, 1.0, 0.0),
+            Rotation3::identity(),
+        );
+        assert!(matches!(
+            err(&v0, &f0),
+            PolyhedronError::DegenerateFace { .. }
+        ));
+        // NaN and infinity.
+        let mut nan = v.clone();
+        nan[5].y = f64::NAN;
+        assert_eq!(err(&nan, &f), PolyhedronError::NotFinite { vertex: 5 });
+        let mut inf = v.clone();
+        inf[2].z = f64::INFINITY;
+        assert_eq!(err(&inf, &f), PolyhedronError::NotFinite { vertex: 2 });
+        // Indices and sizes.
+        let mut bad = f.clone();
+        bad[4][2] = 8;
+        assert_eq!(
+            err(&v, &bad),
+            PolyhedronError::IndexOutOfRange {
+                face: 4,
+                index: 8,
+                count: 8
+            }
+        );
+        let mut small = f.clone();
+        small[1] = vec![4, 5];
+        assert_eq!(
+            err(&v, &small),
+            PolyhedronError::FaceTooSmall { face: 1, count: 2 }
+        );
+        let mut repeat = f.clone();
+        repeat[1] = vec![4, 5, 6, 5];
+        assert_eq!(
+            err(&v, &repeat),
+            PolyhedronError::RepeatedVertex { face: 1, vertex: 5 }
+        );
+        assert_eq!(err(&v[..3], &f), PolyhedronError::TooFewVertices(3));
+        assert_eq!(err(&v, &f[..3]), PolyhedronError::TooFewFaces(3));
+        // A vertex pulled off its faces' planes.
+        let mut bent = v.clone();
+        bent[6].z += 1e-3;
+        // A twisted quad's corners are all 1e-3 / 4 off its best plane.
+        match err(&bent, &f) {
+            PolyhedronError::NonPlanarFace { face, distance, .. } => {
+                assert!(f[face].contains(&6));
+                assert!((distance - 2.5e-4).abs() < 1e-9, "{distance}");
+            }
+            other => panic!("{other}"),
+        }
+        // An unused vertex.
+        let mut extra = v.clone();
+        extra.push(Point3::new(5.0, 5.0, 5.0));
+        assert_eq!(err(&extra, &f), PolyhedronError::UnusedVertex { vertex: 8 });
+        // Two cubes in one block, and two cubes sharing only a corner.
+        let (v2, f2) = cuboid(
+            Point3::new(3.5, 0.5, 0.5),
+            Vector3::repeat(1.0),
+            Rotation3::identity(),
+        );
+        let mut both = v.clone();
+        both.extend(v2);
+        let mut faces = f.clone();
+        faces.extend(
+            f2.iter()
+                .map(|x| x.iter().map(|k| k + 8).collect::<Vec<_>>()),
+        );
+        assert!(matches!(
+            err(&both, &faces),
+            PolyhedronError::Disconnected { .. }
+        ));
+        let (v3, f3) = cuboid(
+            Point3::new(1.5, 1.5, 1.5),
+            Vector3::repeat(1.0),
+            Rotation3::identity(),
+        );
+        // Corner 0 of the second cube is corner 6 of the first.
+        let mut touching = v.clone();
+        touching.extend(v3[1..].iter().copied());
+        let map = |k: usize| if k == 0 { 6 } else { k + 7 };
+        let mut faces = f.clone();
+        faces.extend(
+            f3.iter()
+                .map(|x| x.iter().map(|&k| map(k)).collect::<Vec<_>>()),
+        );
+        assert!(matches!(
+            err(&touching, &faces),
+            PolyhedronError::Disconnected { .. } | PolyhedronError::NonManifoldVertex { vertex: 6 }
+        ));
+        // A bow-tie face.
+        let bow = vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+            Point3::new(0.5, 0.5, 1.0),
+        ];
+        let faces = vec![
+            vec![0, 1, 2, 3],
+            vec![0, 4, 1],
+            vec![1, 4, 2],
+            vec![2, 4, 3],
+            vec![3, 4, 0],
+        ];
+        assert!(validate(&bow, &faces).is_err());
+        // Every message names what is wrong.
+        assert_eq!(
+            PolyhedronError::NonPlanarFace {
+                face: 2,
+                vertex: 6,
+                distance: 1e-3
+            }
+            .to_string(),
+            "face 2 is not planar: vertex 6 is 1.000e-3 off its plane"
+        );
+    }
+
+    #[test]
+    fn an_inward_surface_is_flipped() {
+        let (v, f) = unit_cube();
+        let inward: Vec<Vec<usize>> = f
+            .iter()
+            .map(|x| x.iter().rev().copied().collect())
+            .collect();
+        let p = validate(&v, &inward).unwrap();
+        assert!((p.volume() - 1.0).abs() < 1e-15);
+        assert!((p.normal(1) - Vector3::z()).norm() < 1e-15);
+    }
+
+    #[test]
+    fn generated_prisms_are_valid_even_when_concave() {
+        let (v, f) = l_prism();
+        let p = validate(&v, &f).unwrap();
+        assert_eq!(p.faces().len(), 8);
+        assert!((p.normal(0) + Vector3::z()).norm() < 1e-15);
+        assert!((p.normal(1) - Vector3::z()).norm() < 1e-15);
+        assert!(
+            (p.normal(2) + Vector3::y()).norm() < 1e-15,
+            "side over the first edge faces out"
+        );
+    }
+
+    #[test]
+    fn overlap_tells_touching_from_overlapping() {
+        let block = |c: (f64, f64, f64), s: (f64, f64, f64), angle: f64| {
+            let (v, f) = cuboid(
+                Point3::new(c.0, c.1, c.2),
+                Vector3::new(s.0, s.1, s.2),
+                Rotation3::from_axis_angle(&Vector3::z_axis(), angle),
+            );
+            validate(&v, &f).unwrap()
+        };
+        let cube = block((0.0, 0.0, 0.0), (1.0, 1.0, 1.0), 0.0);
+        let tol = 1e-9;
+        // Touching face to face, edge to edge, corner to corner: no overlap.
+        assert!(!overlap(
+            &cube,
+            &block((0.0, 0.0, 1.0), (1.0, 1.0, 1.0), 0.0),
+            tol
+        ));
+        assert!(!overlap(
+            &cube,
+            &block((0.0, 0.0, 1.0), (1.0, 1.0, 1.0), 0.7),
+            tol
+        ));
+        assert!(!overlap(
+            &cube,
+            &block((1.0, 1.0, 0.0), (1.0, 1.0, 1.0), 0.0),
+            tol
+        ));
+        assert!(!overlap(
+            &cube,
+            &block((1.0, 1.0, 1.0), (1.0, 1.0, 1.0), 0.0),
+            tol
+        ));
+        assert!(!overlap(
+            &cube,
+            &block((3.0, 0.0, 0.0), (1.0, 1.0, 1.0), 0.0),
+            tol
+        ));
+        // Slightly pressed in, but within the tolerance.
+        assert!(!overlap(
+            &cube,
+            &block((0.0, 0.0, 1.0 - 1e-10), (1.0, 1.0, 1.0), 0.0),
+            tol
+        ));
+        // Overlapping: shifted by half, identical, nested, pressed in, crossing bars.
+        assert!(overlap(
+            &cube,
+            &block((0.5, 0.0, 0.0), (1.0, 1.0, 1.0), 0.0),
+            tol
+        ));
+        assert!(overlap(&cube, &cube, tol));
+        assert!(overlap(
+            &cube,
+            &block((0.0, 0.0, 0.0), (0.5, 0.5, 0.5), 0.3),
+            tol
+        ));
+        assert!(overlap(
+            &cube,
+            &block((0.0, 0.0, 0.99), (1.0, 1.0, 1.0), 0.0),
+            tol
+        ));
+        let bar = block((0.0, 0.0, 0.0), (4.0, 0.4, 0.4), 0.0);
+        let across = block((0.0, 0.0, 0.1), (0.4, 4.0, 0.4), 0.0);
+        assert!(overlap(&bar, &across, tol));
+        assert!(!overlap(
+            &bar,
+            &block((0.0, 0.0, 0.4), (0.4, 4.0, 0.4), 0.0),
+            tol
+        ));
+        // Concave: a cube sitting in the notch of an L, touching it.
+        let outline = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ]
+        .map(|(x, y)| Point2::new(x, y));
+        let (v, f) = prism(&outline, 0.0, 1.0);
+        let l = validate(&v, &f).unwrap();
+        assert!(!overlap(
+            &l,
+            &block((1.5, 1.5, 0.5), (1.0, 1.0, 1.0), 0.0),
+            tol
+        ));
+        assert!(overlap(
+            &l,
+            &block((1.4, 1.5, 0.5), (1.0, 1.0, 1.0), 0.0),
+            tol
+        ));
+    }
 }
