@@ -805,4 +805,82 @@ mod tests {
             assert!(widest > 0.029, "{}: {widest}", contact_label(&c.key));
         }
     }
+
+    #[test]
+    fn a_concave_block_enters_only_at_convex_corners_and_holds_in_its_notch() {
+        let outline = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ]
+        .map(|(x, y)| Point2::new(x, y));
+        let (v, f) = crate::polyhedron::prism(&outline, 0.0, 1.0);
+        let l = Block::new(&v, &f, 0, 1000.0).unwrap();
+        let base = block(
+            Point3::new(1.0, 1.0, -0.5),
+            Vector3::new(6.0, 6.0, 1.0),
+            Rotation3::identity(),
+        );
+        let blocks = vec![base, l.clone()];
+        let contacts = pair_contacts(&blocks, 0, 1, 0.02, 0);
+        let mut labels: Vec<String> = contacts.iter().map(|c| contact_label(&c.key)).collect();
+        labels.sort();
+        // The bottom corners of the L except the inner one (vertex 3).
+        assert_eq!(
+            labels,
+            [
+                "1:v0/0:f1",
+                "1:v1/0:f1",
+                "1:v2/0:f1",
+                "1:v4/0:f1",
+                "1:v5/0:f1"
+            ]
+        );
+        // A half-metre cube in the notch, against both walls: its four
+        // corners in the crease touch both walls, the others one wall each.
+        let cube = block(
+            Point3::new(1.25, 1.25, 0.5),
+            Vector3::repeat(0.5),
+            Rotation3::identity(),
+        );
+        let blocks = vec![l, cube];
+        let contacts = pair_contacts(&blocks, 0, 1, 0.02, 0);
+        assert_eq!(contacts.len(), 8, "{contacts:?}");
+        let walls = |c: &Contact3| {
+            contact_label(&c.key)
+                .rsplit('f')
+                .next()
+                .unwrap()
+                .to_string()
+        };
+        let on = |face: &str| contacts.iter().filter(|c| walls(c) == face).count();
+        // Side faces 2 + k stand over outline edge k: the walls are 4 and 5.
+        let all: Vec<String> = contacts.iter().map(|c| contact_label(&c.key)).collect();
+        assert_eq!((on("4"), on("5")), (4, 4), "{all:?}");
+        let zero = Vector12::zeros();
+        let step =
+            |x: f64, y: f64| Vector12::from_fn(|i, _| [x, y][..].get(i).copied().unwrap_or(0.0));
+        for c in &contacts {
+            let e = &c.entrances[0];
+            assert!(e.gap.abs() < 1e-12);
+            // The contacts are (cube, L): moving the L towards the cube closes
+            // every contact, moving the cube away from both walls opens them.
+            assert!(
+                e.gap_at(&zero, &step(1e-4, 1e-4)) < -0.99e-4,
+                "the L moves into the cube"
+            );
+            assert!(e.gap_at(&step(1e-4, 1e-4), &zero) > 0.99e-4);
+        }
+        let into_x = contacts
+            .iter()
+            .filter(|c| c.entrances[0].gap_at(&step(-1e-4, 0.0), &zero) < -0.99e-4)
+            .count();
+        assert_eq!(
+            into_x, 4,
+            "pushing the cube into the wall x = 1 closes its four contacts"
+        );
+    }
 }

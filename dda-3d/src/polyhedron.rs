@@ -29,6 +29,8 @@ pub const PLANARITY_TOLERANCE: f64 = 1e-6;
 const AREA_EPS: f64 = 1e-14;
 /// A volume below this fraction of size³ is zero.
 const VOLUME_EPS: f64 = 1e-12;
+/// Vertices of an edge closer than this fraction of the size coincide.
+const LENGTH_EPS: f64 = 1e-12;
 
 /// Why a polyhedron was rejected. Indices are those of the input.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -65,6 +67,8 @@ pub enum PolyhedronError {
     NonManifoldVertex { vertex: usize },
     #[error("face {face} has zero area")]
     DegenerateFace { face: usize },
+    #[error("vertices {a} and {b} of face {face} coincide")]
+    CoincidentVertices { face: usize, a: usize, b: usize },
     #[error("face {face} is not planar: vertex {vertex} is {distance:.3e} off its plane")]
     NonPlanarFace {
         face: usize,
@@ -398,7 +402,8 @@ pub fn central_moments(vertices: &[Point3<f64>], faces: &[Vec<usize>]) -> Centra
 /// face, duplicate faces, open or non-manifold edges (every edge must belong to
 /// exactly two faces), inconsistent orientation (an edge used twice in the
 /// same direction: the error names the face of the smaller group), several
-/// pieces, unused vertices, non-manifold vertices, zero-area, non-planar (off
+/// pieces, unused vertices, non-manifold vertices, zero-area faces,
+/// zero-length edges (coincident vertices), non-planar (off
 /// the plane by more than 1e-6 of the block size) or self-intersecting faces,
 /// and zero volume. A surface oriented consistently inward is accepted and
 /// flipped. Self-intersection of the surface as a whole is not checked.
@@ -494,6 +499,12 @@ pub fn validate(
         let nn = newell(vertices, f);
         if nn.norm() / 2.0 <= AREA_EPS * size * size {
             return Err(PolyhedronError::DegenerateFace { face });
+        }
+        for k in 0..f.len() {
+            let (a, b) = (f[k], f[(k + 1) % f.len()]);
+            if (vertices[b] - vertices[a]).norm() <= LENGTH_EPS * size {
+                return Err(PolyhedronError::CoincidentVertices { face, a, b });
+            }
         }
         let normal = nn.normalize();
         let centre = f
@@ -1113,6 +1124,13 @@ mod tests {
             }
             other => panic!("{other}"),
         }
+        // Two corners of the top at one point.
+        let mut pinched = v.clone();
+        pinched[5] = pinched[4];
+        assert!(matches!(
+            err(&pinched, &f),
+            PolyhedronError::CoincidentVertices { .. } | PolyhedronError::NonPlanarFace { .. }
+        ));
         // An unused vertex.
         let mut extra = v.clone();
         extra.push(Point3::new(5.0, 5.0, 5.0));
