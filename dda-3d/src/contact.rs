@@ -34,6 +34,20 @@
 //! edge-face contacts become VF (or groups) at the ends plus EE where the edge
 //! crosses the face's boundary.
 //!
+//! Area (the contact's `length`, used by cohesion and tensile strength): a
+//! VF contact stands for the vertex's share of each of its faces that lies
+//! on the entered face (facing it within 3°): the quadrilateral of the
+//! vertex, the midpoints of its two sides and the face's centroid (a quarter
+//! of a rectangle, a third of a triangle), clipped to the entered face. A
+//! group takes the largest area of its VF entrances; EE contacts stand for
+//! no area. So a block resting flat on a larger face is covered exactly
+//! once, and an overhanging one only where it is supported.
+//!
+//! Keys, stable from step to step: VF (vertex block, vertex, face block,
+//! face); vertex-edge group (…, vertex, …, edge | EDGE); vertex-vertex group
+//! (…, vertex, …, vertex | VERTEX); EE (block, edge | EDGE, block, edge).
+//! Edge ids index [`Polyhedron::edges`] (sorted by end vertices).
+//!
 //! Non-convex blocks: reflex edges never enter or get entered by EE, and
 //! non-convex vertices never enter; a convex vertex near a non-convex one
 //! makes ordinary VF and vertex-edge contacts with the faces and edges there.

@@ -50,3 +50,73 @@ fn a_cube_on_a_cube_stays_put() {
     assert!(creep < 1e-7, "crept {creep:e} m between 1 s and 5 s");
     assert!(driver.system.blocks[1].rotation.norm() < 1e-6);
 }
+
+/// Offset by (0.3, 0.3): the overlap is a 0.7 m square whose corners are a
+/// corner of each cube (vertex-face contacts) and two crossings of their
+/// edges (edge-edge contacts). The upper cube's centroid lies over the
+/// overlap, so it must stand on those four contacts.
+#[test]
+fn an_offset_cube_stands_on_vertex_face_and_edge_edge_contacts() {
+    let lower = common::boxed(
+        Point3::new(0.0, 0.0, 0.5),
+        Vector3::repeat(1.0),
+        Rotation3::identity(),
+    );
+    let upper = common::boxed(
+        Point3::new(0.3, 0.3, 1.5),
+        Vector3::repeat(1.0),
+        Rotation3::identity(),
+    );
+    let mut system = Polyhedra::new(vec![lower, upper], common::rock());
+    system.gravity = Vector3::new(0.0, 0.0, -common::G);
+    system.fix_block(0);
+    let settings = Settings {
+        dt: Some(2e-3),
+        penalty: Some(1e10),
+        ..Settings::default()
+    };
+    let mut driver = common::driver(system, 30.0, settings);
+    let range = 0.025 * driver.length_scale();
+    let found = dda_core::BlockSystem::find_contacts(&driver.system, range);
+    let mut labels: Vec<String> = found
+        .iter()
+        .map(|c| dda_3d::contact_label(&c.key))
+        .collect();
+    labels.sort();
+    let edges = labels.iter().filter(|l| l.starts_with("0:e")).count();
+    let corners = labels
+        .iter()
+        .filter(|l| l.ends_with("/0:f1") || l.ends_with("/1:f0"))
+        .count();
+    assert_eq!((found.len(), edges, corners), (4, 2, 2), "{labels:?}");
+    let start = driver.system.blocks[1].centroid();
+    driver.advance_to(1.0).unwrap();
+    let one = driver.system.blocks[1].centroid();
+    driver.advance_to(2.0).unwrap();
+    let two = driver.system.blocks[1].centroid();
+    let drift = (two - start).norm();
+    assert!(drift < 1e-4, "drifted {drift:e} m");
+    assert!(
+        (two - one).norm() < 1e-7,
+        "crept {:e} m",
+        (two - one).norm()
+    );
+    // All four contacts carry the weight between them.
+    let total: f64 = driver
+        .contacts()
+        .iter()
+        .map(|c| c.record.normal_force)
+        .sum();
+    let weight = common::ROCK * common::G;
+    assert!(
+        ((total - weight) / weight).abs() < 1e-3,
+        "contacts carry {total} N of {weight} N"
+    );
+    for c in driver.contacts() {
+        assert!(
+            c.record.normal_force > 0.0,
+            "{} carries nothing",
+            dda_3d::contact_label(&c.key)
+        );
+    }
+}
