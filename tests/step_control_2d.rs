@@ -55,7 +55,7 @@ fn a_step_that_moves_too_far_is_cut() {
 #[test]
 fn too_deep_a_penetration_raises_the_penalty() {
     // A soft penalty lets the block sink 1.3 mm, beyond 1e-4 of the model size.
-    let model = run("penalty: 1e7, max_penetration_ratio: 1e-4");
+    let model = run("penalty: 1e7, max_penetration_ratio: 1e-4, raise_penalty: true");
     let stats = model.driver.statistics();
     assert!(stats.penalty_raises > 0, "{stats:?}");
     assert!(model.driver.penalty() >= 1e8);

@@ -71,7 +71,7 @@ fn cube_slides_the_analytical_distance_down_the_dip() {
 /// (carried + this step, the return mapping) keeps the cube within 3.3e-5 m
 /// and stops the creep; that is a dda-core change, not yet made.
 #[test]
-#[ignore = "needs dda-core's driver to take a sliding contact's direction from the trial shear stretch"]
+
 fn cube_stays_put_when_friction_exceeds_the_slope() {
     let (mut driver, _) = incline(35.0, 35.0);
     let start = driver.system.blocks[1].centroid();

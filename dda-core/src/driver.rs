@@ -31,8 +31,17 @@ pub struct Statistics {
     /// Steps cut because a point moved farther than the bound.
     pub displacement_cuts: usize,
     pub penalty_raises: usize,
+    /// Steps cut because a contact penetrated too deep.
+    pub penetration_cuts: usize,
     /// Steps accepted at the smallest time step without open-close agreement.
     pub unconverged_steps: usize,
+    /// Open-close passes whose Newton-Raphson iteration did not converge
+    /// (the best iterate was kept).
+    pub newton_failures: usize,
+    /// Accepted steps that ended with a penetration deeper than the limit.
+    pub deep_penetration_steps: usize,
+    /// The deepest penetration of any accepted step.
+    pub deepest_penetration: f64,
     pub wall_time: Duration,
 }
 
@@ -239,7 +248,6 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     self.stats.open_close_cuts += 1;
                     continue;
                 }
-                self.stats.unconverged_steps += 1;
             }
             let d = split::<N>(&trial.d);
             let bound = self.settings.max_displacement_ratio * self.length_scale;
@@ -250,15 +258,31 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 self.stats.displacement_cuts += 1;
                 continue;
             }
+            // Too deep a penetration made in this step: a stiffer penalty
+            // (Shi) or, by default, a shorter step. A contact that starts the
+            // step deep is left alone: either remedy would throw it out harder.
             let limit = self.settings.max_penetration_ratio * self.length_scale;
-            if self.settings.raise_penalty
-                && self.stats.penalty_raises < 6
-                && self.max_penetration(&trial) > limit
-            {
-                self.penalty *= 10.0;
-                self.factored = None;
-                self.stats.penalty_raises += 1;
-                continue;
+            let (deepest, deepened) = self.penetration(&trial, limit);
+            if deepened > limit {
+                if self.settings.raise_penalty && self.stats.penalty_raises < 6 {
+                    self.penalty *= 10.0;
+                    self.factored = None;
+                    self.stats.penalty_raises += 1;
+                    continue;
+                }
+                if dt / 3.0 >= floor {
+                    dt /= 3.0;
+                    cut = true;
+                    self.stats.penetration_cuts += 1;
+                    continue;
+                }
+            }
+            if !trial.converged {
+                self.stats.unconverged_steps += 1;
+            }
+            if deepest > limit {
+                self.stats.deep_penetration_steps += 1;
+                self.stats.deepest_penetration = self.stats.deepest_penetration.max(deepest);
             }
             break trial;
         };
@@ -308,11 +332,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     .shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
                 if next == ContactState::Sliding {
                     let shear = self.carried_shear(c, e) + ds;
-                    let basis = if state == ContactState::Sliding {
-                        ds
-                    } else {
-                        shear
-                    };
+                    // The carried stretch plus this step's slip: in 3D the
+                    // step's slip alone wanders with every small vibration.
+                    let basis = shear;
                     if let Some(dir) = basis.try_normalize(1e-300) {
                         if state != ContactState::Sliding || dir.dot(&trial.directions[i]) > 0.0 {
                             trial.directions[i] = dir;
@@ -343,38 +365,65 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     ) -> Result<(), DdaError> {
         let mut first = 0.0;
         let mut residual = vec![0.0; trial.d.len()];
-        for iteration in 0..self.settings.newton_limit {
+        // The iterate with the smallest residual so far: the tangent leaves
+        // out the coupling of friction to the normal force, so for steep
+        // couplings the iteration can diverge; it then falls back to the
+        // best iterate (the first one is Shi's explicit-friction solution).
+        let mut best = (f64::INFINITY, trial.d.clone());
+        for iteration in 0..=self.settings.newton_limit {
             self.assemble(dt, masses, trial, &mut residual);
+            if residual.iter().any(|v| !v.is_finite()) {
+                return Err(DdaError::NotFinite {
+                    time: self.time + dt,
+                });
+            }
             let norm = residual.iter().map(|r| r * r).sum::<f64>().sqrt();
             if iteration == 0 {
                 first = norm;
-            } else if norm <= self.settings.residual_tolerance * first {
-                break;
+            }
+            if norm < best.0 {
+                best = (norm, trial.d.clone());
+            }
+            let converged = iteration > 0 && norm <= self.settings.residual_tolerance * first;
+            let diverging = norm > 1e3 * best.0;
+            if converged || diverging || iteration == self.settings.newton_limit {
+                if !converged {
+                    self.stats.newton_failures += 1;
+                    trial.d = best.1;
+                }
+                return Ok(());
             }
             self.stats.newton_iterations += 1;
-            self.matrix.values_into(&mut self.values);
-            if self.factored.as_ref() != Some(&self.values) {
-                self.solver
-                    .factorize(&self.matrix.pattern(), &self.values)?;
-                self.stats.factorizations += 1;
-                self.factored = Some(self.values.clone());
-            }
+            self.factorize()?;
             self.solver.solve(&mut residual);
             let mut largest: f64 = 0.0;
-            let mut finite = true;
             for (d, dd) in trial.d.iter_mut().zip(&residual) {
                 *d += dd;
-                finite &= dd.is_finite();
                 largest = largest.max(dd.abs());
             }
-            if !finite {
+            if !largest.is_finite() {
                 return Err(DdaError::NotFinite {
                     time: self.time + dt,
                 });
             }
             if largest <= self.settings.increment_tolerance * self.length_scale {
-                break;
+                return Ok(());
             }
+        }
+        Ok(())
+    }
+
+    /// Factorizes the assembled matrix unless its values are unchanged.
+    fn factorize(&mut self) -> Result<(), DdaError> {
+        self.matrix.values_into(&mut self.values);
+        if self.values.iter().any(|v| !v.is_finite()) {
+            return Err(DdaError::NotFinite { time: self.time });
+        }
+        if self.factored.as_ref() != Some(&self.values) {
+            self.solver
+                .factorize(&self.matrix.pattern(), &self.values)?;
+            self.stats.factorizations += 1;
+            self.factored = Some(self.values.clone());
         }
         Ok(())
     }
@@ -396,9 +445,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         for (i, m) in masses.iter().enumerate() {
             let d = block(&trial.d, i);
             let v0 = self.velocity[i] * ratio;
-            // Inertia of Newmark β = 1/2, γ = 1: a = 2(d − v0·dt)/dt².
-            let mut k = m * (2.0 / (dt * dt));
-            let mut r = m * (v0 * (2.0 / dt) - d * (2.0 / (dt * dt)));
+            // Inertia of Newmark β = 1/2, γ = 1: a = 2(d − v0·dt)/dt², and
+            // mass-proportional damping −αM·v with v = 2d/dt − v0.
+            let alpha = self.settings.mass_damping;
+            let mut k = m * (2.0 / (dt * dt) + 2.0 * alpha / dt);
+            let mut r = m * (v0 * (2.0 / dt + alpha) - d * (2.0 / (dt * dt) + 2.0 * alpha / dt));
             self.system.block_terms(i, end, &d, &mut k, &mut r);
             matrix.add(i, i, &k);
             residual[i * N..(i + 1) * N].copy_from_slice(r.as_slice());
@@ -473,16 +524,24 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         }
     }
 
-    fn max_penetration(&self, trial: &Trial<T>) -> f64 {
-        self.contacts
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| trial.states[*i].is_closed())
-            .map(|(i, c)| {
-                let e = &c.entrances[trial.entrances[i]];
-                -e.gap_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]))
-            })
-            .fold(0.0, f64::max)
+    /// The deepest penetration of the closed contacts at the trial, and the
+    /// deepest among those that started the step shallower than half the
+    /// `limit`.
+    fn penetration(&self, trial: &Trial<T>, limit: f64) -> (f64, f64) {
+        let mut deepest: f64 = 0.0;
+        let mut deepened: f64 = 0.0;
+        for (i, c) in self.contacts.iter().enumerate() {
+            if !trial.states[i].is_closed() {
+                continue;
+            }
+            let e = &c.entrances[trial.entrances[i]];
+            let gap = e.gap_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
+            deepest = deepest.max(-gap);
+            if -e.gap <= limit / 2.0 {
+                deepened = deepened.max(-gap);
+            }
+        }
+        (deepest, deepened)
     }
 
     fn commit(&mut self, trial: Trial<T>, dt: f64) {

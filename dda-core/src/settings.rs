@@ -26,7 +26,10 @@ pub struct Settings {
     /// tiny fraction of the block size, soft enough to keep the system well
     /// conditioned).
     pub penalty: Option<f64>,
-    /// Multiply the penalty by 10 and redo the step when penetration is too deep.
+    /// Multiply the penalty by 10 and redo the step when a step penetrates
+    /// too deep (Shi's remedy). Off by default: a global raise multiplies the
+    /// force of every existing overlap and can throw blocks apart; the step
+    /// is cut to a third instead.
     pub raise_penalty: bool,
     /// Newton-Raphson iterations per open-close pass, at most.
     pub newton_limit: usize,
@@ -39,6 +42,10 @@ pub struct Settings {
     pub contact_tolerance: f64,
     /// Model length scale; `None` takes the system's.
     pub length_scale: Option<f64>,
+    /// Mass-proportional viscous damping coefficient α (1/s): a force −αM·v
+    /// on every block. A damping ratio ξ at angular frequency ω is α = 2ξω.
+    /// Zero (off) by default.
+    pub mass_damping: f64,
 }
 
 impl Default for Settings {
@@ -51,12 +58,13 @@ impl Default for Settings {
             max_displacement_ratio: 0.01,
             max_penetration_ratio: 1e-3,
             penalty: None,
-            raise_penalty: true,
+            raise_penalty: false,
             newton_limit: 25,
             residual_tolerance: 1e-10,
             increment_tolerance: 1e-14,
             contact_tolerance: 1e-7,
             length_scale: None,
+            mass_damping: 0.0,
         }
     }
 }
@@ -94,6 +102,12 @@ impl Settings {
         positive("residual_tolerance", self.residual_tolerance)?;
         positive("increment_tolerance", self.increment_tolerance)?;
         positive("contact_tolerance", self.contact_tolerance)?;
+        if !(self.mass_damping.is_finite() && self.mass_damping >= 0.0) {
+            return Err(DdaError::Settings(format!(
+                "mass_damping must be zero or positive, got {}",
+                self.mass_damping
+            )));
+        }
         if self.open_close_limit == 0 || self.newton_limit == 0 {
             return Err(DdaError::Settings(
                 "open_close_limit and newton_limit must be at least 1".into(),
