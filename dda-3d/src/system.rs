@@ -2,8 +2,9 @@
 //! points and contact search.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
-use dda_core::{BlockMatrix, BlockSystem, BlockVector, ConstitutiveLaw};
+use dda_core::{BlockMatrix, BlockSystem, BlockVector, ConstitutiveLaw, GroundMotion};
 use nalgebra::{Matrix3, Matrix6, Point3, Vector3, Vector6};
 
 use crate::block::Block;
@@ -51,9 +52,10 @@ pub struct PointLoad {
     pub force: Force,
 }
 
-/// A point of a block held by a penalty spring at `target + velocity·t`
-/// (a fixed point when `velocity` is zero, a driven one otherwise). With an
-/// `axis` only the motion along that unit vector is held.
+/// A point of a block held by a penalty spring at
+/// `target + velocity·t + ground(t)` (a fixed point when both are zero, a
+/// driven one otherwise). With an `axis` only the motion along that unit
+/// vector is held.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FixedPoint {
     pub block: usize,
@@ -61,6 +63,8 @@ pub struct FixedPoint {
     pub target: Point3<f64>,
     pub velocity: Vector3<f64>,
     pub axis: Option<Vector3<f64>>,
+    /// Ground motion carried by this point (base blocks in earthquakes).
+    pub ground: Option<Arc<GroundMotion<3>>>,
 }
 
 impl FixedPoint {
@@ -72,7 +76,17 @@ impl FixedPoint {
             target: point,
             velocity: Vector3::zeros(),
             axis: None,
+            ground: None,
         }
+    }
+
+    /// Where the point is held at time t.
+    pub fn target_at(&self, t: f64) -> Point3<f64> {
+        let ground = self
+            .ground
+            .as_ref()
+            .map_or(Vector3::zeros(), |g| g.displacement(t));
+        self.target + self.velocity * t + ground
     }
 
     /// The projector onto the held directions.
@@ -191,7 +205,7 @@ impl BlockSystem<12, 2> for Polyhedra {
         for fp in self.fixed.iter().filter(|f| f.block == i) {
             let t = t_matrix(&fp.point, &c);
             let held = fp.held() * self.fixed_penalty;
-            let drift = fp.target + fp.velocity * time - fp.point;
+            let drift = fp.target_at(time) - fp.point;
             *k += t.transpose() * held * t;
             *r += t.transpose() * held * (drift - t * d);
         }
