@@ -23,10 +23,15 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod extrude;
 pub mod output;
 pub mod run;
 pub mod scene;
+pub mod simulation;
 
-pub use output::{read_contacts, read_history, ContactRow, HistoryRow};
+pub use output::{
+    read_contacts, read_history, read_history_3d, ContactRow, HistoryRow, HistoryRow3,
+};
 pub use run::{run, run_with_registry, Summary};
-pub use scene::{Model, Scene, SceneBlock, SceneError};
+pub use scene::{AnyModel, Coords, Model, Model3, Scene, SceneBlock, SceneBlock3, SceneError};
+pub use simulation::Simulation;

@@ -1,10 +1,13 @@
-//! The `dda` command: run or check scene files.
+//! The `dda` command: run, check or extrude scene files.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use anyhow::Context;
 use clap::{Parser, Subcommand};
+use dda::extrude::{extrude_with, Extrusion};
 use dda::run::{run_with, RunOptions};
+use dda::scene::MotionSpec;
 use dda::Scene;
 
 #[derive(Parser)]
@@ -32,6 +35,20 @@ enum Command {
     Check {
         /// The scene file (RON)
         scene: PathBuf,
+    },
+    /// Write a 2D scene's 3D prism model: 2D (x, y) becomes 3D (x, 0, y), z up, each block a prism of DEPTH along y centred on y = 0
+    Extrude {
+        /// The 2D scene file (RON)
+        scene: PathBuf,
+        /// The prisms' length along y, in m
+        #[arg(long, value_name = "DEPTH")]
+        depth: f64,
+        /// The 3D scene file to write
+        #[arg(long, short, value_name = "FILE")]
+        out: PathBuf,
+        /// Hold every free block's corners against motion along y (plane strain)
+        #[arg(long)]
+        plane_strain: bool,
     },
 }
 
@@ -64,28 +81,82 @@ fn execute(command: Command) -> anyhow::Result<()> {
         }
         Command::Check { scene: path } => {
             let scene = Scene::load(&path)?;
-            let model = scene.build()?;
+            let model = scene.build_any()?;
             let laws = scene.law_table().laws;
-            let dt = model.driver.dt();
+            let dt = model.dt();
             let auto = if scene.analysis.dt.is_none() {
                 " (automatic)"
             } else {
                 ""
             };
+            let space = if model.dimension() == 3 { "3D, " } else { "" };
             println!(
-                "{}: ok ({}, {}, {}, duration {} s, dt {dt:.4e} s{auto})",
+                "{}: ok ({space}{}, {}, {}, duration {} s, dt {dt:.4e} s{auto})",
                 path.display(),
-                count(model.driver.system.blocks.len(), "block"),
+                count(model.block_count(), "block"),
                 count(scene.materials.len(), "material"),
                 count(laws.len(), "joint law"),
-                model.duration,
+                model.duration(),
             );
-            for note in model.driver.notes() {
+            for note in model.notes() {
                 eprintln!("note: {note}");
             }
         }
+        Command::Extrude {
+            scene: path,
+            depth,
+            out,
+            plane_strain,
+        } => {
+            let scene = Scene::load(&path)?;
+            let mut solid = extrude_with(
+                &scene,
+                &Extrusion {
+                    depth,
+                    plane_strain,
+                },
+            )?;
+            let header = format!(
+                "// The 3D prism model of {}, made by `dda extrude --depth {depth}{}`:\n\
+                 // 2D (x, y) is 3D (x, 0, y), z up; each block is a prism from\n\
+                 // y = {} to y = {}; loads and fixed points are on y = 0.\n",
+                path.display(),
+                if plane_strain { " --plane-strain" } else { "" },
+                -depth / 2.0,
+                depth / 2.0,
+            );
+            if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir)
+                    .with_context(|| format!("cannot create {}", dir.display()))?;
+            }
+            keep_record_found(&mut solid, &scene, &out);
+            std::fs::write(&out, header + &solid.to_ron() + "\n")
+                .with_context(|| format!("cannot write {}", out.display()))?;
+            println!("wrote {}", out.display());
+        }
     }
     Ok(())
+}
+
+/// A ground-motion record named relative to the 2D scene's folder is named
+/// so the 3D scene, written elsewhere, still finds it.
+fn keep_record_found(solid: &mut Scene, scene: &Scene, out: &std::path::Path) {
+    let Some(ground) = &mut solid.ground_motion else {
+        return;
+    };
+    let MotionSpec::Record { path, .. } = &mut ground.motion else {
+        return;
+    };
+    let here = |p: &std::path::Path| {
+        let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
+        std::fs::canonicalize(dir.unwrap_or(std::path::Path::new("."))).ok()
+    };
+    let input = std::path::Path::new(scene.origin());
+    if std::path::Path::new(path.as_str()).is_relative() && here(input) != here(out) {
+        let file = scene.resolve(path.as_str());
+        let file = std::fs::canonicalize(&file).unwrap_or(file);
+        *path = file.display().to_string();
+    }
 }
 
 /// "a", "a and b", "a, b and c".

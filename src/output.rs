@@ -6,13 +6,19 @@ use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::path::Path;
 
 use anyhow::{bail, Context};
-use dda_2d::contact::contact_label;
-use dda_2d::Driver2d;
 use dda_core::ContactState;
 use serde::Serialize;
 
-/// The header line of `history.csv`.
+use crate::simulation::Simulation;
+
+/// The header line of a 2D scene's `history.csv`.
 pub const HISTORY_HEADER: &str = "step,time,block,x,y,rotation,vx,vy,omega,sxx,syy,sxy";
+
+/// The header line of a 3D scene's `history.csv`: centroid, accumulated
+/// rotation as a rotation vector (axis · angle, radians), velocity and
+/// angular velocity, stress.
+pub const HISTORY_HEADER_3D: &str =
+    "step,time,block,x,y,z,rx,ry,rz,vx,vy,vz,wx,wy,wz,sxx,syy,szz,syz,szx,sxy";
 
 /// One row of `history.csv`: a block's state at an output time.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,6 +40,24 @@ pub struct HistoryRow {
     pub sxy: f64,
 }
 
+/// One row of a 3D scene's `history.csv`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HistoryRow3 {
+    pub step: usize,
+    pub time: f64,
+    pub block: usize,
+    /// Centroid (x, y, z).
+    pub position: [f64; 3],
+    /// Accumulated rotation as a rotation vector (axis · angle, radians,
+    /// angle in [0, π]).
+    pub rotation: [f64; 3],
+    pub velocity: [f64; 3],
+    /// Angular velocity (ωx, ωy, ωz).
+    pub spin: [f64; 3],
+    /// (σx, σy, σz, τyz, τzx, τxy), tension positive.
+    pub stress: [f64; 6],
+}
+
 /// Writes `history.csv` a time at a time, flushing each so an interrupted
 /// run keeps what it reached.
 pub struct HistoryWriter {
@@ -41,31 +65,24 @@ pub struct HistoryWriter {
 }
 
 impl HistoryWriter {
-    pub fn create(path: &Path) -> anyhow::Result<Self> {
+    /// A file with `header` as its first line ([`HISTORY_HEADER`] or
+    /// [`HISTORY_HEADER_3D`]).
+    pub fn create(path: &Path, header: &str) -> anyhow::Result<Self> {
         let file =
             File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
         let mut out = BufWriter::new(file);
-        writeln!(out, "{HISTORY_HEADER}")?;
+        writeln!(out, "{header}")?;
         out.flush()?;
         Ok(Self { out })
     }
 
     /// One row per block at the driver's current time.
-    pub fn write(&mut self, driver: &Driver2d) -> anyhow::Result<()> {
+    pub fn write<S: Simulation>(&mut self, driver: &S) -> anyhow::Result<()> {
         let step = driver.statistics().steps;
         let time = driver.time();
-        for (i, (block, v)) in driver
-            .system
-            .blocks
-            .iter()
-            .zip(driver.velocities())
-            .enumerate()
-        {
-            let c = block.centroid();
-            let s = block.stress;
-            let values = [c.x, c.y, block.rotation, v[0], v[1], v[2], s.x, s.y, s.z];
+        for i in 0..driver.block_count() {
             write!(self.out, "{step},{},{i}", num(time))?;
-            for value in values {
+            for value in driver.history_values(i) {
                 write!(self.out, ",{}", num(value))?;
             }
             writeln!(self.out)?;
@@ -84,15 +101,17 @@ pub struct ContactRow {
     pub step: usize,
     pub time: f64,
     /// The contact's name, like `1:v0/0:e2` (vertex 0 of block 1 against
-    /// edge 2 of block 0; see [`contact_label`]).
+    /// edge 2 of block 0; see `dda_2d::contact::contact_label`) or
+    /// `1:v3/0:f1` in 3D (vertex 3 of block 1 against face 1 of block 0; see
+    /// `dda_3d::contact_label`).
     pub contact: String,
     /// The block whose vertex touches.
     pub block_a: usize,
-    /// The block whose edge (or vertex) is touched.
+    /// The block whose edge (or vertex, or face) is touched.
     pub block_b: usize,
     pub state: ContactState,
     /// Normal force of the last step, compression positive (force per unit
-    /// thickness); 0 when open.
+    /// thickness in 2D); 0 when open.
     pub normal_force: f64,
     /// Shear force magnitude of the last step.
     pub shear_force: f64,
@@ -118,21 +137,20 @@ impl ContactWriter {
     }
 
     /// One row per contact at the driver's current time.
-    pub fn write(&mut self, driver: &Driver2d) -> anyhow::Result<()> {
+    pub fn write<S: Simulation>(&mut self, driver: &S) -> anyhow::Result<()> {
         let step = driver.statistics().steps;
         let time = num(driver.time());
-        for c in driver.contacts() {
-            let r = &c.record;
+        for c in driver.contact_lines() {
             writeln!(
                 self.out,
                 "{step},{time},{},{},{},{},{},{},{}",
-                contact_label(&c.key),
+                c.label,
                 c.blocks[0],
                 c.blocks[1],
-                r.state.name(),
-                num(r.normal_force),
-                num(r.shear_force),
-                num(r.slip_path)
+                c.state.name(),
+                num(c.normal_force),
+                num(c.shear_force),
+                num(c.slip)
             )?;
         }
         self.out.flush()?;
@@ -151,15 +169,35 @@ fn num(v: f64) -> String {
     }
 }
 
-/// Reads a `history.csv` written by [`HistoryWriter`].
+/// Reads a 2D scene's `history.csv` written by [`HistoryWriter`].
 pub fn read_history(path: impl AsRef<Path>) -> anyhow::Result<Vec<HistoryRow>> {
-    let path = path.as_ref();
+    read_rows(path.as_ref(), HISTORY_HEADER, parse_row)
+}
+
+/// Reads a 3D scene's `history.csv` written by [`HistoryWriter`].
+pub fn read_history_3d(path: impl AsRef<Path>) -> anyhow::Result<Vec<HistoryRow3>> {
+    read_rows(path.as_ref(), HISTORY_HEADER_3D, parse_row_3d)
+}
+
+fn read_rows<T>(
+    path: &Path,
+    expected: &str,
+    parse: impl Fn(&str) -> anyhow::Result<T>,
+) -> anyhow::Result<Vec<T>> {
     let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
     let mut lines = BufReader::new(file).lines();
     let header = lines.next().transpose()?.unwrap_or_default();
-    if header.trim_end() != HISTORY_HEADER {
+    let header = header.trim_end();
+    if header != expected {
+        let hint = if header == HISTORY_HEADER {
+            " (it is a 2D history: read it with read_history)"
+        } else if header == HISTORY_HEADER_3D {
+            " (it is a 3D history: read it with read_history_3d)"
+        } else {
+            ""
+        };
         bail!(
-            "{}: the first line is not the history header {HISTORY_HEADER:?}",
+            "{}: the first line is not the history header {expected:?}{hint}",
             path.display()
         );
     }
@@ -169,11 +207,34 @@ pub fn read_history(path: impl AsRef<Path>) -> anyhow::Result<Vec<HistoryRow>> {
         if line.trim().is_empty() {
             continue;
         }
-        let row = parse_row(&line)
+        let row = parse(&line)
             .with_context(|| format!("{}:{}: bad history row", path.display(), n + 2))?;
         rows.push(row);
     }
     Ok(rows)
+}
+
+fn parse_row_3d(line: &str) -> anyhow::Result<HistoryRow3> {
+    let fields: Vec<&str> = line.trim_end().split(',').collect();
+    if fields.len() != 21 {
+        bail!("expected 21 fields, found {}", fields.len());
+    }
+    let f = |i: usize| -> anyhow::Result<f64> {
+        fields[i]
+            .parse()
+            .with_context(|| format!("field {i} is not a number: {:?}", fields[i]))
+    };
+    let three = |i: usize| -> anyhow::Result<[f64; 3]> { Ok([f(i)?, f(i + 1)?, f(i + 2)?]) };
+    Ok(HistoryRow3 {
+        step: fields[0].parse().context("step is not an integer")?,
+        time: f(1)?,
+        block: fields[2].parse().context("block is not an integer")?,
+        position: three(3)?,
+        rotation: three(6)?,
+        velocity: three(9)?,
+        spin: three(12)?,
+        stress: [f(15)?, f(16)?, f(17)?, f(18)?, f(19)?, f(20)?],
+    })
 }
 
 fn parse_row(line: &str) -> anyhow::Result<HistoryRow> {

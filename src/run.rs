@@ -5,13 +5,13 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{bail, Context};
-use dda_2d::Driver2d;
 use dda_contact::LawRegistry;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
 use crate::output::{write_json, ContactWriter, HistoryWriter};
-use crate::scene::{Model, Scene};
+use crate::scene::{AnyModel, Model, Scene};
+use crate::simulation::Simulation;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -24,6 +24,9 @@ pub enum Status {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
     pub scene: String,
+    /// 2 or 3.
+    #[serde(default = "two")]
+    pub dimension: u32,
     pub status: Status,
     /// Why the run stopped early (failed runs only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -52,6 +55,10 @@ pub struct Summary {
     /// The files written in the output directory, this one included.
     #[serde(default)]
     pub outputs: Vec<String>,
+}
+
+fn two() -> u32 {
+    2
 }
 
 /// What a run prints on stderr besides errors.
@@ -94,19 +101,32 @@ pub fn run_with_registry(
     run_scene(&scene, out_dir, options, registry)
 }
 
-/// Runs a loaded scene (named by [`Scene::origin`] in the summary).
+/// Runs a loaded scene of either dimension (named by [`Scene::origin`] in
+/// the summary).
 pub fn run_scene(
     scene: &Scene,
     out_dir: &Path,
     options: RunOptions,
     registry: &LawRegistry,
 ) -> anyhow::Result<Summary> {
-    let mut model = scene.build_with(registry)?;
+    match scene.build_any_with(registry)? {
+        AnyModel::Plane(model) => run_model(scene, model, out_dir, options),
+        AnyModel::Space(model) => run_model(scene, model, out_dir, options),
+    }
+}
+
+/// Runs a built model to its end, writing the outputs of its dimension.
+pub fn run_model<S: Simulation>(
+    scene: &Scene,
+    mut model: Model<S>,
+    out_dir: &Path,
+    options: RunOptions,
+) -> anyhow::Result<Summary> {
     std::fs::create_dir_all(out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
     let history_path = out_dir.join("history.csv");
     let mut writers = Writers {
-        history: HistoryWriter::create(&history_path)?,
+        history: HistoryWriter::create(&history_path, S::HISTORY_HEADER)?,
         contacts: None,
     };
     let mut outputs = vec!["history.csv".to_string()];
@@ -137,13 +157,14 @@ pub fn run_scene(
     let stats = driver.statistics();
     let summary = Summary {
         scene: scene.origin().to_string(),
+        dimension: S::DIMENSION,
         status: if result.is_ok() {
             Status::Finished
         } else {
             Status::Failed
         },
         error: result.as_ref().err().map(|e| format!("{e:#}")),
-        blocks: driver.system.blocks.len(),
+        blocks: driver.block_count(),
         steps: stats.steps,
         time: driver.time(),
         duration: model.duration,
@@ -179,7 +200,11 @@ struct Writers {
 
 /// Steps to the end, writing a history row set at time 0 and at every
 /// output time (every step without an interval).
-fn advance(model: &mut Model, writers: &mut Writers, bar: &ProgressBar) -> anyhow::Result<()> {
+fn advance<S: Simulation>(
+    model: &mut Model<S>,
+    writers: &mut Writers,
+    bar: &ProgressBar,
+) -> anyhow::Result<()> {
     let duration = model.duration;
     let driver = &mut model.driver;
     record(driver, writers, bar, duration)?;
@@ -209,21 +234,14 @@ fn advance(model: &mut Model, writers: &mut Writers, bar: &ProgressBar) -> anyho
     Ok(())
 }
 
-fn record(
-    driver: &Driver2d,
+fn record<S: Simulation>(
+    driver: &S,
     writers: &mut Writers,
     bar: &ProgressBar,
     duration: f64,
 ) -> anyhow::Result<()> {
-    for (i, (b, v)) in driver
-        .system
-        .blocks
-        .iter()
-        .zip(driver.velocities())
-        .enumerate()
-    {
-        let c = b.centroid();
-        if !(c.x.is_finite() && c.y.is_finite() && v.iter().all(|x| x.is_finite())) {
+    for i in 0..driver.block_count() {
+        if !driver.is_finite(i) {
             bail!(
                 "block {i} has a non-finite position or velocity: the model is unstable (try a smaller dt or penalty)"
             );

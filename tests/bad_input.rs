@@ -444,22 +444,65 @@ fn overlapping_blocks_name_both() {
 }
 
 #[test]
-fn three_dimensional_scenes_are_not_supported_yet() {
-    let text = with("Scene(", "Scene(\n    dimension: 3,");
+fn dimensions_other_than_two_and_three_are_refused() {
+    let text = with("Scene(", "Scene(\n    dimension: 4,");
+    assert_error(&text, "dimension", "dimension", "dimension must be 2 (");
+    // Even with unknown fields the dimension is what gets reported.
+    let text = with("Scene(", "Scene(\n    dimension: 1,\n    polyhedra: [],");
     assert_error(
         &text,
         "dimension",
         "dimension",
-        "3D scenes are not supported yet",
+        "or 3 (polyhedra, z up), got 1",
     );
-    // Even with 3D-only fields the dimension is what gets reported.
-    let text = with("Scene(", "Scene(\n    dimension: 3,\n    polyhedra: [],");
+}
+
+#[test]
+fn three_dimensional_values_in_a_two_dimensional_scene_are_named() {
+    let text = with(
+        "        Polygon(vertices",
+        "        Box(center: (5.0, 0.0, 0.5), size: (1.0, 1.0, 1.0)),\n        Polygon(vertices",
+    );
     assert_error(
         &text,
-        "dimension",
-        "dimension",
-        "3D scenes are not supported yet",
+        "Box(",
+        "blocks[1]",
+        "Box is a 3D block, but this is a 2D scene (dimension: 2, the default); add dimension: 3",
     );
+    let text = with("gravity: (0.0, -9.81)", "gravity: (0.0, 0.0, -9.81)");
+    assert_error(
+        &text,
+        "gravity",
+        "analysis.gravity",
+        "gravity has 3 numbers, but this is a 2D scene: write (gx, gy) (or add dimension: 3",
+    );
+    let text = with("force: (0.0, -1e4)", "force: (0.0, 0.0, -1e4)");
+    assert_error(
+        &text,
+        "force:",
+        "loads[0].force",
+        "the force has 3 numbers, but this is a 2D scene: write (fx, fy)",
+    );
+    let text = with("point: (0.0, -1.0)", "point: (0.0, -1.0, 2.0)");
+    assert_error(
+        &text,
+        "fixed_points",
+        "fixed_points[0].point",
+        "the fixed point has 3 numbers, but this is a 2D scene: write (x, y)",
+    );
+    // A 3D scene built as 2D says which builder to use.
+    let scene = Scene::from_str(
+        "Scene(dimension: 3, analysis: (duration: 1.0), materials: {\"rock\": (density: 1.0, young: 1.0)}, blocks: [Box(center: (0.0, 0.0, 0.0), size: (1.0, 1.0, 1.0))])",
+        "cube.ron",
+    )
+    .unwrap();
+    let message = scene.build().err().unwrap().to_string();
+    assert!(
+        message
+            .contains("this is a 3D scene, and Scene::build builds 2D ones; use Scene::build_3d"),
+        "{message}"
+    );
+    assert!(scene.build_any().is_ok());
 }
 
 #[test]

@@ -3,16 +3,18 @@
 use std::collections::HashMap;
 
 use dda_2d::{Block, Driver2d, FixedPoint, Force, PlaneElastic, PointLoad, Polygons};
+use dda_3d::{Driver3d, IsotropicElastic, Polyhedra};
 use dda_contact::{Coulomb, LawRegistry, Params, RateFriction, SlipWeakening, ThresholdBond};
 use dda_core::{ConstitutiveLaw, DynContactLaw, Settings};
-use nalgebra::{Point2, Vector2, Vector3, Vector6};
+use nalgebra::{Point2, Point3, SVector, Vector2, Vector3, Vector6};
 
-use super::validate::{polygon_message, to_points, unit_axis, Place};
-use super::{JointLaw, Load, Scene, SceneError};
+use super::validate::{place_of, polygon_message, to_points, unit_axis, Place, Slot};
+use super::{Coords, JointLaw, Load, Scene, SceneError};
 
-/// A scene ready to run.
-pub struct Model {
-    pub driver: Driver2d,
+/// A scene ready to run: a 2D one by default ([`Driver2d`]), a 3D one as
+/// [`Model3`].
+pub struct Model<D = Driver2d> {
+    pub driver: D,
     /// Simulated time to reach, in seconds.
     pub duration: f64,
     /// Time between outputs; `None` writes every step.
@@ -21,6 +23,55 @@ pub struct Model {
     pub write_contacts: bool,
     /// The settings the driver was made with.
     pub settings: Settings,
+}
+
+/// A 3D scene ready to run.
+pub type Model3 = Model<Driver3d>;
+
+/// A scene of either dimension ready to run.
+pub enum AnyModel {
+    Plane(Model),
+    Space(Model3),
+}
+
+impl AnyModel {
+    /// 2 or 3.
+    pub fn dimension(&self) -> u32 {
+        match self {
+            AnyModel::Plane(_) => 2,
+            AnyModel::Space(_) => 3,
+        }
+    }
+
+    pub fn block_count(&self) -> usize {
+        match self {
+            AnyModel::Plane(m) => m.driver.system.blocks.len(),
+            AnyModel::Space(m) => m.driver.system.blocks.len(),
+        }
+    }
+
+    pub fn duration(&self) -> f64 {
+        match self {
+            AnyModel::Plane(m) => m.duration,
+            AnyModel::Space(m) => m.duration,
+        }
+    }
+
+    /// The nominal time step.
+    pub fn dt(&self) -> f64 {
+        match self {
+            AnyModel::Plane(m) => m.driver.dt(),
+            AnyModel::Space(m) => m.driver.dt(),
+        }
+    }
+
+    /// The driver's notes on automatic choices.
+    pub fn notes(&self) -> &[String] {
+        match self {
+            AnyModel::Plane(m) => m.driver.notes(),
+            AnyModel::Space(m) => m.driver.notes(),
+        }
+    }
 }
 
 /// Which law each joint uses: the distinct laws of a scene (the default
@@ -36,16 +87,55 @@ pub struct LawTable {
 }
 
 impl Scene {
-    /// Validates the scene and builds the blocks, laws and driver, with the
-    /// built-in contact laws for `Custom` joints.
+    /// Validates a 2D scene and builds the blocks, laws and driver, with the
+    /// built-in contact laws for `Custom` joints. A 3D scene is an error
+    /// here: see [`Scene::build_3d`] and [`Scene::build_any`].
     pub fn build(&self) -> Result<Model, SceneError> {
         self.build_with(&LawRegistry::with_builtin())
+    }
+
+    /// Validates and builds a scene of either dimension.
+    pub fn build_any(&self) -> Result<AnyModel, SceneError> {
+        self.build_any_with(&LawRegistry::with_builtin())
+    }
+
+    /// [`Scene::build_any`] with `Custom` joint laws built through `registry`.
+    pub fn build_any_with(&self, registry: &LawRegistry) -> Result<AnyModel, SceneError> {
+        if self.dimension == 3 {
+            self.build_3d_with(registry).map(AnyModel::Space)
+        } else {
+            self.build_with(registry).map(AnyModel::Plane)
+        }
+    }
+
+    /// Validates a 3D scene and builds its polyhedra, laws and driver.
+    pub fn build_3d(&self) -> Result<Model3, SceneError> {
+        self.build_3d_with(&LawRegistry::with_builtin())
+    }
+
+    /// The error of building a scene as the other dimension.
+    fn wrong_dimension(&self, wanted: u32) -> SceneError {
+        let (builder, other) = if wanted == 2 {
+            ("Scene::build", "Scene::build_3d")
+        } else {
+            ("Scene::build_3d", "Scene::build")
+        };
+        self.error(
+            &Place::root().field("dimension"),
+            format!(
+                "this is a {}D scene, and {builder} builds {wanted}D ones; use {other} or Scene::build_any",
+                self.dimension
+            ),
+        )
     }
 
     /// [`Scene::build`] with `Custom` joint laws built through `registry`, so
     /// scenes can name laws written elsewhere.
     pub fn build_with(&self, registry: &LawRegistry) -> Result<Model, SceneError> {
         self.validate()?;
+        if self.dimension != 2 {
+            return Err(self.wrong_dimension(2));
+        }
         let blocks_at = Place::root().field("blocks");
         let materials: Vec<Box<dyn ConstitutiveLaw<3>>> = self
             .materials
@@ -79,7 +169,7 @@ impl Scene {
 
         let mut system = Polygons::new(blocks, materials);
         let a = &self.analysis;
-        system.gravity = Vector2::from(a.gravity);
+        system.gravity = Vector2::from_column_slice(&self.gravity());
         system.rotation_update = a.rotation_update;
         system.length_scale = a.length_scale;
         // Fixed points are ten times stiffer than the contacts (A3.6), so a
@@ -88,8 +178,8 @@ impl Scene {
             .fixed_penalty
             .unwrap_or_else(|| 10.0 * a.penalty.unwrap_or(system.fixed_penalty));
         let table = self.law_table();
-        system.joint_laws = table.materials;
-        system.pair_laws = table.pairs;
+        system.joint_laws = table.materials.clone();
+        system.pair_laws = table.pairs.clone();
         for load in &self.loads {
             match load {
                 Load::PointLoad {
@@ -99,15 +189,17 @@ impl Scene {
                     history,
                 } => {
                     let force = match (force, history) {
-                        (Some(f), _) => Force::Constant(Vector2::from(*f)),
+                        (Some(f), _) => Force::Constant(vector(f)),
                         (None, Some(h)) => Force::History(
-                            h.iter().map(|s| (s[0], Vector2::new(s[1], s[2]))).collect(),
+                            h.iter()
+                                .map(|s| (s.get(0), Vector2::new(s.get(1), s.get(2))))
+                                .collect(),
                         ),
                         (None, None) => Force::Constant(Vector2::zeros()),
                     };
                     system.loads.push(PointLoad {
                         block: *block,
-                        point: Point2::from(*point),
+                        point: Point2::from(vector::<2>(point)),
                         force,
                     });
                 }
@@ -115,9 +207,9 @@ impl Scene {
         }
         for fp in &self.fixed_points {
             system.fixed.push(FixedPoint {
-                velocity: Vector2::from(fp.velocity),
-                axis: fp.axis.and_then(unit_axis),
-                ..FixedPoint::at(fp.block, Point2::from(fp.point))
+                velocity: vector(&fp.velocity),
+                axis: fp.axis.as_ref().and_then(|a| unit_axis(a.as_slice())),
+                ..FixedPoint::at(fp.block, Point2::from(vector::<2>(&fp.point)))
             });
         }
         for (k, spec) in specs.iter().enumerate() {
@@ -125,7 +217,8 @@ impl Scene {
                 system.fix_block(k);
             }
         }
-        if let Some((driven, motion)) = self.ground_motion(&specs)? {
+        let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
+        if let Some((driven, motion)) = self.ground_motion::<2>(&slots)? {
             for fp in system
                 .fixed
                 .iter_mut()
@@ -135,27 +228,8 @@ impl Scene {
             }
         }
 
-        let settings = Settings {
-            velocity_ratio: a.velocity_ratio.unwrap_or(a.mode.velocity_ratio()),
-            dt: a.dt,
-            min_dt_ratio: a.min_dt_ratio,
-            open_close_limit: a.open_close_limit,
-            max_displacement_ratio: a.max_displacement_ratio,
-            max_penetration_ratio: a.max_penetration_ratio,
-            penalty: a.penalty,
-            raise_penalty: a.raise_penalty,
-            length_scale: a.length_scale,
-            mass_damping: a.damping.map_or(0.0, |d| d.mass_coefficient()),
-            ..Settings::default()
-        };
-        let laws = table
-            .laws
-            .iter()
-            .map(|law| {
-                contact_law(law, registry)
-                    .map_err(|message| self.error(&self.law_place(law), message))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let settings = self.settings();
+        let laws = self.contact_laws(&table, registry)?;
         let mut driver = Driver2d::new(system, laws, settings.clone())
             .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
         for (k, spec) in specs.iter().enumerate() {
@@ -170,6 +244,153 @@ impl Scene {
             write_contacts: self.output.contacts,
             settings,
         })
+    }
+
+    /// Validates a 3D scene and builds it with `Custom` joint laws built
+    /// through `registry`.
+    pub fn build_3d_with(&self, registry: &LawRegistry) -> Result<Model3, SceneError> {
+        self.validate()?;
+        if self.dimension != 3 {
+            return Err(self.wrong_dimension(3));
+        }
+        let materials: Vec<Box<dyn ConstitutiveLaw<6>>> = self
+            .materials
+            .iter()
+            .map(|(_, m)| {
+                Box::new(IsotropicElastic {
+                    young: m.young,
+                    poisson: m.poisson,
+                }) as Box<dyn ConstitutiveLaw<6>>
+            })
+            .collect();
+        let specs = self.expanded_blocks_3d();
+        let mut blocks = Vec::with_capacity(specs.len());
+        for spec in &specs {
+            let at = place_of(spec.entry, spec.part.as_deref());
+            let material = self
+                .material_index(&self.blocks[spec.entry])
+                .ok_or_else(|| self.error(&at, "the block's material is not defined"))?;
+            let density = self.materials[material].1.density;
+            let points: Vec<Point3<f64>> = spec.vertices.iter().map(|v| Point3::from(*v)).collect();
+            let mut block = dda_3d::Block::new(&points, &spec.faces, material, density)
+                .map_err(|e| self.error(&at, e.to_string()))?;
+            block.stress = Vector6::from(spec.stress);
+            blocks.push(block);
+        }
+
+        let mut system = Polyhedra::new(blocks, materials);
+        let a = &self.analysis;
+        system.gravity = Vector3::from_column_slice(&self.gravity());
+        system.rotation_update = match a.rotation_update {
+            super::RotationUpdate::Exact => dda_3d::RotationUpdate::Exact,
+            super::RotationUpdate::Linear => dda_3d::RotationUpdate::Linear,
+        };
+        system.length_scale = a.length_scale;
+        system.fixed_penalty = a
+            .fixed_penalty
+            .unwrap_or_else(|| 10.0 * a.penalty.unwrap_or(system.fixed_penalty));
+        let table = self.law_table();
+        system.joint_laws = table.materials.clone();
+        system.pair_laws = table.pairs.clone();
+        for load in &self.loads {
+            match load {
+                Load::PointLoad {
+                    block,
+                    point,
+                    force,
+                    history,
+                } => {
+                    let force = match (force, history) {
+                        (Some(f), _) => dda_3d::Force::Constant(vector(f)),
+                        (None, Some(h)) => dda_3d::Force::History(
+                            h.iter()
+                                .map(|s| (s.get(0), Vector3::new(s.get(1), s.get(2), s.get(3))))
+                                .collect(),
+                        ),
+                        (None, None) => dda_3d::Force::Constant(Vector3::zeros()),
+                    };
+                    system.loads.push(dda_3d::PointLoad {
+                        block: *block,
+                        point: Point3::from(vector::<3>(point)),
+                        force,
+                    });
+                }
+            }
+        }
+        for fp in &self.fixed_points {
+            system.fixed.push(dda_3d::FixedPoint {
+                velocity: vector(&fp.velocity),
+                axis: fp.axis.as_ref().and_then(|a| unit_axis(a.as_slice())),
+                ..dda_3d::FixedPoint::at(fp.block, Point3::from(vector::<3>(&fp.point)))
+            });
+        }
+        for (k, spec) in specs.iter().enumerate() {
+            if spec.fixed {
+                system.fix_block(k);
+            }
+        }
+        let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
+        if let Some((driven, motion)) = self.ground_motion::<3>(&slots)? {
+            for fp in system
+                .fixed
+                .iter_mut()
+                .filter(|f| driven.contains(&f.block))
+            {
+                fp.ground = Some(motion.clone());
+            }
+        }
+
+        let settings = self.settings();
+        let laws = self.contact_laws(&table, registry)?;
+        let mut driver = Driver3d::new(system, laws, settings.clone())
+            .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
+        for (k, spec) in specs.iter().enumerate() {
+            let mut v = SVector::<f64, 12>::zeros();
+            v.fixed_rows_mut::<6>(0).copy_from_slice(&spec.velocity);
+            driver.set_velocity(k, v);
+        }
+        let interval = self.output.interval;
+        Ok(Model {
+            driver,
+            duration: a.duration,
+            output_interval: (interval > 0.0).then_some(interval),
+            write_contacts: self.output.contacts,
+            settings,
+        })
+    }
+
+    /// The driver settings the analysis asks for.
+    fn settings(&self) -> Settings {
+        let a = &self.analysis;
+        Settings {
+            velocity_ratio: a.velocity_ratio.unwrap_or(a.mode.velocity_ratio()),
+            dt: a.dt,
+            min_dt_ratio: a.min_dt_ratio,
+            open_close_limit: a.open_close_limit,
+            max_displacement_ratio: a.max_displacement_ratio,
+            max_penetration_ratio: a.max_penetration_ratio,
+            penalty: a.penalty,
+            raise_penalty: a.raise_penalty,
+            length_scale: a.length_scale,
+            mass_damping: a.damping.map_or(0.0, |d| d.mass_coefficient()),
+            ..Settings::default()
+        }
+    }
+
+    /// The contact laws of the table, built (`Custom` ones by `registry`).
+    fn contact_laws(
+        &self,
+        table: &LawTable,
+        registry: &LawRegistry,
+    ) -> Result<Vec<Box<dyn DynContactLaw>>, SceneError> {
+        table
+            .laws
+            .iter()
+            .map(|law| {
+                contact_law(law, registry)
+                    .map_err(|message| self.error(&self.law_place(law), message))
+            })
+            .collect()
     }
 
     /// Where `law` is first written: the default joint or a joint set's law.
@@ -216,6 +437,11 @@ impl Scene {
             pairs,
         }
     }
+}
+
+/// A validated tuple as a vector (zeros where numbers are left out).
+fn vector<const D: usize>(c: &Coords) -> SVector<f64, D> {
+    SVector::<f64, D>::from_fn(|k, _| c.get(k))
 }
 
 /// The law a scene names; typed laws are built directly, `Custom` ones by

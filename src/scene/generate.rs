@@ -1,7 +1,9 @@
 //! Generators: scene entries that stand for several blocks (arches, columns,
-//! walls). The geometry here assumes parameters already checked by
+//! walls), and the shapes of the 3D boxes and prisms. The geometry here assumes parameters already checked by
 //! `validate`; nonsense (too few voussoirs, non-positive sizes, too many
 //! blocks) gives no blocks rather than a panic or an endless loop.
+
+use nalgebra::{Point2, Point3, Rotation3, Vector3};
 
 use super::Bond;
 
@@ -261,6 +263,34 @@ pub(crate) fn wall(
         }
     }
     pieces
+}
+
+/// Corners and faces of a 3D block.
+pub(crate) type Shape3 = (Vec<[f64; 3]>, Vec<Vec<usize>>);
+
+/// A box: centre, edge lengths and a rotation vector in degrees (see
+/// `BlockSpec::Box`); `None` unless the sizes are positive and all values
+/// finite.
+pub(crate) fn cuboid(center: [f64; 3], size: [f64; 3], rotation: [f64; 3]) -> Option<Shape3> {
+    let all = center.iter().chain(&size).chain(&rotation);
+    if !(all.clone().all(|v| v.is_finite()) && size.iter().all(|s| *s > 0.0)) {
+        return None;
+    }
+    let turn = Rotation3::from_scaled_axis(Vector3::from(rotation).map(f64::to_radians));
+    let (v, f) = dda_3d::polyhedron::cuboid(Point3::from(center), Vector3::from(size), turn);
+    Some((v.iter().map(|p| [p.x, p.y, p.z]).collect(), f))
+}
+
+/// A vertical prism over an outline (either order; made counter-clockwise)
+/// from `z0` up to `z1`; `None` for a bad outline or `z1 ≤ z0`.
+pub(crate) fn prism(outline: &[[f64; 2]], z0: f64, z1: f64) -> Option<Shape3> {
+    if !(z0.is_finite() && z1.is_finite() && z1 > z0) {
+        return None;
+    }
+    let points: Vec<Point2<f64>> = outline.iter().map(|p| Point2::new(p[0], p[1])).collect();
+    let ccw = dda_2d::polygon::validate(&points).ok()?;
+    let (v, f) = dda_3d::polyhedron::prism(&ccw, z0, z1);
+    Some((v.iter().map(|p| [p.x, p.y, p.z]).collect(), f))
 }
 
 #[cfg(test)]

@@ -36,6 +36,19 @@ struct Tok {
 /// Line and column (1-based) of the value at `path`, or of the deepest part
 /// of it that can be found; `None` if not even the first step is found.
 pub fn locate(text: &str, path: &[Seg<'_>]) -> Option<(usize, usize)> {
+    locate_steps(text, path).0
+}
+
+/// Line and column of the value at `path` if every step of it is written.
+pub fn locate_exact(text: &str, path: &[Seg<'_>]) -> Option<(usize, usize)> {
+    match locate_steps(text, path) {
+        (found, steps) if steps == path.len() => found,
+        _ => None,
+    }
+}
+
+/// The deepest place found and how many steps of `path` reach it.
+fn locate_steps(text: &str, path: &[Seg<'_>]) -> (Option<(usize, usize)>, usize) {
     let toks = tokenize(text);
     let mut i = 0;
     // Skip `#![enable(...)]` attributes.
@@ -58,16 +71,18 @@ pub fn locate(text: &str, path: &[Seg<'_>]) -> Option<(usize, usize)> {
         }
     }
     let mut found = None;
+    let mut steps = 0;
     for seg in path {
         match find(&toks, i, *seg) {
             Some((at, value)) => {
                 found = Some((toks[at].line, toks[at].col));
                 i = value;
+                steps += 1;
             }
             None => break,
         }
     }
-    found
+    (found, steps)
 }
 
 /// Finds `seg` inside the value starting at token `i`: the token to report
@@ -335,5 +350,15 @@ Scene(
         // Missing parts fall back to the deepest found.
         assert_eq!(locate(TEXT, &[Field("blocks"), Index(5)]), at(6, "blocks"));
         assert_eq!(locate(TEXT, &[Field("loads"), Index(0)]), None);
+        // Exactly: only when every step is written.
+        assert_eq!(
+            locate_exact(TEXT, &[Field("analysis"), Field("dt")]),
+            at(4, "dt")
+        );
+        assert_eq!(
+            locate_exact(TEXT, &[Field("analysis"), Field("plane")]),
+            None
+        );
+        assert_eq!(locate_exact(TEXT, &[Field("blocks"), Index(5)]), None);
     }
 }

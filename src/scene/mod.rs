@@ -1,8 +1,15 @@
 //! Scene files: one RON file describes one experiment (see `examples/`).
 //!
-//! [`Scene::load`] parses and validates; [`Scene::build`] turns a valid scene
-//! into a [`Model`] ready to run. Every error names the file, the place in it
-//! (with line and column where they can be found) and what to change.
+//! [`Scene::load`] parses and validates; [`Scene::build`] turns a valid 2D
+//! scene into a [`Model`] ready to run, [`Scene::build_3d`] a 3D one into a
+//! [`Model3`], and [`Scene::build_any`] either into an [`AnyModel`]. Every
+//! error names the file, the place in it (with line and column where they can
+//! be found) and what to change.
+//!
+//! A scene is 2D (`dimension: 2`, the default: polygons in the xy plane) or
+//! 3D (`dimension: 3`: polyhedra, z up). Points, forces, velocities, axes,
+//! gravity and ground-motion amplitudes are tuples with one number per
+//! dimension ([`Coords`]).
 
 mod build;
 mod error;
@@ -19,14 +26,14 @@ pub use dda_2d::{Plane, RotationUpdate};
 pub use dda_contact::Weakening;
 pub use dda_core::Quantity;
 
-pub use build::{LawTable, Model};
+pub use build::{AnyModel, LawTable, Model, Model3};
 pub use error::{Location, SceneError};
 
 /// One experiment. Field order and names are the file format.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename = "Scene", deny_unknown_fields)]
 pub struct Scene {
-    /// Only 2 for now.
+    /// 2 (the default) or 3.
     #[serde(default = "default_dimension")]
     pub dimension: u32,
     #[serde(default)]
@@ -87,8 +94,12 @@ pub struct Analysis {
     pub penalty: Option<f64>,
     pub raise_penalty: bool,
     pub length_scale: Option<f64>,
-    pub gravity: [f64; 2],
-    #[serde(with = "PlaneDef")]
+    /// (gx, gy) in 2D, (gx, gy, gz) in 3D; left out, (0, −9.81) or
+    /// (0, 0, −9.81): see [`Scene::gravity`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<Coords>,
+    /// Plane strain or plane stress: 2D scenes only (an error in 3D).
+    #[serde(with = "PlaneDef", skip_serializing_if = "is_plane_strain")]
     pub plane: Plane,
     #[serde(with = "RotationUpdateDef")]
     pub rotation_update: RotationUpdate,
@@ -96,6 +107,10 @@ pub struct Analysis {
     /// Mass-proportional viscous damping; none when left out.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub damping: Option<Damping>,
+}
+
+fn is_plane_strain(plane: &Plane) -> bool {
+    *plane == Plane::Strain
 }
 
 /// Mass-proportional damping giving the ratio `ratio` of critical damping
@@ -131,7 +146,7 @@ impl Default for Analysis {
             penalty: None,
             raise_penalty: s.raise_penalty,
             length_scale: None,
-            gravity: [0.0, -9.81],
+            gravity: None,
             plane: Plane::Strain,
             rotation_update: RotationUpdate::Exact,
             fixed_penalty: None,
@@ -394,6 +409,61 @@ pub enum BlockSpec {
         #[serde(default)]
         stress: [f64; 3],
     },
+    /// A polyhedron (3D scenes): its corners and its faces, each face the
+    /// indices of its corners counter-clockwise seen from outside the block.
+    /// The surface must be closed, with every edge shared by two faces, and
+    /// each face plane.
+    Polyhedron {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        material: Option<String>,
+        vertices: Vec<[f64; 3]>,
+        faces: Vec<Vec<usize>>,
+        #[serde(default, skip_serializing_if = "is_false")]
+        fixed: bool,
+        /// (vx, vy, vz, ωx, ωy, ωz).
+        #[serde(default, skip_serializing_if = "is_zero")]
+        velocity: [f64; 6],
+        /// (σx, σy, σz, τyz, τzx, τxy), tension positive.
+        #[serde(default, skip_serializing_if = "is_zero")]
+        stress: [f64; 6],
+    },
+    /// A rectangular box (3D scenes): its centre, its edge lengths along its
+    /// own axes, and the rotation taking those axes to the global ones as a
+    /// rotation vector in degrees (the axis times the angle: `(0.0, 30.0,
+    /// 0.0)` turns it 30° about y, right-handed). Corners 0-3 are the bottom
+    /// ones (own −z), counter-clockwise seen from above, 4-7 the top ones
+    /// above them; faces: bottom, top, −y, +x, +y, −x.
+    Box {
+        #[serde(default)]
+        material: Option<String>,
+        center: [f64; 3],
+        size: [f64; 3],
+        #[serde(default)]
+        rotation: [f64; 3],
+        #[serde(default)]
+        fixed: bool,
+        #[serde(default)]
+        velocity: [f64; 6],
+        #[serde(default)]
+        stress: [f64; 6],
+    },
+    /// A vertical prism (3D scenes): a polygon in the xy plane (in either
+    /// order; it is made counter-clockwise seen from above) from z = `z0` up
+    /// to z = `z1`. Corners 0..n are the outline at z0, n..2n the outline at
+    /// z1; faces: bottom, top, then the side over each outline edge.
+    Prism {
+        #[serde(default)]
+        material: Option<String>,
+        outline: Vec<[f64; 2]>,
+        z0: f64,
+        z1: f64,
+        #[serde(default)]
+        fixed: bool,
+        #[serde(default)]
+        velocity: [f64; 6],
+        #[serde(default)]
+        stress: [f64; 6],
+    },
     /// Courses of bricks from `origin` (the bottom-left corner) upward,
     /// each spanning exactly `length`; bricks numbered course by course,
     /// left to right.
@@ -416,6 +486,14 @@ pub enum BlockSpec {
     },
 }
 
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+fn is_zero(v: &[f64; 6]) -> bool {
+    v.iter().all(|x| *x == 0.0)
+}
+
 fn default_span_angle() -> f64 {
     180.0
 }
@@ -434,8 +512,8 @@ pub enum Bond {
     Running,
 }
 
-/// One block of a scene once generators are expanded: the numbering used by
-/// loads, fixed points, joint sets, the ground motion and the outputs.
+/// One block of a 2D scene once generators are expanded: the numbering used
+/// by loads, fixed points, joint sets, the ground motion and the outputs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneBlock {
     /// Index of the `blocks` entry that makes it.
@@ -452,6 +530,25 @@ pub struct SceneBlock {
     pub stress: [f64; 3],
 }
 
+/// One block of a 3D scene: the numbering used by loads, fixed points,
+/// joint sets, the ground motion and the outputs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneBlock3 {
+    /// Index of the `blocks` entry that makes it.
+    pub entry: usize,
+    /// Which block of a generator it is; `None` for the 3D entries, which
+    /// all make one block.
+    pub part: Option<String>,
+    pub vertices: Vec<[f64; 3]>,
+    /// Each face's corners, counter-clockwise seen from outside.
+    pub faces: Vec<Vec<usize>>,
+    pub fixed: bool,
+    /// (vx, vy, vz, ωx, ωy, ωz).
+    pub velocity: [f64; 6],
+    /// (σx, σy, σz, τyz, τzx, τxy), tension positive.
+    pub stress: [f64; 6],
+}
+
 impl BlockSpec {
     pub fn material(&self) -> Option<&str> {
         match self {
@@ -459,7 +556,10 @@ impl BlockSpec {
             | BlockSpec::Rectangle { material, .. }
             | BlockSpec::Arch { material, .. }
             | BlockSpec::Column { material, .. }
-            | BlockSpec::Wall { material, .. } => material.as_deref(),
+            | BlockSpec::Wall { material, .. }
+            | BlockSpec::Polyhedron { material, .. }
+            | BlockSpec::Box { material, .. }
+            | BlockSpec::Prism { material, .. } => material.as_deref(),
         }
     }
 
@@ -469,50 +569,89 @@ impl BlockSpec {
             | BlockSpec::Rectangle { fixed, .. }
             | BlockSpec::Arch { fixed, .. }
             | BlockSpec::Column { fixed, .. }
-            | BlockSpec::Wall { fixed, .. } => *fixed,
+            | BlockSpec::Wall { fixed, .. }
+            | BlockSpec::Polyhedron { fixed, .. }
+            | BlockSpec::Box { fixed, .. }
+            | BlockSpec::Prism { fixed, .. } => *fixed,
         }
     }
 
-    pub fn velocity(&self) -> [f64; 3] {
+    /// (vx, vy, ω) for 2D entries, (vx, vy, vz, ωx, ωy, ωz) for 3D ones.
+    pub fn velocity(&self) -> &[f64] {
         match self {
             BlockSpec::Polygon { velocity, .. }
             | BlockSpec::Rectangle { velocity, .. }
             | BlockSpec::Arch { velocity, .. }
             | BlockSpec::Column { velocity, .. }
-            | BlockSpec::Wall { velocity, .. } => *velocity,
+            | BlockSpec::Wall { velocity, .. } => velocity,
+            BlockSpec::Polyhedron { velocity, .. }
+            | BlockSpec::Box { velocity, .. }
+            | BlockSpec::Prism { velocity, .. } => velocity,
         }
     }
 
-    pub fn stress(&self) -> [f64; 3] {
+    /// (σx, σy, τxy) for 2D entries, (σx, σy, σz, τyz, τzx, τxy) for 3D ones.
+    pub fn stress(&self) -> &[f64] {
         match self {
             BlockSpec::Polygon { stress, .. }
             | BlockSpec::Rectangle { stress, .. }
             | BlockSpec::Arch { stress, .. }
             | BlockSpec::Column { stress, .. }
-            | BlockSpec::Wall { stress, .. } => *stress,
+            | BlockSpec::Wall { stress, .. } => stress,
+            BlockSpec::Polyhedron { stress, .. }
+            | BlockSpec::Box { stress, .. }
+            | BlockSpec::Prism { stress, .. } => stress,
+        }
+    }
+
+    /// The entry's name in the file, like "Rectangle".
+    pub fn kind(&self) -> &'static str {
+        match self {
+            BlockSpec::Polygon { .. } => "Polygon",
+            BlockSpec::Rectangle { .. } => "Rectangle",
+            BlockSpec::Arch { .. } => "Arch",
+            BlockSpec::Column { .. } => "Column",
+            BlockSpec::Wall { .. } => "Wall",
+            BlockSpec::Polyhedron { .. } => "Polyhedron",
+            BlockSpec::Box { .. } => "Box",
+            BlockSpec::Prism { .. } => "Prism",
+        }
+    }
+
+    /// The dimension of scene the entry belongs in: 2 or 3.
+    pub fn dimension(&self) -> u32 {
+        match self {
+            BlockSpec::Polyhedron { .. } | BlockSpec::Box { .. } | BlockSpec::Prism { .. } => 3,
+            _ => 2,
         }
     }
 
     /// Whether the entry stands for several blocks.
     pub fn is_generator(&self) -> bool {
-        !matches!(
+        matches!(
             self,
-            BlockSpec::Polygon { .. } | BlockSpec::Rectangle { .. }
+            BlockSpec::Arch { .. } | BlockSpec::Column { .. } | BlockSpec::Wall { .. }
         )
     }
 
-    /// The blocks of this entry (one for a polygon or rectangle), with
+    /// The 2D blocks of this entry (one for a polygon or rectangle), with
     /// `entry` as their entry index. A generator with parameters that make
-    /// no sense (see [`Scene::validate`]) gives none.
+    /// no sense (see [`Scene::validate`]) gives none, and so does a 3D entry
+    /// (see [`BlockSpec::expand_3d`]).
     pub fn expand(&self, entry: usize) -> Vec<SceneBlock> {
+        let triple = |v: &[f64]| -> [f64; 3] { [v[0], v[1], v[2]] };
+        let (velocity, stress) = match (self.velocity(), self.stress()) {
+            (v, s) if v.len() == 3 && s.len() == 3 => (triple(v), triple(s)),
+            _ => return Vec::new(),
+        };
         let single = |vertices: Vec<[f64; 2]>| {
             vec![SceneBlock {
                 entry,
                 part: None,
                 vertices,
                 fixed: self.fixed(),
-                velocity: self.velocity(),
-                stress: self.stress(),
+                velocity,
+                stress,
             }]
         };
         let pieces = match self {
@@ -574,6 +713,9 @@ impl BlockSpec {
                 *brick_height,
                 *bond,
             ),
+            BlockSpec::Polyhedron { .. } | BlockSpec::Box { .. } | BlockSpec::Prism { .. } => {
+                return Vec::new()
+            }
         };
         pieces
             .into_iter()
@@ -583,14 +725,59 @@ impl BlockSpec {
                 vertices: p.vertices,
                 fixed: self.fixed() || p.always_fixed,
                 // Abutments stay put.
-                velocity: if p.always_fixed {
-                    [0.0; 3]
-                } else {
-                    self.velocity()
-                },
-                stress: self.stress(),
+                velocity: if p.always_fixed { [0.0; 3] } else { velocity },
+                stress,
             })
             .collect()
+    }
+
+    /// The 3D block of this entry, with `entry` as its entry index; none
+    /// for a 2D entry or for one whose sizes make no sense (see
+    /// [`Scene::validate`]).
+    pub fn expand_3d(&self, entry: usize) -> Vec<SceneBlock3> {
+        let block = |vertices: Vec<[f64; 3]>, faces: Vec<Vec<usize>>, velocity, stress| {
+            vec![SceneBlock3 {
+                entry,
+                part: None,
+                vertices,
+                faces,
+                fixed: self.fixed(),
+                velocity,
+                stress,
+            }]
+        };
+        match self {
+            BlockSpec::Polyhedron {
+                vertices,
+                faces,
+                velocity,
+                stress,
+                ..
+            } => block(vertices.clone(), faces.clone(), *velocity, *stress),
+            BlockSpec::Box {
+                center,
+                size,
+                rotation,
+                velocity,
+                stress,
+                ..
+            } => match generate::cuboid(*center, *size, *rotation) {
+                Some((v, f)) => block(v, f, *velocity, *stress),
+                None => Vec::new(),
+            },
+            BlockSpec::Prism {
+                outline,
+                z0,
+                z1,
+                velocity,
+                stress,
+                ..
+            } => match generate::prism(outline, *z0, *z1) {
+                Some((v, f)) => block(v, f, *velocity, *stress),
+                None => Vec::new(),
+            },
+            _ => Vec::new(),
+        }
     }
 }
 
@@ -609,23 +796,29 @@ pub struct GroundMotionSpec {
 #[serde(deny_unknown_fields)]
 pub enum MotionSpec {
     /// Acceleration `amplitude`·sin(2π·frequency·t) (m/s², Hz) for
-    /// `duration` seconds, then none.
+    /// `duration` seconds, then none; the amplitude is (ax, ay) in 2D,
+    /// (ax, ay, az) in 3D.
     Sine {
-        amplitude: [f64; 2],
+        amplitude: Coords,
         frequency: f64,
         duration: f64,
     },
     /// One sine pulse of acceleration (m/s²) lasting `period` seconds.
-    Pulse { amplitude: [f64; 2], period: f64 },
-    /// A CSV file of `time, ax, ay` rows (a header line and `#` comment
-    /// lines allowed), relative to the scene file's folder; values are
-    /// multiplied by `scale` (9.81 for records in g).
+    Pulse { amplitude: Coords, period: f64 },
+    /// A CSV file of `time, ax, ay` rows in 2D, `time, ax, ay, az` in 3D (a
+    /// header line and `#` comment lines allowed), relative to the scene
+    /// file's folder; values are multiplied by `scale` (9.81 for records in
+    /// g). `components` names the axes of the value columns, in order, when
+    /// they are not all of them: `"xz"` reads `time, ax, az` rows (the other
+    /// components are zero).
     Record {
         path: String,
         #[serde(default = "default_quantity", with = "QuantityDef")]
         quantity: Quantity,
         #[serde(default = "default_scale")]
         scale: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        components: Option<String>,
     },
 }
 
@@ -650,34 +843,105 @@ enum QuantityDef {
 #[serde(deny_unknown_fields)]
 pub enum Load {
     /// A force at a point of a block (moving with it): constant `force`, or a
-    /// `history` of (t, fx, fy) samples, linear in between.
+    /// `history` of (t, fx, fy) samples ((t, fx, fy, fz) in 3D), linear in
+    /// between.
     PointLoad {
         block: usize,
-        point: [f64; 2],
-        #[serde(default)]
-        force: Option<[f64; 2]>,
-        #[serde(default)]
-        history: Option<Vec<[f64; 3]>>,
+        point: Coords,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        force: Option<Coords>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        history: Option<Vec<Coords>>,
     },
 }
 
 /// A point of a block held by a penalty spring at `point + velocity·t`: in
 /// place when `velocity` is zero (the default), driven otherwise. With an
 /// `axis` only the motion along it is held (a roller); it need not be a unit
-/// vector.
+/// vector. Points, velocities and axes have one number per dimension; a
+/// velocity left out is zero.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FixedPointSpec {
     pub block: usize,
-    pub point: [f64; 2],
-    #[serde(default)]
-    pub velocity: [f64; 2],
+    pub point: Coords,
+    #[serde(default, skip_serializing_if = "Coords::is_empty")]
+    pub velocity: Coords,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axis: Option<[f64; 2]>,
+    pub axis: Option<Coords>,
 }
 
-/// Only the dimension, read first so a 3D scene gets a clear answer instead
-/// of a complaint about its first 3D-only field.
+/// Numbers written as a tuple, like `(0.0, -9.81)` or `(1.0, 2.0, 3.0)`: a
+/// point or vector with one number per dimension of the scene (a load
+/// history's samples have the time first). The count is checked against
+/// the scene's dimension by [`Scene::validate`], with the place named.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Coords(pub Vec<f64>);
+
+impl Coords {
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    pub fn as_slice(&self) -> &[f64] {
+        &self.0
+    }
+
+    /// The `k`th number, 0 beyond the end (so an omitted velocity is zero).
+    pub fn get(&self, k: usize) -> f64 {
+        self.0.get(k).copied().unwrap_or(0.0)
+    }
+}
+
+impl<const N: usize> From<[f64; N]> for Coords {
+    fn from(v: [f64; N]) -> Self {
+        Coords(v.to_vec())
+    }
+}
+
+impl Serialize for Coords {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeTuple;
+        let mut t = s.serialize_tuple(self.0.len())?;
+        for v in &self.0 {
+            t.serialize_element(v)?;
+        }
+        t.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for Coords {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Numbers;
+        impl<'de> serde::de::Visitor<'de> for Numbers {
+            type Value = Coords;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a tuple of numbers, like (0.0, -9.81) or (1.0, 2.0, 3.0)")
+            }
+
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Coords, A::Error> {
+                let mut out = Vec::new();
+                while let Some(v) = seq.next_element::<f64>()? {
+                    out.push(v);
+                }
+                Ok(Coords(out))
+            }
+        }
+        // RON takes the tuple's length from the text.
+        d.deserialize_tuple(3, Numbers)
+    }
+}
+
+/// Only the dimension, read first so a scene of another dimension gets a
+/// clear answer instead of a complaint about its first field.
 #[derive(Deserialize)]
 #[serde(rename = "Scene")]
 struct DimensionOnly {
@@ -715,13 +979,10 @@ impl Scene {
             dir,
         };
         if let Ok(d) = ron_options().from_str::<DimensionOnly>(text) {
-            if d.dimension != 2 {
+            if !(2..=3).contains(&d.dimension) {
                 return Err(source.invalid(
                     &validate::Place::root().field("dimension"),
-                    format!(
-                        "3D scenes are not supported yet (dimension: {}); only dimension: 2 can be run for now",
-                        d.dimension
-                    ),
+                    validate::dimension_message(d.dimension),
                 ));
             }
         }
@@ -738,6 +999,24 @@ impl Scene {
         &self.source.origin
     }
 
+    /// Renames where the scene came from, for a scene made from another one
+    /// (files it names stay relative to the original's folder); its text is
+    /// forgotten, so errors are no longer located by line.
+    pub(crate) fn derive_origin(&mut self, origin: String) {
+        self.source.origin = origin;
+        self.source.text.clear();
+    }
+
+    /// The scene as RON text that [`Scene::from_str`] reads back (comments
+    /// are not kept).
+    pub fn to_ron(&self) -> String {
+        let config = ron::ser::PrettyConfig::new()
+            .struct_names(true)
+            .depth_limit(4)
+            .extensions(ron::extensions::Extensions::IMPLICIT_SOME);
+        ron::ser::to_string_pretty(self, config).expect("a scene is always serialisable")
+    }
+
     /// Where a file named in the scene is: relative paths are taken from
     /// the scene file's folder (the current one for [`Scene::from_str`]).
     pub fn resolve(&self, path: impl AsRef<Path>) -> PathBuf {
@@ -748,9 +1027,9 @@ impl Scene {
         }
     }
 
-    /// The blocks with generators expanded in place: what block indices in
-    /// the scene (loads, fixed points, joint sets, ground motion) and in the
-    /// outputs count.
+    /// The blocks of a 2D scene with generators expanded in place: what
+    /// block indices in the scene (loads, fixed points, joint sets, ground
+    /// motion) and in the outputs count. 3D entries are left out.
     pub fn expanded_blocks(&self) -> Vec<SceneBlock> {
         self.blocks
             .iter()
@@ -759,9 +1038,33 @@ impl Scene {
             .collect()
     }
 
+    /// The blocks of a 3D scene, one per entry, as corners and faces. 2D
+    /// entries are left out.
+    pub fn expanded_blocks_3d(&self) -> Vec<SceneBlock3> {
+        self.blocks
+            .iter()
+            .enumerate()
+            .flat_map(|(k, spec)| spec.expand_3d(k))
+            .collect()
+    }
+
     /// How many blocks the scene has, generators expanded.
     pub fn block_count(&self) -> usize {
-        self.expanded_blocks().len()
+        if self.dimension == 3 {
+            self.expanded_blocks_3d().len()
+        } else {
+            self.expanded_blocks().len()
+        }
+    }
+
+    /// Gravity as written, or the default: (0, −9.81) in 2D, (0, 0, −9.81)
+    /// in 3D.
+    pub fn gravity(&self) -> Vec<f64> {
+        match &self.analysis.gravity {
+            Some(g) => g.0.clone(),
+            None if self.dimension == 3 => vec![0.0, 0.0, -9.81],
+            None => vec![0.0, -9.81],
+        }
     }
 
     /// Index of the block's material, if it names one that exists (or the

@@ -1,17 +1,53 @@
-//! Ground-motion records: reading `time, ax, ay` CSV files.
+//! Ground-motion records: reading `time, ax, ay` (2D) or `time, ax, ay, az`
+//! (3D) CSV files.
 
 use std::path::Path;
 
-/// One line of a record, 1-based, and its sample (time, x, y).
-pub(crate) type Sample = (usize, f64, [f64; 2]);
+/// One line of a record, 1-based, and its sample (time, values as written).
+pub(crate) type Sample = (usize, f64, Vec<f64>);
+
+/// The value columns a record's rows have after the time.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Layout {
+    /// Their names, like `["ax", "ay"]`.
+    pub names: Vec<String>,
+    /// One more column is accepted if it is zero throughout (az in a 2D
+    /// scene's default layout).
+    pub zero_extra: bool,
+}
+
+impl Layout {
+    /// The default layout of a scene's dimension: every axis.
+    pub fn full(dimension: u32) -> Self {
+        let axes = if dimension == 3 { "xyz" } else { "xy" };
+        Self {
+            names: axes.chars().map(|c| format!("a{c}")).collect(),
+            zero_extra: dimension == 2,
+        }
+    }
+
+    /// The layout of the listed axes, like "xz".
+    pub fn of(components: &str) -> Self {
+        Self {
+            names: components.chars().map(|c| format!("a{c}")).collect(),
+            zero_extra: false,
+        }
+    }
+
+    /// What a row is, like "`time, ax, ay`".
+    pub fn row(&self) -> String {
+        format!("`time, {}`", self.names.join(", "))
+    }
+}
 
 /// The samples of a record file, each with its line, as written (not
 /// scaled). Blank lines and lines starting with `#` are skipped, and so is a
 /// first line that does not start with a number (a header). Fields are
-/// separated by commas, or by spaces when a line has no comma. A fourth
-/// column (az) must be zero throughout. Errors name the file and line and
-/// say what to change.
-pub(crate) fn read_record(path: &Path) -> Result<Vec<Sample>, String> {
+/// separated by commas, or by spaces when a line has no comma. Errors name
+/// the file and line and say what to change.
+pub(crate) fn read_record(path: &Path, layout: &Layout) -> Result<Vec<Sample>, String> {
+    let row = layout.row();
+    let width = 1 + layout.names.len();
     let file = path.display();
     let text = std::fs::read_to_string(path).map_err(|e| {
         format!("cannot read the record file {file}: {e}; check the path (relative to the scene file's folder)")
@@ -40,12 +76,13 @@ pub(crate) fn read_record(path: &Path) -> Result<Vec<Sample>, String> {
             .collect::<Result<_, _>>()
             .map_err(|_| {
                 format!(
-                    "{file}:{line}: {content:?} is not a row of numbers `time, ax, ay`; correct the line or comment it out with #"
+                    "{file}:{line}: {content:?} is not a row of numbers {row}; correct the line or comment it out with #"
                 )
             })?;
-        if !(3..=4).contains(&numbers.len()) {
+        let extra = usize::from(layout.zero_extra);
+        if !(width..=width + extra).contains(&numbers.len()) {
             return Err(format!(
-                "{file}:{line}: {content:?} has {} columns; a row is `time, ax, ay`",
+                "{file}:{line}: {content:?} has {} columns; a row is {row}",
                 numbers.len()
             ));
         }
@@ -54,7 +91,7 @@ pub(crate) fn read_record(path: &Path) -> Result<Vec<Sample>, String> {
                 "{file}:{line}: {v} is not a finite number; write finite values"
             ));
         }
-        if let Some(&z) = numbers.get(3) {
+        if let Some(&z) = numbers.get(width).filter(|_| layout.zero_extra) {
             if z != 0.0 {
                 return Err(format!(
                     "{file}:{line}: the third component is {z}: a 3D record in a 2D scene; give `time, ax, ay` (a third column is accepted only if it is zero throughout)"
@@ -69,10 +106,10 @@ pub(crate) fn read_record(path: &Path) -> Result<Vec<Sample>, String> {
                 ));
             }
         }
-        samples.push((line, t, [numbers[1], numbers[2]]));
+        samples.push((line, t, numbers[1..width].to_vec()));
     }
     if samples.is_empty() {
-        return Err(format!("{file} has no samples; give rows `time, ax, ay`"));
+        return Err(format!("{file} has no samples; give rows {row}"));
     }
     Ok(samples)
 }
@@ -82,10 +119,14 @@ mod tests {
     use super::*;
 
     fn read(name: &str, text: &str) -> Result<Vec<Sample>, String> {
+        read_as(name, text, &Layout::full(2))
+    }
+
+    fn read_as(name: &str, text: &str, layout: &Layout) -> Result<Vec<Sample>, String> {
         let path =
             std::env::temp_dir().join(format!("dda-record-{}-{name}.csv", std::process::id()));
         std::fs::write(&path, text).unwrap();
-        let result = read_record(&path);
+        let result = read_record(&path, layout);
         let _ = std::fs::remove_file(&path);
         result
     }
@@ -100,11 +141,33 @@ mod tests {
         assert_eq!(
             samples,
             [
-                (4, 0.0, [1.0, 2.0]),
-                (5, 0.5, [3.0, 4.0]),
-                (6, 1.0, [5.0, 6.0])
+                (4, 0.0, vec![1.0, 2.0]),
+                (5, 0.5, vec![3.0, 4.0]),
+                (6, 1.0, vec![5.0, 6.0])
             ]
         );
+    }
+
+    #[test]
+    fn three_and_partial_layouts() {
+        let samples = read_as(
+            "xyz",
+            "t, ax, ay, az\n0.0, 1.0, 2.0, 3.0\n",
+            &Layout::full(3),
+        )
+        .unwrap();
+        assert_eq!(samples, [(2, 0.0, vec![1.0, 2.0, 3.0])]);
+        let e = read_as("xy-in-3d", "0.0, 1.0, 2.0\n", &Layout::full(3)).unwrap_err();
+        assert!(
+            e.contains("has 3 columns; a row is `time, ax, ay, az`"),
+            "{e}"
+        );
+        let e = read_as("xyzw", "0.0, 1.0, 2.0, 0.0, 0.0\n", &Layout::full(3)).unwrap_err();
+        assert!(e.contains("has 5 columns"), "{e}");
+        let samples = read_as("xz", "0.0, 1.0, 2.0\n", &Layout::of("xz")).unwrap();
+        assert_eq!(samples, [(1, 0.0, vec![1.0, 2.0])]);
+        let e = read_as("xz4", "0.0, 1.0, 2.0, 0.0\n", &Layout::of("xz")).unwrap_err();
+        assert!(e.contains("a row is `time, ax, az`"), "{e}");
     }
 
     #[test]

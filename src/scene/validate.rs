@@ -5,15 +5,16 @@ use std::fmt;
 use std::sync::Arc;
 
 use dda_2d::polygon::{self, PolygonError};
+use dda_3d::polyhedron::{self as polyhedra, Polyhedron, PolyhedronError};
 use dda_core::{GroundMotion, Record};
-use nalgebra::{Point2, Vector2};
+use nalgebra::{Point2, Point3, SVector};
 
 use super::generate::{self, MAX_PARTS};
-use super::locate::Seg;
-use super::motion::read_record;
+use super::locate::{locate_exact, Seg};
+use super::motion::{read_record, Layout};
 use super::{
-    BlockSpec, GroundMotionSpec, JointLaw, Load, MotionSpec, Scene, SceneBlock, SceneError,
-    Weakening,
+    BlockSpec, Coords, GroundMotionSpec, JointLaw, Load, MotionSpec, Scene, SceneBlock,
+    SceneBlock3, SceneError, Weakening,
 };
 
 /// A path into the scene, like `blocks[2].vertices[1]`.
@@ -27,6 +28,8 @@ enum Part {
     Key(String),
     /// Which block of a generator; shown, not located.
     Label(String),
+    /// Located, not shown: `blocks[3]` pointing at its face 2.
+    Hidden(Box<Part>),
 }
 
 impl Place {
@@ -57,12 +60,25 @@ impl Place {
         self.with(Part::Label(label.to_string()))
     }
 
+    /// `field[k]` inside this place, used for the line and column only:
+    /// the place still reads as this one.
+    pub fn pointing_at(&self, field: &str, k: usize) -> Self {
+        self.with(Part::Hidden(Box::new(Part::Field(field.to_string()))))
+            .with(Part::Hidden(Box::new(Part::Index(k))))
+    }
+
     pub fn segs(&self) -> impl Iterator<Item = Seg<'_>> {
-        self.0.iter().filter_map(|p| match p {
-            Part::Field(f) => Some(Seg::Field(f)),
-            Part::Index(k) => Some(Seg::Index(*k)),
-            Part::Key(k) => Some(Seg::Key(k)),
-            Part::Label(_) => None,
+        self.0.iter().filter_map(|p| {
+            let p = match p {
+                Part::Hidden(inner) => inner,
+                p => p,
+            };
+            match p {
+                Part::Field(f) => Some(Seg::Field(f)),
+                Part::Index(k) => Some(Seg::Index(*k)),
+                Part::Key(k) => Some(Seg::Key(k)),
+                Part::Label(_) | Part::Hidden(_) => None,
+            }
         })
     }
 }
@@ -76,6 +92,7 @@ impl fmt::Display for Place {
                 Part::Index(k) => write!(f, "[{k}]")?,
                 Part::Key(k) => write!(f, "[{k:?}]")?,
                 Part::Label(label) => write!(f, " ({label})")?,
+                Part::Hidden(_) => {}
             }
         }
         Ok(())
@@ -84,18 +101,53 @@ impl fmt::Display for Place {
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
 
+/// What the checks of joints, loads and the ground motion need to know of a
+/// block, in either dimension.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Slot {
+    pub entry: usize,
+    pub part: Option<String>,
+    pub fixed: bool,
+}
+
+impl From<&SceneBlock> for Slot {
+    fn from(b: &SceneBlock) -> Self {
+        Slot {
+            entry: b.entry,
+            part: b.part.clone(),
+            fixed: b.fixed,
+        }
+    }
+}
+
+impl From<&SceneBlock3> for Slot {
+    fn from(b: &SceneBlock3) -> Self {
+        Slot {
+            entry: b.entry,
+            part: b.part.clone(),
+            fixed: b.fixed,
+        }
+    }
+}
+
+/// Why a dimension is refused.
+pub(super) fn dimension_message(dimension: u32) -> String {
+    format!(
+        "dimension must be 2 (polygons in the xy plane) or 3 (polyhedra, z up), got {dimension}"
+    )
+}
+
+/// "(x, y)" or "(x, y, z)".
+fn tuple_of(names: &[&str]) -> String {
+    format!("({})", names.join(", "))
+}
+
 impl Scene {
     /// Checks the whole scene; the first problem found is returned.
     pub fn validate(&self) -> Result {
         let root = Place::root();
-        if self.dimension != 2 {
-            return Err(self.error(
-                &root.field("dimension"),
-                format!(
-                    "3D scenes are not supported yet (dimension: {}); only dimension: 2 can be run for now",
-                    self.dimension
-                ),
-            ));
+        if !(2..=3).contains(&self.dimension) {
+            return Err(self.error(&root.field("dimension"), dimension_message(self.dimension)));
         }
         self.check_analysis()?;
         let interval = self.output.interval;
@@ -108,11 +160,67 @@ impl Scene {
             ));
         }
         self.check_materials()?;
-        let blocks = self.check_blocks()?;
+        let blocks: Vec<Slot> = if self.dimension == 3 {
+            self.check_blocks_3d()?.iter().map(Slot::from).collect()
+        } else {
+            self.check_blocks()?.iter().map(Slot::from).collect()
+        };
         self.check_joints(&blocks)?;
         self.check_loads(&blocks)?;
-        self.ground_motion(&blocks)?;
+        if self.dimension == 3 {
+            self.ground_motion::<3>(&blocks)?;
+        } else {
+            self.ground_motion::<2>(&blocks)?;
+        }
         Ok(())
+    }
+
+    /// Whether the text the scene was read from writes a value at `place`.
+    fn written(&self, place: &Place) -> bool {
+        let segs: Vec<Seg<'_>> = place.segs().collect();
+        locate_exact(&self.source.text, &segs).is_some()
+    }
+
+    /// The names of a point's coordinates in this scene's dimension.
+    fn axes(&self) -> &'static [&'static str] {
+        if self.dimension == 3 {
+            &["x", "y", "z"]
+        } else {
+            &["x", "y"]
+        }
+    }
+
+    /// Checks that `c` has one finite number per name (`names` like
+    /// `["fx", "fy"]`), saying what to write when the count is off.
+    fn coords(&self, at: &Place, what: &str, c: &Coords, names: &[&str]) -> Result {
+        if c.len() != names.len() {
+            let d = self.dimension;
+            let other = if d == 3 {
+                ""
+            } else {
+                " (or add dimension: 3 at the top for a 3D scene)"
+            };
+            return Err(self.error(
+                at,
+                format!(
+                    "{what} has {} numbers, but this is a {d}D scene: write {}{other}",
+                    c.len(),
+                    tuple_of(names)
+                ),
+            ));
+        }
+        self.finite_all(at, what, c.as_slice())
+    }
+
+    /// Names like "fx", "fy"(, "fz") for this scene's dimension.
+    fn names(&self, prefix: &str) -> Vec<String> {
+        self.axes().iter().map(|a| format!("{prefix}{a}")).collect()
+    }
+
+    fn vector(&self, at: &Place, what: &str, c: &Coords, prefix: &str) -> Result {
+        let names = self.names(prefix);
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        self.coords(at, what, c, &names)
     }
 
     pub(super) fn error(&self, place: &Place, message: impl Into<String>) -> SceneError {
@@ -228,7 +336,15 @@ impl Scene {
         if let Some(p) = a.fixed_penalty {
             self.positive(&at("fixed_penalty"), "the fixed-point penalty", p, auto)?;
         }
-        self.finite_all(&at("gravity"), "gravity", &a.gravity)?;
+        if let Some(g) = &a.gravity {
+            self.vector(&at("gravity"), "gravity", g, "g")?;
+        }
+        if self.dimension == 3 && self.written(&at("plane")) {
+            return Err(self.error(
+                &at("plane"),
+                "plane (plane strain or plane stress) is for 2D scenes; a 3D scene has no plane: remove it",
+            ));
+        }
         if let Some(d) = &a.damping {
             let at = at("damping");
             self.non_negative(
@@ -464,7 +580,7 @@ impl Scene {
         })
     }
 
-    fn check_joints(&self, blocks: &[SceneBlock]) -> Result {
+    fn check_joints(&self, blocks: &[Slot]) -> Result {
         self.check_law(&Place::root().field("default_joint"), &self.default_joint)?;
         let mut pairs: Vec<(usize, usize)> = Vec::new();
         let mut block_pairs: Vec<((usize, usize), usize)> = Vec::new();
@@ -580,6 +696,20 @@ impl Scene {
         let mut blocks = Vec::new();
         let mut outlines = Vec::new();
         for (k, spec) in self.blocks.iter().enumerate() {
+            if spec.dimension() == 3 {
+                let d = if self.written(&Place::root().field("dimension")) {
+                    "dimension: 2"
+                } else {
+                    "dimension: 2, the default"
+                };
+                return Err(self.error(
+                    &Place::root().field("blocks").index(k),
+                    format!(
+                        "{} is a 3D block, but this is a 2D scene ({d}); add dimension: 3 at the top for a 3D scene, or use Polygon or Rectangle",
+                        spec.kind()
+                    ),
+                ));
+            }
             self.check_block(k, spec)?;
             for block in spec.expand(k) {
                 let points = to_points(&block.vertices);
@@ -605,31 +735,26 @@ impl Scene {
 
     /// `blocks[k]`, with the part for a generated block.
     pub(super) fn block_place(&self, block: &SceneBlock) -> Place {
-        let at = Place::root().field("blocks").index(block.entry);
-        match &block.part {
-            Some(part) => at.label(part),
-            None => at,
-        }
+        place_of(block.entry, block.part.as_deref())
     }
 
     /// "block 7", and which entry makes it when that is not plain.
-    fn block_name(&self, index: usize, blocks: &[SceneBlock]) -> String {
+    fn block_name(&self, index: usize, blocks: &[Slot]) -> String {
         match blocks.get(index) {
-            Some(SceneBlock {
+            Some(Slot {
                 entry,
                 part: Some(part),
                 ..
             }) => format!("block {index} (blocks[{entry}], {part})"),
-            Some(SceneBlock { entry, .. }) if *entry != index => {
+            Some(Slot { entry, .. }) if *entry != index => {
                 format!("block {index} (blocks[{entry}])")
             }
             _ => format!("block {index}"),
         }
     }
 
-    /// The entry's own values: material, sizes, counts, initial state.
-    fn check_block(&self, k: usize, block: &BlockSpec) -> Result {
-        let at = Place::root().field("blocks").index(k);
+    /// The entry names an existing material, or the scene has only one.
+    fn check_block_material(&self, at: &Place, block: &BlockSpec) -> Result {
         match block.material() {
             Some(name) => {
                 self.find_material(&at.field("material"), name)?;
@@ -637,7 +762,7 @@ impl Scene {
             None if self.materials.len() == 1 => {}
             None => {
                 return Err(self.error(
-                    &at,
+                    at,
                     format!(
                         "the block names no material; add material: with one of {}",
                         self.material_names()
@@ -645,6 +770,160 @@ impl Scene {
                 ))
             }
         }
+        Ok(())
+    }
+
+    /// Checks every entry of a 3D scene and the polyhedra they make;
+    /// returns them.
+    fn check_blocks_3d(&self) -> Result<Vec<SceneBlock3>> {
+        let root = Place::root().field("blocks");
+        if self.blocks.is_empty() {
+            return Err(self.error(
+                &root,
+                "the scene has no blocks; add at least one, like Box(center: (0.0, 0.0, 0.5), size: (1.0, 1.0, 1.0))",
+            ));
+        }
+        let mut blocks = Vec::new();
+        let mut shapes = Vec::new();
+        for (k, spec) in self.blocks.iter().enumerate() {
+            let at = root.index(k);
+            if spec.dimension() == 2 {
+                return Err(self.error(
+                    &at,
+                    format!(
+                        "{} is a 2D block, but this is a 3D scene (dimension: 3); use Polyhedron, Box or Prism (`dda extrude` turns a 2D scene into prisms)",
+                        spec.kind()
+                    ),
+                ));
+            }
+            self.check_block_3d(&at, spec)?;
+            for block in spec.expand_3d(k) {
+                let shape = self.check_polyhedron(&at, &block)?;
+                shapes.push(shape);
+                blocks.push(block);
+            }
+        }
+        self.check_overlaps_3d(&blocks, &shapes)?;
+        Ok(blocks)
+    }
+
+    /// A 3D entry's own values: material, sizes, initial state.
+    fn check_block_3d(&self, at: &Place, block: &BlockSpec) -> Result {
+        self.check_block_material(at, block)?;
+        match block {
+            BlockSpec::Polyhedron {
+                vertices, faces, ..
+            } => {
+                for (i, v) in vertices.iter().enumerate() {
+                    self.finite_all(&at.field("vertices").index(i), &format!("vertex {i}"), v)?;
+                }
+                if faces.is_empty() {
+                    return Err(self.error(
+                        &at.field("faces"),
+                        "the polyhedron has no faces; list each face's corners counter-clockwise seen from outside, like [0, 3, 2, 1]",
+                    ));
+                }
+            }
+            BlockSpec::Box {
+                center,
+                size,
+                rotation,
+                ..
+            } => {
+                self.finite_all(&at.field("center"), "the center", center)?;
+                for (axis, s) in ["x", "y", "z"].iter().zip(size) {
+                    self.positive(
+                        &at.field("size"),
+                        &format!("the size along its own {axis}"),
+                        *s,
+                        "give the box's edge lengths (a, b, c) in m",
+                    )?;
+                }
+                self.finite_all(&at.field("rotation"), "the rotation", rotation)?;
+            }
+            BlockSpec::Prism {
+                outline, z0, z1, ..
+            } => {
+                for (i, v) in outline.iter().enumerate() {
+                    self.finite_all(
+                        &at.field("outline").index(i),
+                        &format!("outline point {i}"),
+                        v,
+                    )?;
+                }
+                let points = to_points(outline);
+                polygon::validate(&points)
+                    .map_err(|e| self.error(&at.field("outline"), polygon_message(&e)))?;
+                self.finite(&at.field("z0"), "z0", *z0)?;
+                self.finite(&at.field("z1"), "z1", *z1)?;
+                if z1 <= z0 {
+                    return Err(self.error(
+                        &at.field("z1"),
+                        format!("the prism's top z1 = {z1} must lie above its bottom z0 = {z0}"),
+                    ));
+                }
+            }
+            _ => {}
+        }
+        self.finite_all(
+            &at.field("velocity"),
+            "the initial velocity",
+            block.velocity(),
+        )?;
+        self.finite_all(&at.field("stress"), "the initial stress", block.stress())
+    }
+
+    /// Validates a 3D block's surface; errors name the face or corner.
+    fn check_polyhedron(&self, at: &Place, block: &SceneBlock3) -> Result<Polyhedron> {
+        let points: Vec<Point3<f64>> = block.vertices.iter().map(|v| Point3::from(*v)).collect();
+        let shape = polyhedra::validate(&points, &block.faces).map_err(|e| {
+            let (place, message) = polyhedron_message(at, &e);
+            self.error(&place, message)
+        })?;
+        // The checks accept a surface listed inside out; a scene does not,
+        // so a face order mistake is caught here rather than silently fixed.
+        if signed_volume(&points, &block.faces) < 0.0 {
+            return Err(self.error(
+                &at.field("faces"),
+                "the faces are listed clockwise seen from outside (the surface faces inward); reverse the order of every face's corners",
+            ));
+        }
+        Ok(shape)
+    }
+
+    /// Blocks may touch at the start but not overlap (beyond 1e-6 of the model size).
+    fn check_overlaps_3d(&self, blocks: &[SceneBlock3], shapes: &[Polyhedron]) -> Result {
+        let bounds: Vec<(Point3<f64>, Point3<f64>)> = shapes.iter().map(|s| s.bounds()).collect();
+        let lo = bounds.iter().fold(bounds[0].0, |a, b| a.inf(&b.0));
+        let hi = bounds.iter().fold(bounds[0].1, |a, b| a.sup(&b.1));
+        let tol = 1e-6 * (hi - lo).norm();
+        let mut order: Vec<usize> = (0..shapes.len()).collect();
+        order.sort_by(|&a, &b| bounds[a].0.x.total_cmp(&bounds[b].0.x));
+        for (n, &i) in order.iter().enumerate() {
+            for &j in &order[n + 1..] {
+                if bounds[j].0.x > bounds[i].1.x + tol {
+                    break;
+                }
+                if polyhedra::overlap(&shapes[i], &shapes[j], tol) {
+                    let (a, b) = (i.min(j), i.max(j));
+                    let place = |k: usize| place_of(blocks[k].entry, blocks[k].part.as_deref());
+                    return Err(self.error(
+                        &place(b),
+                        format!(
+                            "the block overlaps {} at the start; move or resize one of them so they touch at most",
+                            place(a)
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The entry's own values: material, sizes, counts, initial state.
+    fn check_block(&self, k: usize, block: &BlockSpec) -> Result {
+        let at = Place::root().field("blocks").index(k);
+        self.check_block_material(&at, block)?;
         match block {
             BlockSpec::Polygon { vertices, .. } => {
                 for (i, v) in vertices.iter().enumerate() {
@@ -745,13 +1024,14 @@ impl Scene {
                     ));
                 }
             }
+            BlockSpec::Polyhedron { .. } | BlockSpec::Box { .. } | BlockSpec::Prism { .. } => {}
         }
         self.finite_all(
             &at.field("velocity"),
             "the initial velocity",
-            &block.velocity(),
+            block.velocity(),
         )?;
-        self.finite_all(&at.field("stress"), "the initial stress", &block.stress())
+        self.finite_all(&at.field("stress"), "the initial stress", block.stress())
     }
 
     /// A number of generated blocks: at least `min`, at most [`MAX_PARTS`].
@@ -870,7 +1150,10 @@ impl Scene {
         Ok(())
     }
 
-    fn check_loads(&self, blocks: &[SceneBlock]) -> Result {
+    fn check_loads(&self, blocks: &[Slot]) -> Result {
+        let forces = self.names("f");
+        let sample = format!("(t, {})", forces.join(", "));
+        let forces = format!("({})", forces.join(", "));
         for (k, load) in self.loads.iter().enumerate() {
             let at = Place::root().field("loads").index(k);
             match load {
@@ -881,14 +1164,14 @@ impl Scene {
                     history,
                 } => {
                     self.check_block_index(&at.field("block"), *block, blocks)?;
-                    self.finite_all(&at.field("point"), "the load point", point)?;
+                    self.vector(&at.field("point"), "the load point", point, "")?;
                     match (force, history) {
-                        (Some(f), None) => self.finite_all(&at.field("force"), "the force", f)?,
+                        (Some(f), None) => self.vector(&at.field("force"), "the force", f, "f")?,
                         (None, Some(h)) => self.check_history(&at.field("history"), h)?,
                         _ => {
                             return Err(self.error(
                                 &at,
-                                "give either force: (fx, fy) or history: [(t, fx, fy), ...], not both or neither",
+                                format!("give either force: {forces} or history: [{sample}, ...], not both or neither"),
                             ))
                         }
                     }
@@ -898,17 +1181,30 @@ impl Scene {
         for (k, fp) in self.fixed_points.iter().enumerate() {
             let at = Place::root().field("fixed_points").index(k);
             self.check_block_index(&at.field("block"), fp.block, blocks)?;
-            self.finite_all(&at.field("point"), "the fixed point", &fp.point)?;
-            self.finite_all(&at.field("velocity"), "the velocity", &fp.velocity)?;
-            if let Some(axis) = fp.axis {
+            self.vector(&at.field("point"), "the fixed point", &fp.point, "")?;
+            if !fp.velocity.is_empty() {
+                self.vector(&at.field("velocity"), "the velocity", &fp.velocity, "v")?;
+            }
+            if let Some(axis) = &fp.axis {
                 let at = at.field("axis");
-                self.finite_all(&at, "the axis", &axis)?;
-                if unit_axis(axis).is_none() {
+                self.vector(&at, "the axis", axis, "")?;
+                let has_direction = if self.dimension == 3 {
+                    unit_axis::<3>(axis.as_slice()).is_some()
+                } else {
+                    unit_axis::<2>(axis.as_slice()).is_some()
+                };
+                if !has_direction {
+                    let (example, all) = if self.dimension == 3 {
+                        ("(0.0, 1.0, 0.0)", "all three")
+                    } else {
+                        ("(1.0, 0.0)", "both")
+                    };
+                    let shown: Vec<String> = axis.as_slice().iter().map(f64::to_string).collect();
                     return Err(self.error(
                         &at,
                         format!(
-                            "the axis ({}, {}) has no direction; give the direction to hold, like (1.0, 0.0), or leave axis out to hold both",
-                            axis[0], axis[1]
+                            "the axis ({}) has no direction; give the direction to hold, like {example}, or leave axis out to hold {all}",
+                            shown.join(", ")
                         ),
                     ));
                 }
@@ -917,7 +1213,7 @@ impl Scene {
         Ok(())
     }
 
-    fn check_block_index(&self, at: &Place, block: usize, blocks: &[SceneBlock]) -> Result {
+    fn check_block_index(&self, at: &Place, block: usize, blocks: &[Slot]) -> Result {
         let n = blocks.len();
         if block < n {
             return Ok(());
@@ -938,10 +1234,10 @@ impl Scene {
 
     /// Checks the ground motion (reading its record, if any) and returns it
     /// with the blocks it drives.
-    pub(super) fn ground_motion(
+    pub(super) fn ground_motion<const D: usize>(
         &self,
-        blocks: &[SceneBlock],
-    ) -> Result<Option<(Vec<usize>, Arc<GroundMotion<2>>)>> {
+        blocks: &[Slot],
+    ) -> Result<Option<(Vec<usize>, Arc<GroundMotion<D>>)>> {
         let Some(GroundMotionSpec {
             blocks: driven,
             motion,
@@ -987,14 +1283,14 @@ impl Scene {
             }
         }
         let at = root.field("motion");
-        let amplitude = |a: &[f64; 2]| Vector2::from(*a);
+        let amplitude = |a: &Coords| SVector::<f64, D>::from_fn(|k, _| a.get(k));
         let motion = match motion {
             MotionSpec::Sine {
                 amplitude: a,
                 frequency,
                 duration,
             } => {
-                self.finite_all(&at.field("amplitude"), "the amplitude", a)?;
+                self.vector(&at.field("amplitude"), "the amplitude", a, "a")?;
                 self.positive(
                     &at.field("frequency"),
                     "the frequency",
@@ -1017,7 +1313,7 @@ impl Scene {
                 amplitude: a,
                 period,
             } => {
-                self.finite_all(&at.field("amplitude"), "the amplitude", a)?;
+                self.vector(&at.field("amplitude"), "the amplitude", a, "a")?;
                 self.positive(
                     &at.field("period"),
                     "the period",
@@ -1033,16 +1329,50 @@ impl Scene {
                 path,
                 quantity,
                 scale,
+                components,
             } => {
                 self.finite(&at.field("scale"), "the scale", *scale)?;
+                let axes = if D == 3 { "xyz" } else { "xy" };
+                let layout = match components {
+                    None => Layout::full(D as u32),
+                    Some(c) => {
+                        let mut seen = String::new();
+                        for ch in c.chars() {
+                            if !axes.contains(ch) || seen.contains(ch) {
+                                return Err(self.error(
+                                    &at.field("components"),
+                                    format!(
+                                        "components {c:?} must name axes of this {D}D scene ({axes}), each once, in the order of the record's columns, like {:?}",
+                                        if D == 3 { "xz" } else { "x" }
+                                    ),
+                                ));
+                            }
+                            seen.push(ch);
+                        }
+                        if seen.is_empty() {
+                            return Err(self.error(
+                                &at.field("components"),
+                                format!("components is empty; name the axes of the record's columns, like {axes:?}, or leave it out for all of them"),
+                            ));
+                        }
+                        Layout::of(c)
+                    }
+                };
                 if path.trim().is_empty() {
                     return Err(self.error(
                         &at.field("path"),
-                        "the record's path is empty; name a CSV file of rows `time, ax, ay`",
+                        format!(
+                            "the record's path is empty; name a CSV file of rows {}",
+                            layout.row()
+                        ),
                     ));
                 }
+                let axis_of: Vec<usize> = match components {
+                    Some(c) => c.chars().filter_map(|ch| axes.find(ch)).collect(),
+                    None => (0..D).collect(),
+                };
                 let file = self.resolve(path);
-                let samples = read_record(&file).map_err(|message| {
+                let samples = read_record(&file, &layout).map_err(|message| {
                     let place = if file.is_file() {
                         at.clone()
                     } else {
@@ -1050,9 +1380,15 @@ impl Scene {
                     };
                     self.error(&place, message)
                 })?;
-                let samples: Vec<(f64, Vector2<f64>)> = samples
+                let samples: Vec<(f64, SVector<f64, D>)> = samples
                     .iter()
-                    .map(|&(_, t, v)| (t, amplitude(&v) * *scale))
+                    .map(|(_, t, v)| {
+                        let mut a = SVector::<f64, D>::zeros();
+                        for (value, &axis) in v.iter().zip(&axis_of) {
+                            a[axis] = value * scale;
+                        }
+                        (*t, a)
+                    })
                     .collect();
                 let record = Record::new(*quantity, &samples)
                     .map_err(|e| self.error(&at, format!("{}: {e}", file.display())))?;
@@ -1062,22 +1398,28 @@ impl Scene {
         Ok(Some((driven.clone(), Arc::new(motion))))
     }
 
-    fn check_history(&self, at: &Place, samples: &[[f64; 3]]) -> Result {
+    fn check_history(&self, at: &Place, samples: &[Coords]) -> Result {
+        let mut names = vec!["t".to_string()];
+        names.extend(self.names("f"));
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         if samples.is_empty() {
             return Err(self.error(
                 at,
-                "the history is empty; give at least one (t, fx, fy) sample",
+                format!(
+                    "the history is empty; give at least one {} sample",
+                    tuple_of(&names)
+                ),
             ));
         }
         for (i, s) in samples.iter().enumerate() {
-            self.finite_all(&at.index(i), "the sample", s)?;
-            if i > 0 && s[0] < samples[i - 1][0] {
+            self.coords(&at.index(i), "the sample", s, &names)?;
+            if i > 0 && s.get(0) < samples[i - 1].get(0) {
                 return Err(self.error(
                     &at.index(i),
                     format!(
                         "the sample's time {} comes before the previous one's ({}); list samples in time order",
-                        s[0],
-                        samples[i - 1][0]
+                        s.get(0),
+                        samples[i - 1].get(0)
                     ),
                 ));
             }
@@ -1086,9 +1428,22 @@ impl Scene {
     }
 }
 
-/// The unit vector along `axis`, if it has a direction.
-pub(super) fn unit_axis(axis: [f64; 2]) -> Option<Vector2<f64>> {
-    let v = Vector2::from(axis);
+/// `blocks[k]`, with the part for a generated block.
+pub(super) fn place_of(entry: usize, part: Option<&str>) -> Place {
+    let at = Place::root().field("blocks").index(entry);
+    match part {
+        Some(part) => at.label(part),
+        None => at,
+    }
+}
+
+/// The unit vector along `axis` (any number of components), if it has a
+/// direction.
+pub(super) fn unit_axis<const D: usize>(axis: &[f64]) -> Option<SVector<f64, D>> {
+    if axis.len() != D {
+        return None;
+    }
+    let v = SVector::<f64, D>::from_column_slice(axis);
     let scale = v.amax();
     if !(scale > 0.0 && scale.is_finite()) {
         return None;
@@ -1096,6 +1451,124 @@ pub(super) fn unit_axis(axis: [f64; 2]) -> Option<Vector2<f64>> {
     // Scaled first so tiny or huge components neither underflow nor overflow.
     let v = v / scale;
     Some(v / v.norm())
+}
+
+/// Signed volume of a closed surface as listed (negative when its faces
+/// are listed clockwise seen from outside).
+fn signed_volume(points: &[Point3<f64>], faces: &[Vec<usize>]) -> f64 {
+    let mut six = 0.0;
+    for f in faces {
+        let p0 = points[f[0]].coords;
+        for w in f[1..].windows(2) {
+            six += p0.dot(&points[w[0]].coords.cross(&points[w[1]].coords));
+        }
+    }
+    six / 6.0
+}
+
+/// Where a polyhedron's error is (the face or corner, for the line and
+/// column) and what it says, with what to do about it.
+fn polyhedron_message(at: &Place, e: &PolyhedronError) -> (Place, String) {
+    use PolyhedronError as E;
+    let face = |f: usize| at.pointing_at("faces", f);
+    let vertex = |v: usize| at.pointing_at("vertices", v);
+    match e {
+        E::TooFewVertices(n) => (
+            at.field("vertices"),
+            format!("a polyhedron needs at least 4 corners, this one has {n}; add corners"),
+        ),
+        E::TooFewFaces(n) => (
+            at.field("faces"),
+            format!("a closed polyhedron needs at least 4 faces, this one has {n}; add the missing faces"),
+        ),
+        E::NotFinite { vertex: v } => (
+            vertex(*v),
+            format!("vertex {v} is not a finite point; write finite coordinates"),
+        ),
+        E::FaceTooSmall { face: f, count } => (
+            face(*f),
+            format!("face {f} has {count} corners; a face needs at least 3"),
+        ),
+        E::IndexOutOfRange {
+            face: f,
+            index,
+            count,
+        } => (
+            face(*f),
+            format!(
+                "face {f} refers to vertex {index}, but there are only {count} vertices (numbered 0 to {}); correct the index",
+                count.saturating_sub(1)
+            ),
+        ),
+        E::RepeatedVertex { face: f, vertex: v } => (
+            face(*f),
+            format!("face {f} visits vertex {v} twice; list each corner once"),
+        ),
+        E::DuplicateFace { first, second } => (
+            face(*second),
+            format!("faces {first} and {second} have the same corners; remove one of them"),
+        ),
+        E::OpenEdge { face: f, a, b } => (
+            face(*f),
+            format!(
+                "face {f}: the surface is open: its edge {a}-{b} belongs to no other face; add the missing faces so every edge is shared by exactly two"
+            ),
+        ),
+        E::NonManifoldEdge { a, b, count } => (
+            at.field("faces"),
+            format!(
+                "the surface is not manifold: edge {a}-{b} belongs to {count} faces, not 2; make blocks that touch along an edge separate blocks"
+            ),
+        ),
+        E::InconsistentOrientation { face: f } => (
+            face(*f),
+            format!(
+                "face {f} is oriented against its neighbours: list its corners counter-clockwise seen from outside (reverse their order)"
+            ),
+        ),
+        E::Disconnected { face: f } => (
+            face(*f),
+            format!(
+                "face {f}: the surface is in several pieces (this face is not connected to face 0); give each piece as a block of its own"
+            ),
+        ),
+        E::UnusedVertex { vertex: v } => (
+            vertex(*v),
+            format!("vertex {v} is used by no face; remove it or add it to its faces"),
+        ),
+        E::NonManifoldVertex { vertex: v } => (
+            vertex(*v),
+            format!(
+                "vertex {v}: the surface is not manifold there (its faces do not form one fan); make blocks that touch at a corner separate blocks"
+            ),
+        ),
+        E::DegenerateFace { face: f } => (
+            face(*f),
+            format!("face {f} has zero area (its corners lie on one line); remove it or correct its corners"),
+        ),
+        E::CoincidentVertices { face: f, a, b } => (
+            face(*f),
+            format!("face {f}: vertices {a} and {b} coincide; merge them into one"),
+        ),
+        E::NonPlanarFace {
+            face: f,
+            vertex: v,
+            distance,
+        } => (
+            face(*f),
+            format!(
+                "face {f} is not planar: vertex {v} is {distance:.3e} off its plane; move the corner onto the plane or split the face into triangles"
+            ),
+        ),
+        E::SelfIntersectingFace { face: f } => (
+            face(*f),
+            format!("face {f} is not a simple polygon (two of its edges cross); reorder its corners around the face"),
+        ),
+        E::ZeroVolume => (
+            at.clone(),
+            "the polyhedron has zero volume (its corners lie in one plane); give corners that enclose a volume".to_string(),
+        ),
+    }
 }
 
 pub(super) fn to_points(v: &[[f64; 2]]) -> Vec<Point2<f64>> {

@@ -1,0 +1,143 @@
+//! What a run needs of a driver, in either dimension: [`Driver2d`] and
+//! [`Driver3d`] both implement [`Simulation`], so `run`, the outputs and
+//! the progress bar are written once.
+
+use dda_2d::Driver2d;
+use dda_3d::Driver3d;
+use dda_core::{ContactState, DdaError, Statistics};
+
+/// One contact at an output time, as `contacts.csv` writes it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactLine {
+    /// Like `1:v0/0:e2` (2D) or `1:v3/0:f1` (3D).
+    pub label: String,
+    pub blocks: [usize; 2],
+    pub state: ContactState,
+    pub normal_force: f64,
+    pub shear_force: f64,
+    pub slip: f64,
+}
+
+/// A driver a scene run can step and record.
+pub trait Simulation {
+    /// 2 or 3.
+    const DIMENSION: u32;
+    /// The header line of its `history.csv`.
+    const HISTORY_HEADER: &'static str;
+
+    fn time(&self) -> f64;
+    /// The nominal time step.
+    fn dt(&self) -> f64;
+    /// The normal penalty now (after any raises).
+    fn penalty(&self) -> f64;
+    fn statistics(&self) -> &Statistics;
+    /// Why automatic values were chosen.
+    fn notes(&self) -> &[String];
+    fn block_count(&self) -> usize;
+    fn advance_to(&mut self, time: f64) -> Result<(), DdaError>;
+    /// One step of at most `dt_limit`.
+    fn step(&mut self, dt_limit: f64) -> Result<(), DdaError>;
+    /// The values of a block's history row after `step,time,block`.
+    fn history_values(&self, block: usize) -> Vec<f64>;
+    /// Whether the block's position and velocity are finite numbers.
+    fn is_finite(&self, block: usize) -> bool;
+    /// The contacts the last step considered, open ones included.
+    fn contact_lines(&self) -> Vec<ContactLine>;
+}
+
+macro_rules! delegate {
+    () => {
+        fn time(&self) -> f64 {
+            dda_core::Driver::time(self)
+        }
+        fn dt(&self) -> f64 {
+            dda_core::Driver::dt(self)
+        }
+        fn penalty(&self) -> f64 {
+            dda_core::Driver::penalty(self)
+        }
+        fn statistics(&self) -> &Statistics {
+            dda_core::Driver::statistics(self)
+        }
+        fn notes(&self) -> &[String] {
+            dda_core::Driver::notes(self)
+        }
+        fn block_count(&self) -> usize {
+            self.system.blocks.len()
+        }
+        fn advance_to(&mut self, time: f64) -> Result<(), DdaError> {
+            dda_core::Driver::advance_to(self, time)
+        }
+        fn step(&mut self, dt_limit: f64) -> Result<(), DdaError> {
+            dda_core::Driver::step(self, dt_limit)
+        }
+        fn is_finite(&self, block: usize) -> bool {
+            let c = self.system.blocks[block].centroid();
+            c.coords.iter().all(|x| x.is_finite())
+                && self.velocities()[block].iter().all(|x| x.is_finite())
+        }
+    };
+}
+
+impl Simulation for Driver2d {
+    const DIMENSION: u32 = 2;
+    const HISTORY_HEADER: &'static str = crate::output::HISTORY_HEADER;
+
+    delegate!();
+
+    /// x, y, rotation, vx, vy, omega, sxx, syy, sxy.
+    fn history_values(&self, block: usize) -> Vec<f64> {
+        let b = &self.system.blocks[block];
+        let v = self.velocities()[block];
+        let (c, s) = (b.centroid(), b.stress);
+        vec![c.x, c.y, b.rotation, v[0], v[1], v[2], s.x, s.y, s.z]
+    }
+
+    fn contact_lines(&self) -> Vec<ContactLine> {
+        self.contacts()
+            .iter()
+            .map(|c| ContactLine {
+                label: dda_2d::contact::contact_label(&c.key),
+                blocks: c.blocks,
+                state: c.record.state,
+                normal_force: c.record.normal_force,
+                shear_force: c.record.shear_force,
+                slip: c.record.slip_path,
+            })
+            .collect()
+    }
+}
+
+impl Simulation for Driver3d {
+    const DIMENSION: u32 = 3;
+    const HISTORY_HEADER: &'static str = crate::output::HISTORY_HEADER_3D;
+
+    delegate!();
+
+    /// x, y, z, rx, ry, rz, vx, vy, vz, wx, wy, wz, sxx, syy, szz, syz,
+    /// szx, sxy.
+    fn history_values(&self, block: usize) -> Vec<f64> {
+        let b = &self.system.blocks[block];
+        let v = self.velocities()[block];
+        let mut row = Vec::with_capacity(18);
+        row.extend(b.centroid().coords.iter());
+        row.extend(b.rotation.iter());
+        row.extend(v.iter().take(6));
+        row.extend(b.stress.iter());
+        row
+    }
+
+    fn contact_lines(&self) -> Vec<ContactLine> {
+        self.contacts()
+            .iter()
+            .map(|c| ContactLine {
+                label: dda_3d::contact_label(&c.key),
+                blocks: c.blocks,
+                state: c.record.state,
+                normal_force: c.record.normal_force,
+                shear_force: c.record.shear_force,
+                slip: c.record.slip_path,
+            })
+            .collect()
+    }
+}
