@@ -223,6 +223,36 @@ impl BlockSystem<6, 1> for Polygons {
         contacts
     }
 
+    fn potential_energy(&self) -> Option<f64> {
+        let driven = self
+            .fixed
+            .iter()
+            .any(|f| f.velocity != Vector2::zeros() || f.ground.is_some());
+        if driven || !self.loads.is_empty() {
+            return None;
+        }
+        let gravity: f64 = self
+            .blocks
+            .iter()
+            .map(|b| -b.mass * self.gravity.dot(&b.centroid().coords))
+            .sum();
+        // ½ S σ·ε, with engineering shear strain.
+        let strain: f64 = self
+            .blocks
+            .iter()
+            .map(|b| 0.5 * b.area() * b.stress.dot(&b.strain))
+            .sum();
+        let springs: f64 = self
+            .fixed
+            .iter()
+            .map(|f| {
+                let gap = f.held() * (f.target - f.point);
+                0.5 * self.fixed_penalty * gap.norm_squared()
+            })
+            .sum();
+        Some(gravity + strain + springs)
+    }
+
     fn max_displacement(&self, d: &[BlockVector<6>]) -> f64 {
         self.blocks
             .iter()

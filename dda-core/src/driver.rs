@@ -42,6 +42,17 @@ pub struct Statistics {
     pub deep_penetration_steps: usize,
     /// The deepest penetration of any accepted step.
     pub deepest_penetration: f64,
+    /// Total energy (kinetic, potential, elastic, contact springs) after
+    /// the last step, when the system can tell it (no work done on it).
+    pub energy: f64,
+    /// The energy in play: the largest kinetic plus spring energy plus the
+    /// potential energy released, seen so far.
+    pub energy_scale: f64,
+    /// The largest rise of the total energy above its lowest value so far,
+    /// counted when above a quarter of the energy in play: a scene that
+    /// should only lose energy gained some.
+    pub energy_growth: f64,
+    pub energy_growth_steps: usize,
     pub wall_time: Duration,
 }
 
@@ -72,6 +83,10 @@ pub struct Driver<S, const N: usize, const T: usize> {
     length_scale: f64,
     stats: Statistics,
     notes: Vec<String>,
+    /// The lowest total energy so far and the first potential energy
+    /// (energy check).
+    energy_floor: Option<f64>,
+    first_potential: Option<f64>,
 }
 
 impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
@@ -136,6 +151,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             length_scale,
             stats: Statistics::default(),
             notes,
+            energy_floor: None,
+            first_potential: None,
         })
     }
 
@@ -525,8 +542,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     }
 
     /// The deepest penetration of the closed contacts at the trial, and the
-    /// deepest among those that started the step shallower than half the
-    /// `limit`.
+    /// deepest among those that started the step within the `limit`.
     fn penetration(&self, trial: &Trial<T>, limit: f64) -> (f64, f64) {
         let mut deepest: f64 = 0.0;
         let mut deepened: f64 = 0.0;
@@ -537,7 +553,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let e = &c.entrances[trial.entrances[i]];
             let gap = e.gap_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
             deepest = deepest.max(-gap);
-            if -e.gap <= limit / 2.0 {
+            if -e.gap <= limit {
                 deepened = deepened.max(-gap);
             }
         }
@@ -545,6 +561,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     }
 
     fn commit(&mut self, trial: Trial<T>, dt: f64) {
+        let mut spring_energy = 0.0;
         for i in 0..self.contacts.len() {
             let c = &self.contacts[i];
             let kin = self.kinematics(i, trial.entrances[i], &trial, dt);
@@ -565,6 +582,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     .shear_stiffness
             } else {
                 0.0
+            };
+            spring_energy += stored(response.normal_force, response.normal_stiffness);
+            spring_energy += match state {
+                ContactState::Locked => stored(response.shear_force, response.shear_stiffness),
+                ContactState::Sliding => stored(response.shear_force, sliding_stiffness),
+                ContactState::Open => 0.0,
             };
             // Mutate after all reads of the old record.
             let c = &mut self.contacts[i];
@@ -606,6 +629,49 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.time += dt;
         self.system.commit(&d, dt, self.time);
         self.stats.steps += 1;
+        self.check_energy(spring_energy);
+    }
+
+    /// Total energy after a step, and whether it rose: with no loads or
+    /// driven supports doing work, Newmark (β = 1/2, γ = 1) and friction
+    /// only dissipate, so a rise means the method misbehaved.
+    fn check_energy(&mut self, spring_energy: f64) {
+        let Some(potential) = self.system.potential_energy() else {
+            return;
+        };
+        let kinetic: f64 = self
+            .velocity
+            .iter()
+            .enumerate()
+            .map(|(i, v)| 0.5 * v.dot(&(self.system.mass(i) * v)))
+            .sum();
+        let total = kinetic + potential + spring_energy;
+        let first_potential = *self.first_potential.get_or_insert(potential);
+        let stats = &mut self.stats;
+        stats.energy = total;
+        // The energy in play: what moves, what the springs hold, and what
+        // gravity has released so far.
+        stats.energy_scale = stats
+            .energy_scale
+            .max(kinetic + spring_energy + (potential - first_potential).abs());
+        let floor = *self.energy_floor.get_or_insert(total);
+        let rise = total - floor;
+        // Contacts changing state exchange small amounts of energy; a rise
+        // beyond a quarter of the energy in play is the method misbehaving.
+        if rise > 0.25 * stats.energy_scale {
+            stats.energy_growth_steps += 1;
+            stats.energy_growth = stats.energy_growth.max(rise);
+        }
+        self.energy_floor = Some(floor.min(total));
+    }
+}
+
+/// Energy of a linear spring carrying `force` with stiffness `k`.
+fn stored(force: f64, k: f64) -> f64 {
+    if k > 0.0 {
+        0.5 * force * force / k
+    } else {
+        0.0
     }
 }
 

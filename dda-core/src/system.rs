@@ -45,6 +45,13 @@ pub trait BlockSystem<const N: usize, const T: usize> {
     /// Largest displacement of any boundary point for step displacements `d`.
     fn max_displacement(&self, d: &[BlockVector<N>]) -> f64;
 
+    /// Potential energy of the blocks (gravity, strain, fixed-point
+    /// springs), or `None` when loads or moving supports do work on them, so
+    /// the driver's energy check does not apply.
+    fn potential_energy(&self) -> Option<f64> {
+        None
+    }
+
     /// Applies an accepted step: moves the blocks, updates stresses and fixed
     /// point drifts. `time` is the end of the step.
     fn commit(&mut self, d: &[BlockVector<N>], dt: f64, time: f64);
