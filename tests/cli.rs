@@ -430,3 +430,98 @@ fn a_recorded_ground_motion_carries_the_base() {
     let stdout = String::from_utf8(result.stdout).unwrap();
     assert!(stdout.contains("ok (2 blocks"), "{stdout}");
 }
+
+#[test]
+fn a_3d_run_writes_the_3d_history_and_summary() {
+    let out = scratch("wedge-3d");
+    let result = dda(&[
+        "run",
+        "examples/wedge_3d.ron",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(result.status.success(), "stderr: {stderr}");
+    let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    assert_eq!(
+        text.lines().next(),
+        Some("step,time,block,x,y,z,rx,ry,rz,vx,vy,vz,wx,wy,wz,sxx,syy,szz,syz,szx,sxy")
+    );
+    assert_eq!(dda::output::HISTORY_HEADER_3D, text.lines().next().unwrap());
+    let rows = dda::read_history_3d(out.join("history.csv")).unwrap();
+    assert_eq!(rows.len(), 2 * 101, "101 output times × 2 blocks");
+    // Reading it as a 2D history says what it is.
+    let message = read_history(out.join("history.csv"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("it is a 3D history: read it with read_history_3d"),
+        "{message}"
+    );
+    let s = summary(&out);
+    assert_eq!(s["dimension"], 3);
+    assert_eq!(s["status"], "finished");
+    assert_eq!(s["blocks"], 2);
+    assert_eq!(s["steps"], 1000);
+    let _ = std::fs::remove_dir_all(&out);
+
+    // 2D summaries say their dimension too.
+    let out = scratch("free-fall-dimension");
+    dda::run(Path::new(&data("free_fall.ron")), &out).unwrap();
+    assert_eq!(summary(&out)["dimension"], 2);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn check_accepts_a_3d_scene_and_locates_its_errors() {
+    let result = dda(&["check", "examples/sliding_block_3d.ron"]);
+    assert!(result.status.success());
+    let stdout = String::from_utf8(result.stdout).unwrap();
+    assert!(
+        stdout.starts_with("examples/sliding_block_3d.ron: ok (3D, 2 blocks, 1 material"),
+        "{stdout}"
+    );
+    let dir = scratch("bad-3d");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string("examples/stacked_cubes_3d.ron")
+        .unwrap()
+        .replace("center: (0.0, 0.0, 1.5)", "center: (0.0, 0.0, 1.4)");
+    let bad = dir.join("sunk.ron");
+    std::fs::write(&bad, text).unwrap();
+    let result = dda(&["check", bad.to_str().unwrap()]);
+    assert_eq!(result.status.code(), Some(1));
+    let stderr = String::from_utf8(result.stderr).unwrap();
+    assert!(
+        stderr.contains("blocks[1]: the block overlaps blocks[0] at the start"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_3d_contacts_csv_has_the_2d_columns() {
+    let out = scratch("stacked-3d-contacts");
+    std::fs::create_dir_all(&out).unwrap();
+    let text = std::fs::read_to_string("examples/stacked_cubes_3d.ron")
+        .unwrap()
+        .replace("duration: 5.0", "duration: 0.1")
+        .replace(
+            "output: (interval: 0.05)",
+            "output: (interval: 0.05, contacts: true)",
+        );
+    let scene = Scene::from_str(&text, "stacked.ron").unwrap();
+    run_scene(
+        &scene,
+        &out,
+        RunOptions::default(),
+        &dda_contact::LawRegistry::with_builtin(),
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(out.join("contacts.csv")).unwrap();
+    assert_eq!(text.lines().next(), Some(CONTACTS_HEADER));
+    let rows = read_contacts(out.join("contacts.csv")).unwrap();
+    assert!(rows
+        .iter()
+        .any(|r| r.time == 0.1 && r.state == ContactState::Locked));
+    let _ = std::fs::remove_dir_all(&out);
+}
