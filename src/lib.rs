@@ -7,6 +7,24 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
+//! 3D scenes (`dimension: 3`: polyhedra, z up) build into a [`Model3`] whose
+//! driver runs `dda_3d` polyhedra; [`Scene::build_any`] takes either
+//! dimension, and [`run()`] runs either, writing the outputs of its
+//! dimension. [`extrude::extrude`] turns a 2D scene into its 3D prism model.
+//!
+//! ```no_run
+//! let scene = dda::Scene::load("examples/wedge_3d.ron")?;
+//! let mut model = scene.build_3d()?;
+//! model.driver.advance_to(model.duration)?;
+//! let wedge = &model.driver.system.blocks[1];
+//! println!("the wedge is at {}", wedge.centroid());
+//!
+//! let flat = dda::Scene::load("examples/sliding_block_2d.ron")?;
+//! let solid = dda::extrude::extrude(&flat, 1.0)?;
+//! std::fs::write("sliding_block_extruded_3d.ron", solid.to_ron())?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! Scenes name contact laws of other crates as `Custom(name: ..., params:
 //! {...})`; build them with a registry that knows the name (see
 //! `examples/custom_law.rs`):
