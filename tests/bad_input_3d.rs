@@ -395,7 +395,10 @@ fn two_dimensional_values_in_a_three_dimensional_scene_are_named() {
         message.starts_with(&format!("bad.ron:{}:", line_of(&text, "velocity"))),
         "{message}"
     );
-    assert!(message.contains("6"), "{message}");
+    assert!(
+        message.contains("length 6 but found 3 elements instead; a 3D block's velocity is (vx, vy, vz, wx, wy, wz)"),
+        "{message}"
+    );
 }
 
 #[test]

@@ -64,6 +64,15 @@ impl Source {
             E::MissingStructField { .. } => "add the field",
             E::DuplicateStructField { .. } => "keep only one of them",
             E::ExpectedDifferentStructName { .. } => "use the expected name or leave the name out",
+            E::ExpectedDifferentLength { expected, .. } if expected.contains("length 6") => {
+                "a 3D block's velocity is (vx, vy, vz, wx, wy, wz) and its stress (sx, sy, sz, syz, szx, sxy)"
+            }
+            E::ExpectedDifferentLength { expected, .. } if expected.contains("length 3") => {
+                "a 2D block's velocity is (vx, vy, omega) and its stress (sx, sy, sxy); 3D corners and sizes are (x, y, z)"
+            }
+            E::ExpectedDifferentLength { expected, .. } if expected.contains("length 2") => {
+                "a 2D point or a prism's outline point is (x, y)"
+            }
             E::Message(_) => "",
             _ => "fix the syntax there (RON: fields as `name: value`, separated by commas; see examples/)",
         };
