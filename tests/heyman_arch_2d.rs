@@ -59,7 +59,7 @@ fn arch_five_percent_below_the_minimum_collapses_through_hinges() {
             })
             .map(|c| c.record.state)
             .collect();
-        let open = states.iter().any(|s| *s == ContactState::Open);
+        let open = states.contains(&ContactState::Open);
         let closed = states.iter().any(|s| s.is_closed());
         if open && closed {
             hinges.push(joint);

@@ -258,13 +258,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut cut = false;
         let trial = loop {
             let trial = self.attempt(dt)?;
-            if !trial.converged {
-                if dt / 3.0 >= floor {
-                    dt /= 3.0;
-                    cut = true;
-                    self.stats.open_close_cuts += 1;
-                    continue;
-                }
+            if !trial.converged && dt / 3.0 >= floor {
+                dt /= 3.0;
+                cut = true;
+                self.stats.open_close_cuts += 1;
+                continue;
             }
             let d = split::<N>(&trial.d);
             let bound = self.settings.max_displacement_ratio * self.length_scale;

@@ -50,7 +50,7 @@ impl<const D: usize> Record<D> {
             return Err("a ground-motion record needs at least one sample".into());
         }
         for (k, w) in samples.windows(2).enumerate() {
-            if !(w[1].0 > w[0].0) {
+            if w[1].0 <= w[0].0 || w[1].0.is_nan() {
                 return Err(format!(
                     "sample times must increase (samples {} and {})",
                     k,
