@@ -45,7 +45,31 @@ pub struct Summary {
     pub open_close_cuts: usize,
     pub displacement_cuts: usize,
     pub penalty_raises: usize,
+    /// Steps cut because a contact penetrated too deep.
+    #[serde(default)]
+    pub penetration_cuts: usize,
+    /// Steps accepted at the smallest time step without open-close agreement.
     pub unconverged_steps: usize,
+    /// Open-close passes whose Newton iteration kept its best, unconverged iterate.
+    #[serde(default)]
+    pub newton_failures: usize,
+    /// Accepted steps ending with a penetration deeper than the limit, and the deepest (m).
+    #[serde(default)]
+    pub deep_penetration_steps: usize,
+    #[serde(default)]
+    pub deepest_penetration: f64,
+    /// Total energy at the end (J, per unit thickness in 2D) when nothing
+    /// works on the blocks, and how far it rose above its lowest value in
+    /// the steps where it rose beyond a quarter of the energy in play.
+    #[serde(default)]
+    pub energy: f64,
+    #[serde(default)]
+    pub energy_growth_steps: usize,
+    #[serde(default)]
+    pub energy_growth: f64,
+    /// What went wrong in the run that the results depend on; also printed.
+    #[serde(default)]
+    pub warnings: Vec<String>,
     /// Normal penalty at the end (after any raises).
     pub penalty: f64,
     /// Nominal time step.
@@ -175,21 +199,53 @@ pub fn run_model<S: Simulation>(
         open_close_cuts: stats.open_close_cuts,
         displacement_cuts: stats.displacement_cuts,
         penalty_raises: stats.penalty_raises,
+        penetration_cuts: stats.penetration_cuts,
         unconverged_steps: stats.unconverged_steps,
+        newton_failures: stats.newton_failures,
+        deep_penetration_steps: stats.deep_penetration_steps,
+        deepest_penetration: stats.deepest_penetration,
+        energy: stats.energy,
+        energy_growth_steps: stats.energy_growth_steps,
+        energy_growth: stats.energy_growth,
+        warnings: warnings(stats),
         penalty: driver.penalty(),
         dt: driver.dt(),
         notes: driver.notes().to_vec(),
         outputs,
     };
     write_json(&out_dir.join("summary.json"), &summary)?;
-    if summary.unconverged_steps > 0 {
-        eprintln!(
-            "warning: {} steps were accepted at the smallest time step without open-close agreement; \
-             their contact states may be wrong (try a smaller dt, a softer penalty or a larger open_close_limit)",
-            summary.unconverged_steps
-        );
+    for warning in &summary.warnings {
+        eprintln!("warning: {warning}");
     }
     result.map(|_| summary)
+}
+
+/// The driver's reports of steps it could not do well.
+fn warnings(stats: &dda_core::Statistics) -> Vec<String> {
+    let mut out = Vec::new();
+    if stats.unconverged_steps > 0 {
+        out.push(format!(
+            "{} steps could not converge even at the smallest time step and were accepted without \
+             open-close agreement; their contact states may be wrong (try a smaller dt, a softer penalty \
+             or a larger open_close_limit)",
+            stats.unconverged_steps
+        ));
+    }
+    if stats.deep_penetration_steps > 0 {
+        out.push(format!(
+            "{} steps ended with a contact penetrating beyond the allowed bound (deepest {:.3e} m); \
+             blocks overlap more than the penalty method allows (try a stiffer penalty or a smaller dt)",
+            stats.deep_penetration_steps, stats.deepest_penetration
+        ));
+    }
+    if stats.energy_growth_steps > 0 {
+        out.push(format!(
+            "the total energy rose by up to {:.3e} J in {} steps although nothing did work on the blocks; \
+             the method added energy and the results are suspect (try a smaller dt, or leave raise_penalty off)",
+            stats.energy_growth, stats.energy_growth_steps
+        ));
+    }
+    out
 }
 
 /// The files written as the run goes.
