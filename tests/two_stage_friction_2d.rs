@@ -7,17 +7,8 @@ mod common;
 #[test]
 fn block_follows_the_piecewise_parabola() {
     let rows = common::run_example("two_stage_friction_2d.ron");
-    let (theta, g) = (30f64.to_radians(), 9.81);
-    let a = |phi: f64| g * (theta.sin() - theta.cos() * phi.to_radians().tan());
-    let (a1, a2, d1) = (a(25.0), a(15.0), 0.05);
-    let t1 = (2.0 * d1 / a1).sqrt();
-    let exact = |t: f64| {
-        if t <= t1 {
-            0.5 * a1 * t * t
-        } else {
-            d1 + a1 * t1 * (t - t1) + 0.5 * a2 * (t - t1).powi(2)
-        }
-    };
+    let theta = 30f64.to_radians();
+    let exact = common::two_stage_slide;
     assert!(
         (exact(1.0) - 0.8549).abs() < 5e-5,
         "the issue's reference value"

@@ -97,3 +97,42 @@ pub fn example_with(name: &str, from: &str, to: &str) -> String {
     assert!(text.contains(from), "{name} has no `{from}`");
     text.replace(from, to)
 }
+
+/// Velocity-dependent friction on a 30° incline: φ from 25° at rest to 15°
+/// at speed, μ(v) = μd + (μs − μd) exp(−v/vc) with vc = 0.5 m/s.
+pub const RATE_LAW: &str =
+    "RateFriction(static_friction_angle: 25.0, dynamic_friction_angle: 15.0, characteristic_rate: 0.5)";
+
+/// Distance slid from rest by `t_end` under [`RATE_LAW`]: a fine RK4
+/// integration of dv/dt = g (sin θ − cos θ μ(v)).
+pub fn rate_friction_slide(t_end: f64) -> f64 {
+    let (theta, g, vc) = (30f64.to_radians(), 9.81, 0.5);
+    let (ms, md) = (25f64.to_radians().tan(), 15f64.to_radians().tan());
+    let accel = |v: f64| g * (theta.sin() - theta.cos() * (md + (ms - md) * (-v / vc).exp()));
+    let n = 100_000;
+    let h = t_end / n as f64;
+    let (mut d, mut v) = (0.0f64, 0.0f64);
+    for _ in 0..n {
+        let k1 = (v, accel(v));
+        let k2 = (v + 0.5 * h * k1.1, accel(v + 0.5 * h * k1.1));
+        let k3 = (v + 0.5 * h * k2.1, accel(v + 0.5 * h * k2.1));
+        let k4 = (v + h * k3.1, accel(v + h * k3.1));
+        d += h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
+        v += h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
+    }
+    d
+}
+
+/// Two-stage friction on a 30° incline (25° until 0.05 m of slip, then
+/// 15°): the piecewise-parabolic distance at `t`.
+pub fn two_stage_slide(t: f64) -> f64 {
+    let (theta, g) = (30f64.to_radians(), 9.81);
+    let a = |phi: f64| g * (theta.sin() - theta.cos() * phi.to_radians().tan());
+    let (a1, a2, d1) = (a(25.0), a(15.0), 0.05);
+    let t1 = (2.0 * d1 / a1).sqrt();
+    if t <= t1 {
+        0.5 * a1 * t * t
+    } else {
+        d1 + a1 * t1 * (t - t1) + 0.5 * a2 * (t - t1).powi(2)
+    }
+}
