@@ -1,11 +1,10 @@
 //! The 2D block system the driver runs: blocks, materials, loads, fixed
 //! points and contact search.
 
-use dda_core::{BlockMatrix, BlockSystem, BlockVector, ConstitutiveLaw, GroundMotion};
+use dda_core::{BlockMatrix, BlockSystem, BlockVector, ConstitutiveLaw};
 use std::collections::HashMap;
-use std::sync::Arc;
 
-use nalgebra::{Matrix2, Matrix3, Point2, Vector2, Vector3, Vector6};
+use nalgebra::{Matrix3, Point2, Vector2, Vector3, Vector6};
 
 use crate::block::Block;
 use crate::broad_phase::near_pairs;
@@ -13,90 +12,11 @@ use crate::contact::{pair_contacts, Contact2};
 use crate::kinematics::{t_matrix, RotationUpdate};
 
 /// A force at a material point, constant or a time history.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Force {
-    Constant(Vector2<f64>),
-    /// (time, force) samples, linearly interpolated, held beyond the ends.
-    History(Vec<(f64, Vector2<f64>)>),
-}
-
-impl Force {
-    pub fn at(&self, t: f64) -> Vector2<f64> {
-        match self {
-            Force::Constant(f) => *f,
-            Force::History(samples) => {
-                let Some(first) = samples.first() else {
-                    return Vector2::zeros();
-                };
-                if t <= first.0 {
-                    return first.1;
-                }
-                for w in samples.windows(2) {
-                    let ((t0, f0), (t1, f1)) = (w[0], w[1]);
-                    if t <= t1 {
-                        let s = if t1 > t0 { (t - t0) / (t1 - t0) } else { 1.0 };
-                        return f0 + (f1 - f0) * s;
-                    }
-                }
-                samples.last().map(|s| s.1).unwrap_or_default()
-            }
-        }
-    }
-}
-
+pub type Force = dda_core::Force<2>;
 /// A point load on a block; the point moves with the block.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PointLoad {
-    pub block: usize,
-    pub point: Point2<f64>,
-    pub force: Force,
-}
-
-/// A point of a block held by a penalty spring at
-/// `target + velocity·t + ground(t)` (a fixed point when both are zero, a
-/// driven one otherwise). With an `axis` only the motion along that unit
-/// vector is held.
-#[derive(Debug, Clone, PartialEq)]
-pub struct FixedPoint {
-    pub block: usize,
-    pub point: Point2<f64>,
-    pub target: Point2<f64>,
-    pub velocity: Vector2<f64>,
-    pub axis: Option<Vector2<f64>>,
-    /// Ground motion carried by this point (base blocks in earthquakes).
-    pub ground: Option<Arc<GroundMotion<2>>>,
-}
-
-impl FixedPoint {
-    /// A point held where it is.
-    pub fn at(block: usize, point: Point2<f64>) -> Self {
-        Self {
-            block,
-            point,
-            target: point,
-            velocity: Vector2::zeros(),
-            axis: None,
-            ground: None,
-        }
-    }
-
-    /// Where the point is held at time t.
-    pub fn target_at(&self, t: f64) -> Point2<f64> {
-        let ground = self
-            .ground
-            .as_ref()
-            .map_or(Vector2::zeros(), |g| g.displacement(t));
-        self.target + self.velocity * t + ground
-    }
-
-    /// The projector onto the held directions.
-    fn held(&self) -> Matrix2<f64> {
-        match self.axis {
-            Some(n) => n * n.transpose(),
-            None => Matrix2::identity(),
-        }
-    }
-}
+pub type PointLoad = dda_core::PointLoad<2>;
+/// A fixed or driven point of a block.
+pub type FixedPoint = dda_core::FixedPoint<2>;
 
 /// Polygonal blocks in the plane (per unit thickness).
 pub struct Polygons {
@@ -224,10 +144,7 @@ impl BlockSystem<6, 1> for Polygons {
     }
 
     fn potential_energy(&self) -> Option<f64> {
-        let driven = self
-            .fixed
-            .iter()
-            .any(|f| f.velocity != Vector2::zeros() || f.ground.is_some());
+        let driven = self.fixed.iter().any(|f| f.is_driven());
         if driven || !self.loads.is_empty() {
             return None;
         }
@@ -336,16 +253,5 @@ mod tests {
                 "column {j}"
             );
         }
-    }
-
-    #[test]
-    fn load_histories_interpolate_and_hold() {
-        let f = Force::History(vec![
-            (0.0, Vector2::new(0.0, 0.0)),
-            (2.0, Vector2::new(4.0, -2.0)),
-        ]);
-        assert_eq!(f.at(-1.0), Vector2::new(0.0, 0.0));
-        assert_eq!(f.at(0.5), Vector2::new(1.0, -0.5));
-        assert_eq!(f.at(3.0), Vector2::new(4.0, -2.0));
     }
 }

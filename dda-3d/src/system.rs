@@ -2,10 +2,9 @@
 //! points and contact search.
 
 use std::collections::HashMap;
-use std::sync::Arc;
 
-use dda_core::{BlockMatrix, BlockSystem, BlockVector, ConstitutiveLaw, GroundMotion};
-use nalgebra::{Matrix3, Matrix6, Point3, Vector3, Vector6};
+use dda_core::{BlockMatrix, BlockSystem, BlockVector, ConstitutiveLaw};
+use nalgebra::{Matrix6, Point3, Vector3, Vector6};
 
 use crate::block::Block;
 use crate::broad_phase::near_pairs;
@@ -13,90 +12,11 @@ use crate::contact::{pair_contacts, Contact3};
 use crate::kinematics::{t_matrix, RotationUpdate, Vector12};
 
 /// A force at a material point, constant or a time history.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Force {
-    Constant(Vector3<f64>),
-    /// (time, force) samples, linearly interpolated, held beyond the ends.
-    History(Vec<(f64, Vector3<f64>)>),
-}
-
-impl Force {
-    pub fn at(&self, t: f64) -> Vector3<f64> {
-        match self {
-            Force::Constant(f) => *f,
-            Force::History(samples) => {
-                let Some(first) = samples.first() else {
-                    return Vector3::zeros();
-                };
-                if t <= first.0 {
-                    return first.1;
-                }
-                for w in samples.windows(2) {
-                    let ((t0, f0), (t1, f1)) = (w[0], w[1]);
-                    if t <= t1 {
-                        let s = if t1 > t0 { (t - t0) / (t1 - t0) } else { 1.0 };
-                        return f0 + (f1 - f0) * s;
-                    }
-                }
-                samples.last().map(|s| s.1).unwrap_or_default()
-            }
-        }
-    }
-}
-
+pub type Force = dda_core::Force<3>;
 /// A point load on a block; the point moves with the block.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PointLoad {
-    pub block: usize,
-    pub point: Point3<f64>,
-    pub force: Force,
-}
-
-/// A point of a block held by a penalty spring at
-/// `target + velocity·t + ground(t)` (a fixed point when both are zero, a
-/// driven one otherwise). With an `axis` only the motion along that unit
-/// vector is held.
-#[derive(Debug, Clone, PartialEq)]
-pub struct FixedPoint {
-    pub block: usize,
-    pub point: Point3<f64>,
-    pub target: Point3<f64>,
-    pub velocity: Vector3<f64>,
-    pub axis: Option<Vector3<f64>>,
-    /// Ground motion carried by this point (base blocks in earthquakes).
-    pub ground: Option<Arc<GroundMotion<3>>>,
-}
-
-impl FixedPoint {
-    /// A point held where it is.
-    pub fn at(block: usize, point: Point3<f64>) -> Self {
-        Self {
-            block,
-            point,
-            target: point,
-            velocity: Vector3::zeros(),
-            axis: None,
-            ground: None,
-        }
-    }
-
-    /// Where the point is held at time t.
-    pub fn target_at(&self, t: f64) -> Point3<f64> {
-        let ground = self
-            .ground
-            .as_ref()
-            .map_or(Vector3::zeros(), |g| g.displacement(t));
-        self.target + self.velocity * t + ground
-    }
-
-    /// The projector onto the held directions.
-    fn held(&self) -> Matrix3<f64> {
-        match self.axis {
-            Some(n) => n * n.transpose(),
-            None => Matrix3::identity(),
-        }
-    }
-}
+pub type PointLoad = dda_core::PointLoad<3>;
+/// A fixed or driven point of a block.
+pub type FixedPoint = dda_core::FixedPoint<3>;
 
 /// Polyhedral blocks in space.
 pub struct Polyhedra {
@@ -321,17 +241,5 @@ mod tests {
         assert!(
             (r2 - BlockVector::<12>::from_fn(|i, _| if i == 2 { w } else { 0.0 })).norm() < 1e-9
         );
-    }
-
-    #[test]
-    fn load_histories_interpolate_and_hold() {
-        let f = Force::History(vec![
-            (0.0, Vector3::new(0.0, 0.0, 0.0)),
-            (2.0, Vector3::new(4.0, -2.0, 6.0)),
-        ]);
-        assert_eq!(f.at(-1.0), Vector3::zeros());
-        assert_eq!(f.at(0.5), Vector3::new(1.0, -0.5, 1.5));
-        assert_eq!(f.at(3.0), Vector3::new(4.0, -2.0, 6.0));
-        assert_eq!(Force::History(vec![]).at(1.0), Vector3::zeros());
     }
 }
