@@ -19,6 +19,10 @@ use crate::kinematics::t_matrix;
 /// Angle tolerance for parallel edges and wedge tests (Shi's h1 = 3°).
 const ANGLE_TOLERANCE: f64 = 3.0 * std::f64::consts::PI / 180.0;
 
+/// Deepest penetration a contact candidate may have, as a share of the
+/// search range (Shi's d9 = 0.3·d0).
+const PENETRATION_SHARE: f64 = 0.3;
+
 /// Marks `feature_b` of a vertex-vertex contact (a vertex, not an edge).
 const VERTEX: u32 = 1 << 31;
 
@@ -180,11 +184,16 @@ fn entrance(
     // Outward normal of a counter-clockwise polygon's edge.
     let normal = Vector2::new(tangent.y, -tangent.x);
     let gap = normal.dot(&(p1 - q1));
-    if gap.abs() >= range {
+    // Ahead of the edge by less than the range, or behind it by less than
+    // Shi's penetration distance (0.3 of the range): a vertex deeper behind
+    // an edge's line is inside the block only if it is deep behind another
+    // edge too, and for thin blocks it is usually outside it altogether.
+    if gap >= range || gap <= -PENETRATION_SHARE * range {
         return None;
     }
     let along = tangent.dot(&(p1 - q1)) / l;
-    let slack = range / l;
+    // Past the ends only when approaching (near a corner), not when behind.
+    let slack = if gap > 0.0 { range / l } else { 0.0 };
     if !(-slack..=1.0 + slack).contains(&along) {
         return None;
     }

@@ -397,7 +397,11 @@ fn vertex_over_face(x: &Polyhedron, p: usize, y: &Polyhedron, f: usize, range: f
     }
     let pv = x.vertices()[p];
     let frame = y.face_frame(f);
-    if frame.height(&pv).abs() >= range {
+    // Ahead of the face by less than the range, or behind it by less than
+    // Shi's penetration distance (0.3 of the range): deeper behind a face's
+    // plane the vertex is usually not inside the block at all (thin blocks).
+    let height = frame.height(&pv);
+    if height >= range || height <= -PENETRATION_SHARE * range {
         return false;
     }
     let face = &y.faces()[f];
@@ -462,8 +466,12 @@ fn edge_edge(
     }
     let valid = |n: &Vector3<f64>| edge_enters(sa, ea, n) && edge_below(sb, eb, n);
     let n = crossing_normal(&(q1 - p1), &(q2 - p2), valid)?;
-    edge_entrance(a, ea, b, eb, &n, false)
+    edge_entrance(a, ea, b, eb, &n, false).filter(|e| e.gap > -PENETRATION_SHARE * range)
 }
+
+/// Deepest penetration a contact candidate may have, as a share of the
+/// search range (Shi's d9 = 0.3·d0).
+const PENETRATION_SHARE: f64 = 0.3;
 
 /// Parameters (s, t) of the closest points of the lines p1 + s(q1 − p1) and
 /// p2 + t(q2 − p2); `None` if they are parallel.
