@@ -31,6 +31,21 @@ enum Command {
         #[arg(long, short, value_name = "DIR")]
         out: PathBuf,
     },
+    /// Time steps of running-bond walls of growing size: median milliseconds per step and ratio to the smallest wall
+    Bench {
+        /// Wall sizes (n courses of n bricks), comma separated
+        #[arg(long, value_delimiter = ',', default_values_t = [10usize, 20, 40])]
+        sizes: Vec<usize>,
+        /// Steps timed per run
+        #[arg(long, default_value_t = 20)]
+        steps: usize,
+        /// Runs per size (the median is reported)
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
+        /// Also write the results as JSON to this file
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+    },
     /// Load, validate and build a scene without running it
     Check {
         /// The scene file (RON)
@@ -100,6 +115,41 @@ fn execute(command: Command) -> anyhow::Result<()> {
             );
             for note in model.notes() {
                 eprintln!("note: {note}");
+            }
+        }
+        Command::Bench {
+            sizes,
+            steps,
+            repeats,
+            json,
+        } => {
+            let rows = dda::bench::bench(&dda::bench::BenchOptions {
+                sizes,
+                steps,
+                repeats,
+            })?;
+            println!(
+                "walls of n × n bricks, {steps} steps timed per run, median of {repeats} runs"
+            );
+            println!(
+                "{:>4} {:>7} {:>9} {:>10} {:>9} {:>7} {:>7}",
+                "n", "blocks", "contacts", "ms/step", "× base", "passes", "factor."
+            );
+            for r in &rows {
+                println!(
+                    "{:>4} {:>7} {:>9} {:>10.2} {:>9.2} {:>7.2} {:>7.2}",
+                    r.courses,
+                    r.blocks,
+                    r.contacts,
+                    r.median_ms_per_step,
+                    r.ratio_to_baseline,
+                    r.passes_per_step,
+                    r.factorizations_per_step
+                );
+            }
+            if let Some(path) = json {
+                std::fs::write(&path, serde_json::to_string_pretty(&rows)?)
+                    .with_context(|| format!("cannot write {}", path.display()))?;
             }
         }
         Command::Extrude {

@@ -1,0 +1,48 @@
+//! The `dda bench` command times walls of growing size against the smallest.
+
+use dda::bench::{bench, wall_scene, BenchOptions};
+
+#[test]
+fn bench_reports_medians_and_ratios_to_the_smallest_wall() {
+    let rows = bench(&BenchOptions {
+        sizes: vec![3, 6],
+        steps: 2,
+        repeats: 3,
+    })
+    .unwrap();
+    assert_eq!(rows.len(), 2);
+    assert_eq!(rows[0].ratio_to_baseline, 1.0);
+    assert!(rows
+        .iter()
+        .all(|r| r.median_ms_per_step > 0.0 && r.passes_per_step >= 1.0));
+    // The base plus n courses; running bond adds a half brick to every other course.
+    let expected = |n: usize| 1 + n * n + n / 2;
+    assert_eq!(rows[0].blocks, expected(3));
+    assert_eq!(rows[1].blocks, expected(6));
+    assert!(
+        (rows[1].ratio_to_baseline - rows[1].median_ms_per_step / rows[0].median_ms_per_step).abs()
+            < 1e-12
+    );
+    // The wall the benchmark times is a valid scene that stands.
+    let mut model = wall_scene(4).build().unwrap();
+    model.driver.advance_to(0.05).unwrap();
+    assert_eq!(model.driver.statistics().unconverged_steps, 0);
+}
+
+#[test]
+fn bench_command_prints_a_table() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_dda"))
+        .args(["bench", "--sizes", "3", "--steps", "1", "--repeats", "1"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("ms/step") && text.lines().count() == 3,
+        "{text}"
+    );
+}
