@@ -171,16 +171,17 @@ fn num(v: f64) -> String {
 
 /// Reads a 2D scene's `history.csv` written by [`HistoryWriter`].
 pub fn read_history(path: impl AsRef<Path>) -> anyhow::Result<Vec<HistoryRow>> {
-    read_rows(path.as_ref(), HISTORY_HEADER, parse_row)
+    read_rows(path.as_ref(), "history", HISTORY_HEADER, parse_row)
 }
 
 /// Reads a 3D scene's `history.csv` written by [`HistoryWriter`].
 pub fn read_history_3d(path: impl AsRef<Path>) -> anyhow::Result<Vec<HistoryRow3>> {
-    read_rows(path.as_ref(), HISTORY_HEADER_3D, parse_row_3d)
+    read_rows(path.as_ref(), "history", HISTORY_HEADER_3D, parse_row_3d)
 }
 
 fn read_rows<T>(
     path: &Path,
+    what: &str,
     expected: &str,
     parse: impl Fn(&str) -> anyhow::Result<T>,
 ) -> anyhow::Result<Vec<T>> {
@@ -197,7 +198,7 @@ fn read_rows<T>(
             ""
         };
         bail!(
-            "{}: the first line is not the history header {expected:?}{hint}",
+            "{}: the first line is not the {what} header {expected:?}{hint}",
             path.display()
         );
     }
@@ -208,7 +209,7 @@ fn read_rows<T>(
             continue;
         }
         let row = parse(&line)
-            .with_context(|| format!("{}:{}: bad history row", path.display(), n + 2))?;
+            .with_context(|| format!("{}:{}: bad {what} row", path.display(), n + 2))?;
         rows.push(row);
     }
     Ok(rows)
@@ -265,27 +266,7 @@ fn parse_row(line: &str) -> anyhow::Result<HistoryRow> {
 
 /// Reads a `contacts.csv` written by [`ContactWriter`].
 pub fn read_contacts(path: impl AsRef<Path>) -> anyhow::Result<Vec<ContactRow>> {
-    let path = path.as_ref();
-    let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
-    let mut lines = BufReader::new(file).lines();
-    let header = lines.next().transpose()?.unwrap_or_default();
-    if header.trim_end() != CONTACTS_HEADER {
-        bail!(
-            "{}: the first line is not the contacts header {CONTACTS_HEADER:?}",
-            path.display()
-        );
-    }
-    let mut rows = Vec::new();
-    for (n, line) in lines.enumerate() {
-        let line = line?;
-        if line.trim().is_empty() {
-            continue;
-        }
-        let row = parse_contact(&line)
-            .with_context(|| format!("{}:{}: bad contacts row", path.display(), n + 2))?;
-        rows.push(row);
-    }
-    Ok(rows)
+    read_rows(path.as_ref(), "contacts", CONTACTS_HEADER, parse_contact)
 }
 
 fn parse_contact(line: &str) -> anyhow::Result<ContactRow> {

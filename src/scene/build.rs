@@ -219,13 +219,7 @@ impl Scene {
         }
         let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
         if let Some((driven, motion)) = self.ground_motion::<2>(&slots)? {
-            for fp in system
-                .fixed
-                .iter_mut()
-                .filter(|f| driven.contains(&f.block))
-            {
-                fp.ground = Some(motion.clone());
-            }
+            follow_ground(&mut system.fixed, &driven, &motion);
         }
 
         let settings = self.settings();
@@ -331,13 +325,7 @@ impl Scene {
         }
         let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
         if let Some((driven, motion)) = self.ground_motion::<3>(&slots)? {
-            for fp in system
-                .fixed
-                .iter_mut()
-                .filter(|f| driven.contains(&f.block))
-            {
-                fp.ground = Some(motion.clone());
-            }
+            follow_ground(&mut system.fixed, &driven, &motion);
         }
 
         let settings = self.settings();
@@ -543,4 +531,15 @@ fn contact_law(law: &JointLaw, registry: &LawRegistry) -> Result<Box<dyn DynCont
             });
         }
     })
+}
+
+/// Makes the fixed points of the `driven` blocks follow the ground.
+fn follow_ground<const D: usize>(
+    fixed: &mut [dda_core::FixedPoint<D>],
+    driven: &[usize],
+    motion: &std::sync::Arc<dda_core::GroundMotion<D>>,
+) {
+    for fp in fixed.iter_mut().filter(|f| driven.contains(&f.block)) {
+        fp.ground = Some(motion.clone());
+    }
 }
