@@ -81,7 +81,7 @@ fn velocity_dependent_friction_in_3d() {
 fn shear_3d(law: &str) -> (f64, f64) {
     let text = common::example_with(
         "direct_shear_2d.ron",
-        "Coulomb(friction_angle: 30.0, cohesion: 50000.0, shear_stiffness: 2e7)",
+        "Coulomb(friction_angle: 30.0, cohesion: 50000.0, shear_stiffness: 4e7)",
         law,
     );
     let name = format!("shear_{}", law.split('(').next().unwrap());
@@ -104,14 +104,14 @@ fn direct_shear_peaks_and_residuals_in_3d() {
     let n = 100_000.0 * DEPTH;
     let area = 1.0 * DEPTH;
     let cases = [
-        ("Coulomb(friction_angle: 30.0, cohesion: 50000.0, shear_stiffness: 2e7)", tan(30.0) * n + 50_000.0 * area, tan(30.0) * n),
+        ("Coulomb(friction_angle: 30.0, cohesion: 50000.0, shear_stiffness: 4e7)", tan(30.0) * n + 50_000.0 * area, tan(30.0) * n),
         (
-            "DisplacementStrength(friction_angle: 35.0, residual_friction_angle: 25.0, cohesion: 50000.0, weakening: Linear(start: 0.001, end: 0.004), shear_stiffness: 2e7)",
+            "DisplacementStrength(friction_angle: 35.0, residual_friction_angle: 25.0, cohesion: 50000.0, weakening: Linear(start: 0.001, end: 0.004), shear_stiffness: 4e7)",
             tan(35.0) * n + 50_000.0 * area,
             tan(25.0) * n,
         ),
         (
-            "SlipFriction(peak_friction_angle: 35.0, residual_friction_angle: 25.0, weakening: Step(at: 0.005), shear_stiffness: 2e7)",
+            "SlipFriction(peak_friction_angle: 35.0, residual_friction_angle: 25.0, weakening: Step(at: 0.005), shear_stiffness: 4e7)",
             tan(35.0) * n,
             tan(25.0) * n,
         ),
@@ -132,7 +132,7 @@ fn direct_shear_peaks_and_residuals_in_3d() {
 fn hang(t0: f64, mode: &str) -> Vec<dda::output::HistoryRow3> {
     let text = format!(
         r#"Scene(
-    analysis: (duration: 0.5, dt: 0.001, mode: {mode}, penalty: 1e10, gravity: (0.0, -9.81)),
+    analysis: (duration: 0.5, dt: 0.001, mode: {mode}, penalty: 2e10, gravity: (0.0, -9.81)),
     output: (interval: 0.05),
     materials: {{ "rock": (density: 2700.0, young: 1e10, poisson: 0.25) }},
     default_joint: Coulomb(friction_angle: 30.0, cohesion: {t0}, tensile_strength: {t0}),
@@ -172,11 +172,12 @@ fn tensile_strength_in_3d() {
 
 #[test]
 fn threshold_bond_in_3d() {
-    // Each bonded corner holds k_s · max_shear until it breaks, then friction.
+    // The bonded corners' springs (1e8 N/m³ over the 1 m × DEPTH joint)
+    // hold k_s · max_shear until they break, then friction.
     let law = "ThresholdBond(friction_angle: 30.0, max_opening: 1e-4, max_shear: 1e-3, shear_stiffness: 1e8)";
     let text = common::example_with(
         "direct_shear_2d.ron",
-        "Coulomb(friction_angle: 30.0, cohesion: 50000.0, shear_stiffness: 2e7)",
+        "Coulomb(friction_angle: 30.0, cohesion: 50000.0, shear_stiffness: 4e7)",
         law,
     );
     let (_, contacts) = run_3d("shear_threshold", &text);
@@ -190,7 +191,7 @@ fn threshold_bond_in_3d() {
         .iter()
         .cloned()
         .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
-    let expected = corners as f64 * 1e8 * 1e-3;
+    let expected = 1e8 * DEPTH * 1e-3;
     assert!(corners >= 4, "the bonded corners: {corners}");
     assert!(
         ((peak - expected) / expected).abs() < 0.01,

@@ -17,7 +17,7 @@ fn shear(law: &str) -> (f64, f64) {
     let name = format!("direct_shear_{}", law.split('(').next().unwrap());
     let text = common::example_with(
         "direct_shear_2d.ron",
-        "Coulomb(friction_angle: 30.0, cohesion: 50000.0, shear_stiffness: 2e7)",
+        "Coulomb(friction_angle: 30.0, cohesion: 50000.0, shear_stiffness: 4e7)",
         law,
     );
     let out = common::run_text(&name, &text);
@@ -46,7 +46,7 @@ fn close(value: f64, expected: f64, what: &str) {
 #[test]
 fn coulomb_peaks_at_friction_plus_cohesion_and_keeps_friction() {
     let (peak, residual) =
-        shear("Coulomb(friction_angle: 30.0, cohesion: 50000.0, shear_stiffness: 2e7)");
+        shear("Coulomb(friction_angle: 30.0, cohesion: 50000.0, shear_stiffness: 4e7)");
     close(peak, tan(30.0) * N + 50_000.0 * L, "peak");
     close(residual, tan(30.0) * N, "residual");
 }
@@ -54,7 +54,7 @@ fn coulomb_peaks_at_friction_plus_cohesion_and_keeps_friction() {
 #[test]
 fn displacement_strength_falls_from_peak_to_residual() {
     let (peak, residual) = shear(
-        "DisplacementStrength(friction_angle: 35.0, residual_friction_angle: 25.0, cohesion: 50000.0, weakening: Linear(start: 0.001, end: 0.004), shear_stiffness: 2e7)",
+        "DisplacementStrength(friction_angle: 35.0, residual_friction_angle: 25.0, cohesion: 50000.0, weakening: Linear(start: 0.001, end: 0.004), shear_stiffness: 4e7)",
     );
     close(peak, tan(35.0) * N + 50_000.0 * L, "peak");
     close(residual, tan(25.0) * N, "residual");
@@ -63,7 +63,7 @@ fn displacement_strength_falls_from_peak_to_residual() {
 #[test]
 fn slip_friction_falls_from_peak_to_residual_angle() {
     let (peak, residual) =
-        shear("SlipFriction(peak_friction_angle: 35.0, residual_friction_angle: 25.0, weakening: Step(at: 0.005), shear_stiffness: 2e7)");
+        shear("SlipFriction(peak_friction_angle: 35.0, residual_friction_angle: 25.0, weakening: Step(at: 0.005), shear_stiffness: 4e7)");
     close(peak, tan(35.0) * N, "peak");
     close(residual, tan(25.0) * N, "residual");
 }
@@ -71,7 +71,7 @@ fn slip_friction_falls_from_peak_to_residual_angle() {
 #[test]
 fn rate_friction_starts_static_and_slides_at_the_drive_rate_coefficient() {
     let (peak, residual) =
-        shear("RateFriction(static_friction_angle: 35.0, dynamic_friction_angle: 25.0, characteristic_rate: 0.001, shear_stiffness: 2e7)");
+        shear("RateFriction(static_friction_angle: 35.0, dynamic_friction_angle: 25.0, characteristic_rate: 0.001, shear_stiffness: 4e7)");
     close(peak, tan(35.0) * N, "peak");
     let mu = tan(25.0) + (tan(35.0) - tan(25.0)) * (-0.005f64 / 0.001).exp();
     close(residual, mu * N, "residual at 5 mm/s");
@@ -82,7 +82,8 @@ fn threshold_bond_holds_up_to_its_shear_threshold_then_slides() {
     let (peak, residual) = shear(
         "ThresholdBond(friction_angle: 30.0, max_opening: 1e-4, max_shear: 1e-3, shear_stiffness: 1e8)",
     );
-    // Two corner contacts, each k_s · max_shear at the break.
-    close(peak, 2.0 * 1e8 * 1e-3, "peak");
+    // The corners' springs, 1e8 N/m³ per unit length over the L = 1 m
+    // joint, each at max_shear when it breaks.
+    close(peak, 1e8 * L * 1e-3, "peak");
     close(residual, tan(30.0) * N, "residual");
 }

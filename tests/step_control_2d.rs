@@ -29,7 +29,7 @@ fn a_step_whose_contacts_do_not_settle_is_cut_to_a_third() {
     // With one pass allowed, no step in which a contact changes state can
     // agree: each is cut to a third down to the floor (1/1000 of dt: six
     // cuts, as 3^6 < 1000 < 3^7), then accepted and reported as unconverged.
-    let model = run("open_close_limit: 1, penalty: 1e10");
+    let model = run("open_close_limit: 1, penalty: 2e10");
     let stats = model.driver.statistics();
     assert!(stats.unconverged_steps > 0, "{stats:?}");
     assert_eq!(
@@ -46,7 +46,7 @@ fn a_step_whose_contacts_do_not_settle_is_cut_to_a_third() {
 fn a_step_that_moves_too_far_is_cut() {
     // The length scale is half the model diagonal, 2.25 m: 0.1 % of it is
     // 2.25 mm, less than the block falls in one 10 ms step near landing.
-    let model = run("max_displacement_ratio: 0.001, penalty: 1e10");
+    let model = run("max_displacement_ratio: 0.001, penalty: 2e10");
     let stats = model.driver.statistics();
     assert!(stats.displacement_cuts > 0, "{stats:?}");
     assert!(stats.steps > 30, "more, shorter steps: {}", stats.steps);
@@ -55,10 +55,10 @@ fn a_step_that_moves_too_far_is_cut() {
 #[test]
 fn too_deep_a_penetration_raises_the_penalty() {
     // A soft penalty lets the block sink 1.3 mm, beyond 1e-4 of the model size.
-    let model = run("penalty: 1e7, max_penetration_ratio: 1e-4, raise_penalty: true");
+    let model = run("penalty: 2e7, max_penetration_ratio: 1e-4, raise_penalty: true");
     let stats = model.driver.statistics();
     assert!(stats.penalty_raises > 0, "{stats:?}");
-    assert!(model.driver.penalty() >= 1e8);
+    assert!(model.driver.penalty() >= 2e8);
     let y = model.driver.system.blocks[1].centroid().y;
     assert!(
         (0.5 - y) < 2.6e-4,

@@ -8,7 +8,7 @@ use dda::scene::Scene;
 #[test]
 fn a_brick_wall_on_a_wide_base_stands() {
     let text = r#"Scene(
-    analysis: (duration: 0.2, dt: 0.001, penalty: 1e9, gravity: (0.0, -9.81)),
+    analysis: (duration: 0.2, dt: 0.001, penalty: 4e9, gravity: (0.0, -9.81)),
     materials: { "brick": (density: 1800.0, young: 5e9, poisson: 0.2) },
     default_joint: Coulomb(friction_angle: 35.0),
     blocks: [

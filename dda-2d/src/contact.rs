@@ -54,8 +54,8 @@ pub fn pair_contacts(
                 (false, true) => {
                     for e in [prev(q, b), q] {
                         if let Some(en) = entrance(a, p, b, e, range, false) {
-                            let length = contact_length(a, p, b, e);
-                            out.push(contact(i, p, j, e as u32, law, length, vec![en]));
+                            let lengths = lengths(a, p, b, e);
+                            out.push(contact(i, p, j, e as u32, law, lengths, vec![en]));
                         }
                     }
                     continue;
@@ -63,8 +63,8 @@ pub fn pair_contacts(
                 (true, false) => {
                     for e in [prev(p, a), p] {
                         if let Some(en) = entrance(b, q, a, e, range, false) {
-                            let length = contact_length(b, q, a, e);
-                            out.push(contact(j, q, i, e as u32, law, length, vec![en]));
+                            let lengths = lengths(b, q, a, e);
+                            out.push(contact(j, q, i, e as u32, law, lengths, vec![en]));
                         }
                     }
                     continue;
@@ -72,21 +72,23 @@ pub fn pair_contacts(
                 (false, false) => {}
             }
             let mut entrances = Vec::new();
-            let mut length = 0.0;
+            let mut group = (0.0, 0.0);
+            let mut widen =
+                |(l, s): (f64, f64)| group = (f64::max(group.0, l), f64::max(group.1, s));
             for e in [prev(q, b), q] {
                 if let Some(en) = entrance(a, p, b, e, range, false) {
-                    length = f64::max(length, contact_length(a, p, b, e));
+                    widen(lengths(a, p, b, e));
                     entrances.push(en);
                 }
             }
             for e in [prev(p, a), p] {
                 if let Some(en) = entrance(b, q, a, e, range, true) {
-                    length = f64::max(length, contact_length(b, q, a, e));
+                    widen(lengths(b, q, a, e));
                     entrances.push(en);
                 }
             }
             if !entrances.is_empty() {
-                out.push(contact(i, p, j, VERTEX | q as u32, law, length, entrances));
+                out.push(contact(i, p, j, VERTEX | q as u32, law, group, entrances));
             }
         }
     }
@@ -100,8 +102,8 @@ pub fn pair_contacts(
                     continue;
                 }
                 if let Some(en) = entrance(bx, p, by, e, range, false) {
-                    let length = contact_length(bx, p, by, e);
-                    out.push(contact(x, p, y, e as u32, law, length, vec![en]));
+                    let lengths = lengths(bx, p, by, e);
+                    out.push(contact(x, p, y, e as u32, law, lengths, vec![en]));
                 }
             }
         }
@@ -131,7 +133,7 @@ fn contact(
     j: usize,
     feature_b: u32,
     law: usize,
-    length: f64,
+    (length, spring_length): (f64, f64),
     entrances: Vec<Entrance<6, 1>>,
 ) -> Contact2 {
     Contact {
@@ -144,6 +146,7 @@ fn contact(
         blocks: [i, j],
         law,
         length,
+        spring_length,
         entrances,
         record: ContactRecord::default(),
     }
@@ -229,6 +232,28 @@ fn entrance(
 /// Row r with r·D = a × (T·D) for a 2D cross product.
 fn cross_row(a: &Vector2<f64>, t: &Matrix2x6<f64>) -> Vector6<f64> {
     (t.row(1) * a.x - t.row(0) * a.y).transpose()
+}
+
+/// The boundary length a vertex stands for against an edge, and the length
+/// its springs stand for: the same where it has one; for a corner touching
+/// the edge (no side of it along the edge), half of its side most nearly
+/// along the edge, the length that side would bring into contact.
+fn lengths(v: &Block, p: usize, w: &Block, e: usize) -> (f64, f64) {
+    let length = contact_length(v, p, w, e);
+    if length > 0.0 {
+        return (length, length);
+    }
+    let p1 = v.vertices()[p];
+    let tangent = (w.vertices()[next(e, w)] - w.vertices()[e]).normalize();
+    let side = [v.vertices()[prev(p, v)], v.vertices()[next(p, v)]]
+        .iter()
+        .map(|q| q - p1)
+        .max_by(|s, t| {
+            let along = |x: &Vector2<f64>| (x.dot(&tangent) / x.norm()).abs();
+            along(s).total_cmp(&along(t))
+        })
+        .expect("a polygon vertex has two sides");
+    (0.0, side.norm() / 2.0)
 }
 
 /// Boundary length a vertex stands for against an edge: half of each of its

@@ -90,6 +90,15 @@ impl BlockSystem<6, 1> for Polygons {
         ((hi - lo).norm() / 2.0).max(f64::MIN_POSITIVE)
     }
 
+    fn block_size(&self) -> f64 {
+        let mut sizes: Vec<f64> = self.blocks.iter().map(|b| b.area().abs().sqrt()).collect();
+        sizes.sort_by(f64::total_cmp);
+        sizes
+            .get(sizes.len().saturating_sub(1) / 2)
+            .copied()
+            .unwrap_or(1.0)
+    }
+
     fn stiffness_scale(&self) -> f64 {
         self.materials
             .iter()

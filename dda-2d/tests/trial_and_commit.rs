@@ -64,7 +64,7 @@ fn histories_change_once_per_accepted_step_even_when_steps_are_cut() {
     // One pass at most: steps in which a contact changes state are cut.
     let settings = Settings {
         dt: Some(0.01),
-        penalty: Some(1e10),
+        penalty: Some(2e10),
         open_close_limit: 1,
         ..Settings::default()
     };

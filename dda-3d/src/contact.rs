@@ -99,17 +99,17 @@ pub fn pair_contacts(
             if entrances.is_empty() {
                 continue;
             }
-            let length = sb
+            let areas = sb
                 .vertex_faces(q)
                 .iter()
-                .map(|&f| vertex_area(a, p, b, f))
-                .chain(sa.vertex_faces(p).iter().map(|&g| vertex_area(b, q, a, g)))
-                .fold(0.0, f64::max);
+                .map(|&f| vertex_areas(a, p, b, f))
+                .chain(sa.vertex_faces(p).iter().map(|&g| vertex_areas(b, q, a, g)))
+                .fold((0.0, 0.0), widest);
             out.push(contact(
                 (i, p as u32),
                 (j, VERTEX | q as u32),
                 law,
-                length,
+                areas,
                 entrances,
             ));
         }
@@ -135,16 +135,16 @@ pub fn pair_contacts(
                 if entrances.is_empty() {
                     continue;
                 }
-                let length = edge
+                let areas = edge
                     .faces
                     .iter()
-                    .map(|&f| vertex_area(bx, p, by, f))
-                    .fold(0.0, f64::max);
+                    .map(|&f| vertex_areas(bx, p, by, f))
+                    .fold((0.0, 0.0), widest);
                 out.push(contact(
                     (x, p as u32),
                     (y, EDGE | e as u32),
                     law,
-                    length,
+                    areas,
                     entrances,
                 ));
             }
@@ -152,8 +152,8 @@ pub fn pair_contacts(
             for f in 0..sy.faces().len() {
                 if vertex_over_face(sx, p, sy, f, range) {
                     let en = face_entrance(bx, p, by, f, false);
-                    let length = vertex_area(bx, p, by, f);
-                    out.push(contact((x, p as u32), (y, f as u32), law, length, vec![en]));
+                    let areas = vertex_areas(bx, p, by, f);
+                    out.push(contact((x, p as u32), (y, f as u32), law, areas, vec![en]));
                 }
             }
         }
@@ -168,11 +168,17 @@ pub fn pair_contacts(
                 continue;
             }
             if let Some(en) = edge_edge(a, ea, edge_a.ends, b, eb, edge_b.ends, range) {
+                // A crossing stands for no area; its springs for a square
+                // of half the shorter edge.
+                let shorter = [(edge_a.ends, sa), (edge_b.ends, sb)]
+                    .iter()
+                    .map(|([u, v], s)| (s.vertices()[*u] - s.vertices()[*v]).norm())
+                    .fold(f64::INFINITY, f64::min);
                 out.push(contact(
                     (i, EDGE | ea as u32),
                     (j, eb as u32),
                     law,
-                    0.0,
+                    (0.0, (shorter / 2.0).powi(2)),
                     vec![en],
                 ));
             }
@@ -205,7 +211,7 @@ fn contact(
     (i, feature_a): (usize, u32),
     (j, feature_b): (usize, u32),
     law: usize,
-    length: f64,
+    (length, spring_length): (f64, f64),
     entrances: Vec<Entrance<12, 2>>,
 ) -> Contact3 {
     Contact {
@@ -218,6 +224,7 @@ fn contact(
         blocks: [i, j],
         law,
         length,
+        spring_length,
         entrances,
         record: ContactRecord::default(),
     }
@@ -504,12 +511,20 @@ fn segment_distance(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>) -> (f64, 
     ((p - (a + ab * s)).norm(), s)
 }
 
+/// The larger of each of two (area, spring area) pairs.
+fn widest(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+    (a.0.max(b.0), a.1.max(b.1))
+}
+
 /// Area a vertex stands for against a face: for each face at the vertex
 /// lying on the contact plane (facing the entered face within 3°), the
 /// vertex's share of it (the quadrilateral of the vertex, the midpoints of
 /// its two sides and the face's centroid: a quarter of a rectangle, a third of
-/// a triangle), clipped to the entered face.
-fn vertex_area(x: &Block, p: usize, y: &Block, f: usize) -> f64 {
+/// a triangle), clipped to the entered face. Second, the area its springs
+/// stand for: the same where it has one; for a corner touching the face (no
+/// face of it on the plane), its whole share of the face most nearly facing
+/// the entered one, the area that face would bring into contact.
+fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
     let (sx, sy) = (x.shape(), y.shape());
     let n = sy.normal(f);
     let frame = sy.face_frame(f);
@@ -518,11 +533,7 @@ fn vertex_area(x: &Block, p: usize, y: &Block, f: usize) -> f64 {
         .iter()
         .map(|t| t.map(|k| frame.to_plane(&sy.vertices()[k])))
         .collect();
-    let mut total = 0.0;
-    for &g in sx.vertex_faces(p) {
-        if sx.normal(g).dot(&n) > -ANGLE_TOLERANCE.cos() {
-            continue;
-        }
+    let share = |g: usize| -> Vec<Point2<f64>> {
         let face = &sx.faces()[g];
         let k = face.iter().position(|&v| v == p).unwrap_or(0);
         let m = face.len();
@@ -531,16 +542,41 @@ fn vertex_area(x: &Block, p: usize, y: &Block, f: usize) -> f64 {
         let next = Point3::from((corner.coords + at((k + 1) % m).coords) / 2.0);
         let prev = Point3::from((corner.coords + at((k + m - 1) % m).coords) / 2.0);
         // Counter-clockwise about g's normal is clockwise in f's frame.
-        let share: Vec<Point2<f64>> = [prev, sx.face_centroid(g), next, corner]
+        [prev, sx.face_centroid(g), next, corner]
             .iter()
             .map(|q| frame.to_plane(q))
-            .collect();
+            .collect()
+    };
+    let mut total = 0.0;
+    for &g in sx.vertex_faces(p) {
+        if sx.normal(g).dot(&n) > -ANGLE_TOLERANCE.cos() {
+            continue;
+        }
+        let share = share(g);
         total += triangles
             .iter()
             .map(|t| face::area(&face::clip_convex(&share, t)).abs())
             .sum::<f64>();
     }
-    total
+    if total > 0.0 {
+        return (total, total);
+    }
+    let facing = sx
+        .vertex_faces(p)
+        .iter()
+        .copied()
+        .min_by(|&g, &h| sx.normal(g).dot(&n).total_cmp(&sx.normal(h).dot(&n)));
+    // The share's true area: half the cross product of its diagonals.
+    let springs = facing.map_or(0.0, |g| {
+        let face = &sx.faces()[g];
+        let k = face.iter().position(|&v| v == p).unwrap_or(0);
+        let m = face.len();
+        let at = |i: usize| sx.vertices()[face[i]];
+        let diagonal = sx.face_centroid(g) - at(k);
+        let across = (at((k + 1) % m) - at((k + m - 1) % m)) / 2.0;
+        diagonal.cross(&across).norm() / 2.0
+    });
+    (0.0, springs)
 }
 
 #[cfg(test)]

@@ -90,6 +90,19 @@ impl BlockSystem<12, 2> for Polyhedra {
         ((hi - lo).norm() / 2.0).max(f64::MIN_POSITIVE)
     }
 
+    fn block_size(&self) -> f64 {
+        let mut sizes: Vec<f64> = self
+            .blocks
+            .iter()
+            .map(|b| b.volume().abs().cbrt())
+            .collect();
+        sizes.sort_by(f64::total_cmp);
+        sizes
+            .get(sizes.len().saturating_sub(1) / 2)
+            .copied()
+            .unwrap_or(1.0)
+    }
+
     fn stiffness_scale(&self) -> f64 {
         self.materials
             .iter()
@@ -141,6 +154,33 @@ impl BlockSystem<12, 2> for Polyhedra {
             contacts.extend(pair_contacts(&self.blocks, i, j, range, law));
         }
         contacts
+    }
+
+    fn potential_energy(&self) -> Option<f64> {
+        let driven = self.fixed.iter().any(|f| f.is_driven());
+        if driven || !self.loads.is_empty() {
+            return None;
+        }
+        let gravity: f64 = self
+            .blocks
+            .iter()
+            .map(|b| -b.mass * self.gravity.dot(&b.centroid().coords))
+            .sum();
+        // ½ V σ·ε, with engineering shear strains.
+        let strain: f64 = self
+            .blocks
+            .iter()
+            .map(|b| 0.5 * b.volume() * b.stress.dot(&b.strain))
+            .sum();
+        let springs: f64 = self
+            .fixed
+            .iter()
+            .map(|f| {
+                let gap = f.held() * (f.target - f.point);
+                0.5 * self.fixed_penalty * gap.norm_squared()
+            })
+            .sum();
+        Some(gravity + strain + springs)
     }
 
     fn max_displacement(&self, d: &[BlockVector<12>]) -> f64 {

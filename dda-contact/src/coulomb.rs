@@ -27,7 +27,7 @@ pub struct Coulomb {
     pub cohesion: f64,
     /// Tensile strength T0 in stress units (Pa); 0 for dry joints.
     pub tensile_strength: f64,
-    /// Normal penalty k_n (force per length, per unit thickness in 2D); `None`
+    /// Normal penalty k_n per unit contact length (2D) or area (3D), N/m³; `None`
     /// takes the driver's penalty.
     pub normal_stiffness: Option<f64>,
     /// Shear penalty k_s; `None` takes k_n / 2.5 (Shi's default).
@@ -143,7 +143,7 @@ mod tests {
     }
 
     #[test]
-    fn opens_in_tension_and_relocks_on_reversal() {
+    fn opens_in_tension_and_relocks_when_the_spring_unloads() {
         let law = Coulomb::frictional(30.0);
         let h = law.initial_history(true);
         assert_eq!(
@@ -154,12 +154,24 @@ mod tests {
             law.next_state(ContactState::Open, &kin(1e-6, 0.0, 0.0), &h),
             ContactState::Open
         );
+        // A sliding contact locks once its trial spring force falls back
+        // within the strength (the slip reversed), and slides on above it.
+        let ks = 1e9 / SHEAR_RATIO;
+        let limit = 1e4 * 30f64.to_radians().tan();
         assert_eq!(
-            law.next_state(ContactState::Sliding, &kin(-1e-5, 0.0, -1e-6), &h),
+            law.next_state(
+                ContactState::Sliding,
+                &kin(-1e-5, 0.99 * limit / ks, -1e-9),
+                &h
+            ),
             ContactState::Locked
         );
         assert_eq!(
-            law.next_state(ContactState::Sliding, &kin(-1e-5, 0.0, 1e-6), &h),
+            law.next_state(
+                ContactState::Sliding,
+                &kin(-1e-5, 1.01 * limit / ks, 1e-9),
+                &h
+            ),
             ContactState::Sliding
         );
     }

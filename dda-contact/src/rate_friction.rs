@@ -51,7 +51,16 @@ impl ContactLaw for RateFriction {
 
     fn next_state(&self, state: ContactState, kin: &LocalKinematics, _: &()) -> ContactState {
         let springs = Springs::new(self.normal_stiffness, self.shear_stiffness, kin);
-        springs.next_state(state, kin, self.strength(&springs, kin), 0.0)
+        let next = springs.next_state(state, kin, self.strength(&springs, kin), 0.0);
+        // The coefficient is the last step's, so a sliding contact whose
+        // rate dipped would see a higher strength and lock, then slip fast:
+        // stick-slip of the explicit rate, not of the law. A sliding
+        // contact keeps sliding until its slip reverses.
+        if state == ContactState::Sliding && next == ContactState::Locked && kin.slip >= 0.0 {
+            ContactState::Sliding
+        } else {
+            next
+        }
     }
 
     fn commit(&self, _: ContactState, _: &LocalKinematics, _: &mut ()) {}

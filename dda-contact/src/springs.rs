@@ -16,13 +16,15 @@ pub struct Springs {
 }
 
 impl Springs {
-    /// The law's own stiffnesses where set; otherwise the driver's penalty
-    /// and a shear spring 2.5 times softer (Shi's default).
+    /// The law's own stiffnesses where set, otherwise the driver's penalty
+    /// and a shear spring 2.5 times softer (Shi's default); both per unit
+    /// contact length (2D) or area (3D), times what the contact stands for.
     pub fn new(normal: Option<f64>, shear: Option<f64>, kin: &LocalKinematics) -> Self {
         let normal = normal.unwrap_or(kin.penalty);
+        let shear = shear.unwrap_or(normal / SHEAR_RATIO);
         Self {
-            normal,
-            shear: shear.unwrap_or(normal / SHEAR_RATIO),
+            normal: normal * kin.spring_length,
+            shear: shear * kin.spring_length,
         }
     }
 
@@ -57,10 +59,18 @@ impl Springs {
         }
     }
 
-    /// Shi's open-close rules: an open contact closes when it penetrates; a
-    /// closed one opens when its tension passes `tension` (a force); a locked
-    /// one slides when its spring force passes `strength`; a sliding one
-    /// locks when the slip reverses.
+    /// Shi's open-close rules, with the lock/slide decision made as an
+    /// elastoplastic return map: an open contact closes when it penetrates;
+    /// a closed one opens when its tension passes `tension` (a force);
+    /// otherwise it is locked while its trial spring force (the carried
+    /// stretch plus this step's tangential motion, times k_s) is within
+    /// `strength`, and sliding beyond it.
+    ///
+    /// The same test for a locked and a sliding contact makes the two states
+    /// complementary (a sliding contact whose plastic slip would be negative
+    /// locks), so a contact at its limit cannot cycle between them, and a
+    /// slip that reverses by less than the open-close tolerance still locks:
+    /// friction never pushes a block the way it is moving.
     pub fn next_state(
         &self,
         state: ContactState,
@@ -77,9 +87,7 @@ impl Springs {
             ContactState::Open if kin.gap < -kin.tolerance => locked_or_sliding,
             ContactState::Open => ContactState::Open,
             _ if kin.gap > tension / self.normal + kin.tolerance => ContactState::Open,
-            ContactState::Sliding if kin.slip < -kin.tolerance => ContactState::Locked,
-            ContactState::Sliding => ContactState::Sliding,
-            ContactState::Locked => locked_or_sliding,
+            _ => locked_or_sliding,
         }
     }
 }
@@ -105,6 +113,7 @@ pub(crate) fn kinematics(gap: f64, shear: f64, slip: f64) -> LocalKinematics {
         slip_path: 0.0,
         slip_rate: 0.0,
         length: 0.5,
+        spring_length: 1.0,
         penalty: 1e9,
         tolerance: 1e-9,
         dt: 1e-3,

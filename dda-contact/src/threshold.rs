@@ -19,7 +19,7 @@ pub struct ThresholdBond {
     pub max_opening: f64,
     /// Shear displacement (m) at which the bond breaks in shear.
     pub max_shear: f64,
-    /// Normal penalty (force per length); `None`: the driver's.
+    /// Normal penalty per unit contact length (2D) or area (3D), N/m³; `None`: the driver's.
     pub normal_stiffness: Option<f64>,
     /// Shear penalty; `None`: normal / 2.5.
     pub shear_stiffness: Option<f64>,

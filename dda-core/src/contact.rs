@@ -73,10 +73,16 @@ pub struct LocalKinematics {
     /// Slip rate of the last accepted step (length per time), so rate laws do
     /// not chatter between open-close passes.
     pub slip_rate: f64,
-    /// Boundary length (2D, per unit thickness) or area (3D) the contact stands for.
+    /// Boundary length (2D, per unit thickness) or area (3D) the contact
+    /// stands for: what cohesion and tensile strength act over.
     pub length: f64,
-    /// The driver's normal penalty (automatic or from the scene, raised when
-    /// penetration is too deep). Laws use it unless they set their own.
+    /// Boundary length (2D) or area (3D) the contact's springs stand for:
+    /// a spring's stiffness is its stiffness per unit length or area times
+    /// this, so a 2D model and its extruded prism settle alike.
+    pub spring_length: f64,
+    /// The driver's normal penalty per unit contact length (2D, per unit
+    /// thickness) or area (3D), in N/m³ (automatic or from the scene, raised
+    /// when penetration is too deep). Laws use it unless they set their own.
     pub penalty: f64,
     /// Distance tolerance for open-close decisions.
     pub tolerance: f64,

@@ -116,8 +116,15 @@ pub struct Contact<const N: usize, const T: usize> {
     pub blocks: [usize; 2],
     /// Index into the driver's law table.
     pub law: usize,
-    /// Boundary length (2D) or area (3D) the contact stands for.
+    /// Boundary length (2D) or area (3D) the contact stands for: what its
+    /// cohesion and tensile strength act over (zero for a point contact).
     pub length: f64,
+    /// Boundary length (2D, per unit thickness) or area (3D) the contact's
+    /// springs stand for: `length` where the contact has one; for a corner
+    /// touching a face (a rocking block's pivot), the entering vertex's share
+    /// of its side that most nearly faces the entered one. Never zero, so the
+    /// springs of every closed contact are the penalty times this.
+    pub spring_length: f64,
     pub entrances: Vec<Entrance<N, T>>,
     pub record: ContactRecord<T>,
 }

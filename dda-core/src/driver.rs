@@ -105,9 +105,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let penalty = match settings.penalty {
             Some(p) => p,
             None => {
-                let p = system.stiffness_scale();
+                let p = system.automatic_penalty();
                 notes.push(format!(
-                    "penalty {p:.4e}: the stiffest block's Young's modulus per unit length"
+                    "penalty {p:.4e} N/m³ per unit contact length or area: twice the stiffest block's Young's modulus over the median block size"
                 ));
                 p
             }
@@ -343,18 +343,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 let history = c.record.history.as_ref().expect("history set at search");
                 let state = trial.states[i];
                 let next = law.next_state(state, &kin, history);
-                let ds = c.entrances[e]
-                    .shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
-                if next == ContactState::Sliding {
-                    let shear = self.carried_shear(c, e) + ds;
-                    // The carried stretch plus this step's slip: in 3D the
-                    // step's slip alone wanders with every small vibration.
-                    let basis = shear;
-                    if let Some(dir) = basis.try_normalize(1e-300) {
-                        if state != ContactState::Sliding || dir.dot(&trial.directions[i]) > 0.0 {
-                            trial.directions[i] = dir;
-                        }
-                    }
+                // The slip direction is the trial spring stretch's (the
+                // return map's), so a sliding contact's friction opposes
+                // where the stretch points now, never a stale direction.
+                if let Some(dir) = self.stretch(i, e, &trial).try_normalize(1e-300) {
+                    trial.directions[i] = dir;
                 }
                 let entrance = widest_entrance(c, &trial.d, e, tolerance);
                 if next != state || entrance != e {
@@ -487,21 +480,27 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             add_spring(&mut matrix, a, b, na, nb, response.normal_stiffness);
             ra += na * response.normal_force;
             rb += nb * response.normal_force;
-            // Shear: a spring when locked, a friction force when sliding.
-            let direction = match state {
-                ContactState::Locked => {
-                    let ds = entrance.shear_at(&block(&trial.d, a), &block(&trial.d, b));
-                    (self.carried_shear(c, e) + ds)
-                        .try_normalize(1e-300)
-                        .unwrap_or_else(SVector::zeros)
-                }
-                _ => trial.directions[i],
-            };
+            // Shear: a spring when locked; when sliding, the friction force
+            // along the trial stretch (the radial return of an elastoplastic
+            // spring), whose tangent turns the force with the stretch in 3D.
+            let stretch = self.stretch(i, e, trial);
+            let length = stretch.norm();
+            let direction = stretch.try_normalize(1e-300).unwrap_or(trial.directions[i]);
             for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
                 add_spring(&mut matrix, a, b, ta, tb, response.shear_stiffness);
                 let force = -response.shear_force * direction[k];
                 ra += ta * force;
                 rb += tb * force;
+            }
+            if state == ContactState::Sliding && T > 1 && length > 0.0 {
+                let turning = response.shear_force / length;
+                for (k, gk) in entrance.tangents.iter().enumerate() {
+                    for (l, gl) in entrance.tangents.iter().enumerate() {
+                        let identity = if k == l { 1.0 } else { 0.0 };
+                        let projector = identity - direction[k] * direction[l];
+                        add_coupling(&mut matrix, a, b, gk, gl, turning * projector);
+                    }
+                }
             }
             add_block(residual, a, &ra);
             add_block(residual, b, &rb);
@@ -519,6 +518,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         }
     }
 
+    /// The shear spring's trial stretch: the carried stretch plus this
+    /// step's relative tangential displacement.
+    fn stretch(&self, i: usize, e: usize, trial: &Trial<T>) -> SVector<f64, T> {
+        let c = &self.contacts[i];
+        let ds =
+            c.entrances[e].shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
+        self.carried_shear(c, e) + ds
+    }
+
     fn kinematics(&self, i: usize, e: usize, trial: &Trial<T>, dt: f64) -> LocalKinematics {
         let c = &self.contacts[i];
         let entrance = &c.entrances[e];
@@ -533,6 +541,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             slip_path: c.record.slip_path,
             slip_rate: c.record.slip_rate,
             length: c.length,
+            spring_length: c.spring_length,
             penalty: self.penalty,
             tolerance: self.settings.contact_tolerance * self.length_scale,
             dt,
@@ -688,6 +697,24 @@ fn add_spring<const N: usize>(
     matrix.add(a, a, &(ga * ga.transpose() * k));
     matrix.add(b, b, &(gb * gb.transpose() * k));
     matrix.add(a, b, &(ga * gb.transpose() * k));
+}
+
+/// Adds k·g·hᵀ with g = (ga, gb) and h = (ha, hb); called for (g, h) and
+/// (h, g) with the same k, the sum is symmetric.
+fn add_coupling<const N: usize>(
+    matrix: &mut BlockSparse<N>,
+    a: usize,
+    b: usize,
+    [ga, gb]: &[BlockVector<N>; 2],
+    [ha, hb]: &[BlockVector<N>; 2],
+    k: f64,
+) {
+    if k == 0.0 {
+        return;
+    }
+    matrix.add(a, a, &(ga * ha.transpose() * k));
+    matrix.add(b, b, &(gb * hb.transpose() * k));
+    matrix.add(a, b, &(ga * hb.transpose() * k));
 }
 
 fn block<const N: usize>(d: &[f64], i: usize) -> BlockVector<N> {

@@ -21,10 +21,12 @@ pub struct Settings {
     pub max_displacement_ratio: f64,
     /// Deepest penetration allowed, as a fraction of w0 (2.5·g3 in Shi).
     pub max_penetration_ratio: f64,
-    /// Normal penalty; `None` takes the stiffest block's Young's modulus per
-    /// unit length (stiff enough that penetration under self-weight is a
-    /// tiny fraction of the block size, soft enough to keep the system well
-    /// conditioned).
+    /// Normal contact stiffness per unit contact length (2D, per unit
+    /// thickness) or area (3D), in N/m³; a contact's springs are this times
+    /// the length or area they stand for. `None` takes twice the stiffest
+    /// block's Young's modulus over the median block size (stiff enough that
+    /// penetration under self-weight is a tiny fraction of the block size,
+    /// soft enough to keep the system well conditioned).
     pub penalty: Option<f64>,
     /// Multiply the penalty by 10 and redo the step when a step penetrates
     /// too deep (Shi's remedy). Off by default: a global raise multiplies the

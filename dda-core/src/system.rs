@@ -18,9 +18,20 @@ pub trait BlockSystem<const N: usize, const T: usize> {
     /// Model length scale w0 (Shi): tolerances and bounds are fractions of it.
     fn length_scale(&self) -> f64;
 
-    /// Stiffness scale for the automatic penalty (largest Young's modulus
-    /// times unit length), in force per length.
+    /// Stiffness scale for the automatic penalty: the largest Young's
+    /// modulus (Pa).
     fn stiffness_scale(&self) -> f64;
+
+    /// A typical block size (m): the median over the blocks of the square
+    /// root of the area (2D) or the cube root of the volume (3D).
+    fn block_size(&self) -> f64;
+
+    /// The automatic penalty per unit contact length (2D) or area (3D), in
+    /// N/m³: twice the stiffest modulus over the typical block size, so a
+    /// block's contacts are about as stiff as the block itself.
+    fn automatic_penalty(&self) -> f64 {
+        2.0 * self.stiffness_scale() / self.block_size()
+    }
 
     /// Mass matrix of a block, ∫ρ TᵀT.
     fn mass(&self, block: usize) -> BlockMatrix<N>;

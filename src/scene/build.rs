@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use dda_2d::{Block, Driver2d, FixedPoint, Force, PlaneElastic, PointLoad, Polygons};
 use dda_3d::{Driver3d, IsotropicElastic, Polyhedra};
 use dda_contact::{Coulomb, LawRegistry, Params, RateFriction, SlipWeakening, ThresholdBond};
-use dda_core::{ConstitutiveLaw, DynContactLaw, Settings};
+use dda_core::{BlockSystem, ConstitutiveLaw, DynContactLaw, Settings};
 use nalgebra::{Point2, Point3, SVector, Vector2, Vector3, Vector6};
 
 use super::validate::{place_of, polygon_message, to_points, unit_axis, Place, Slot};
@@ -172,11 +172,12 @@ impl Scene {
         system.gravity = Vector2::from_column_slice(&self.gravity());
         system.rotation_update = a.rotation_update;
         system.length_scale = a.length_scale;
-        // Fixed points are ten times stiffer than the contacts (A3.6), so a
-        // held base does not sag into its supports.
-        system.fixed_penalty = a
-            .fixed_penalty
-            .unwrap_or_else(|| 10.0 * a.penalty.unwrap_or(system.fixed_penalty));
+        // Fixed points are ten times stiffer than a typical contact, whose
+        // springs stand for half a block's side (A3.6), so a held base does
+        // not sag into its supports.
+        let contact =
+            a.penalty.unwrap_or_else(|| system.automatic_penalty()) * system.block_size() / 2.0;
+        system.fixed_penalty = a.fixed_penalty.unwrap_or(10.0 * contact);
         let table = self.law_table();
         system.joint_laws = table.materials.clone();
         system.pair_laws = table.pairs.clone();
@@ -280,9 +281,10 @@ impl Scene {
             super::RotationUpdate::Linear => dda_3d::RotationUpdate::Linear,
         };
         system.length_scale = a.length_scale;
-        system.fixed_penalty = a
-            .fixed_penalty
-            .unwrap_or_else(|| 10.0 * a.penalty.unwrap_or(system.fixed_penalty));
+        // As in 2D, with a typical contact standing for a quarter of a face.
+        let contact = a.penalty.unwrap_or_else(|| system.automatic_penalty())
+            * (system.block_size() / 2.0).powi(2);
+        system.fixed_penalty = a.fixed_penalty.unwrap_or(10.0 * contact);
         let table = self.law_table();
         system.joint_laws = table.materials.clone();
         system.pair_laws = table.pairs.clone();
