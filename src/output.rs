@@ -79,7 +79,7 @@ impl HistoryWriter {
     /// One row per block at the driver's current time.
     pub fn write<S: Simulation>(&mut self, driver: &S) -> anyhow::Result<()> {
         let step = driver.statistics().steps;
-        let time = driver.time();
+        let time = round_time(driver.time());
         for i in 0..driver.block_count() {
             write!(self.out, "{step},{},{i}", num(time))?;
             for value in driver.history_values(i) {
@@ -139,7 +139,7 @@ impl ContactWriter {
     /// One row per contact at the driver's current time.
     pub fn write<S: Simulation>(&mut self, driver: &S) -> anyhow::Result<()> {
         let step = driver.statistics().steps;
-        let time = num(driver.time());
+        let time = num(round_time(driver.time()));
         for c in driver.contact_lines() {
             writeln!(
                 self.out,
@@ -155,6 +155,18 @@ impl ContactWriter {
         }
         self.out.flush()?;
         Ok(())
+    }
+}
+
+/// A time as written: rounded to 12 significant digits, far finer than
+/// any step (the smallest is `min_dt_ratio`·dt) and coarser than the
+/// round-off of summing thousands of steps, so 2000 steps of 0.001 s read
+/// 2, not 1.9999999999998905.
+pub fn round_time(t: f64) -> f64 {
+    if t.is_finite() {
+        format!("{t:.11e}").parse().unwrap_or(t)
+    } else {
+        t
     }
 }
 
@@ -312,6 +324,23 @@ pub fn write_json<T: Serialize>(path: &Path, value: &T) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::num;
+
+    #[test]
+    fn times_lose_round_off_only() {
+        use super::round_time;
+        let mut t = 0.0;
+        for _ in 0..2000 {
+            t += 0.001;
+        }
+        assert_ne!(t, 2.0);
+        assert_eq!(round_time(t), 2.0);
+        assert_eq!(round_time(0.009000000000000001), 0.009);
+        // A step cut to 1/729 of 1 ms is kept.
+        let cut = 1.0 + 1e-3 / 729.0;
+        assert!((round_time(cut) - cut).abs() < 1e-12);
+        assert_eq!(round_time(0.0), 0.0);
+        assert!(round_time(f64::NAN).is_nan());
+    }
 
     #[test]
     fn numbers_round_trip() {
