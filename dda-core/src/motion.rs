@@ -167,6 +167,7 @@ impl<const D: usize> Record<D> {
             return self.clone();
         };
         let mut acceleration = self.acceleration.clone();
+        #[allow(clippy::needless_range_loop)] // c is a component of every sample
         for c in 0..D {
             let u = DVector::from_fn(n, |k, _| self.displacement[k][c]);
             let mut rhs = DVector::zeros(m + 2);
