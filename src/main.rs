@@ -2,11 +2,12 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::Duration;
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use dda::extrude::{extrude_with, Extrusion};
-use dda::run::{run_with, RunOptions};
+use dda::run::{bytes_text, default_out_dir, estimate, run_with, RunOptions};
 use dda::scene::MotionSpec;
 use dda::Scene;
 
@@ -27,9 +28,12 @@ enum Command {
     Run {
         /// The scene file (RON)
         scene: PathBuf,
-        /// Output directory (created if missing)
+        /// Output directory (created if missing); out/<scene name> under the current folder when left out
         #[arg(long, short, value_name = "DIR")]
-        out: PathBuf,
+        out: Option<PathBuf>,
+        /// Seconds between progress lines on stderr when it is not a terminal (0: one per output time)
+        #[arg(long, value_name = "SECONDS", default_value_t = 5.0)]
+        progress_every: f64,
     },
     /// Time steps of running-bond walls of growing size: median milliseconds per step and ratio to the smallest wall
     Bench {
@@ -81,10 +85,22 @@ fn main() -> ExitCode {
 fn execute(command: Command) -> anyhow::Result<()> {
     use std::io::IsTerminal;
     match command {
-        Command::Run { scene, out } => {
+        Command::Run {
+            scene,
+            out,
+            progress_every,
+        } => {
+            let out = out.unwrap_or_else(|| default_out_dir(&scene));
+            let every = Duration::try_from_secs_f64(progress_every).map_err(|_| {
+                anyhow::anyhow!(
+                    "--progress-every must be a number of seconds, zero or more, got {progress_every}"
+                )
+            })?;
+            let terminal = std::io::stderr().is_terminal();
             let options = RunOptions {
-                progress: std::io::stderr().is_terminal(),
+                progress: terminal,
                 notes: true,
+                progress_lines: (!terminal).then_some(every),
             };
             let summary = run_with(&scene, &out, options)?;
             let files: Vec<String> = summary
@@ -113,8 +129,29 @@ fn execute(command: Command) -> anyhow::Result<()> {
                 count(laws.len(), "joint law"),
                 model.duration(),
             );
+            let expected = estimate(&model);
+            let every = if model.output_interval().is_none() {
+                " (every step)".to_string()
+            } else {
+                String::new()
+            };
+            println!(
+                "expects {:.0} steps at dt, {:.0} output times{every}, {:.0} history rows (about {}{})",
+                expected.steps,
+                expected.output_times,
+                expected.rows,
+                bytes_text(expected.bytes),
+                if model.write_contacts() {
+                    ", plus contacts.csv"
+                } else {
+                    ""
+                },
+            );
             for note in model.notes() {
                 eprintln!("note: {note}");
+            }
+            for warning in &expected.warnings {
+                eprintln!("warning: {warning}");
             }
         }
         Command::Bench {

@@ -79,7 +79,7 @@ impl HistoryWriter {
     /// One row per block at the driver's current time.
     pub fn write<S: Simulation>(&mut self, driver: &S) -> anyhow::Result<()> {
         let step = driver.statistics().steps;
-        let time = driver.time();
+        let time = round_time(driver.time());
         for i in 0..driver.block_count() {
             write!(self.out, "{step},{},{i}", num(time))?;
             for value in driver.history_values(i) {
@@ -139,7 +139,7 @@ impl ContactWriter {
     /// One row per contact at the driver's current time.
     pub fn write<S: Simulation>(&mut self, driver: &S) -> anyhow::Result<()> {
         let step = driver.statistics().steps;
-        let time = num(driver.time());
+        let time = num(round_time(driver.time()));
         for c in driver.contact_lines() {
             writeln!(
                 self.out,
@@ -155,6 +155,21 @@ impl ContactWriter {
         }
         self.out.flush()?;
         Ok(())
+    }
+}
+
+/// A time as written: a sum of steps within two units of round-off of a
+/// 15-digit decimal is written as that decimal, so 2000 steps of 0.001 s
+/// read 2, not 1.9999999999999998; any other time (a duration of 2π, a
+/// step cut to a third) as it is.
+pub fn round_time(t: f64) -> f64 {
+    let Ok(short) = format!("{t:.14e}").parse::<f64>() else {
+        return t;
+    };
+    if (short - t).abs() <= 2.0 * f64::EPSILON * t.abs() {
+        short
+    } else {
+        t
     }
 }
 
@@ -312,6 +327,19 @@ pub fn write_json<T: Serialize>(path: &Path, value: &T) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::num;
+
+    #[test]
+    fn times_lose_round_off_only() {
+        use super::round_time;
+        assert_eq!(round_time(1.9999999999999998), 2.0);
+        assert_eq!(round_time(0.009000000000000001), 0.009);
+        // Times that are what they are stay.
+        let cut = 1.0 + 1e-3 / 729.0;
+        assert_eq!(round_time(cut), cut);
+        assert_eq!(round_time(std::f64::consts::TAU), std::f64::consts::TAU);
+        assert_eq!(round_time(0.0), 0.0);
+        assert!(round_time(f64::NAN).is_nan());
+    }
 
     #[test]
     fn numbers_round_trip() {

@@ -1,15 +1,15 @@
 //! Running a scene to its end while writing the outputs.
 
 use std::io::IsTerminal;
-use std::path::Path;
-use std::time::Instant;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context};
 use dda_contact::LawRegistry;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
-use crate::output::{write_json, ContactWriter, HistoryWriter};
+use crate::output::{round_time, write_json, ContactWriter, HistoryWriter};
 use crate::scene::{AnyModel, Model, Scene};
 use crate::simulation::Simulation;
 
@@ -34,6 +34,7 @@ pub struct Summary {
     pub blocks: usize,
     pub steps: usize,
     /// Simulated time reached, seconds.
+    #[serde(default, skip_serializing_if = "not_finite")]
     pub time: f64,
     /// Simulated time asked for, seconds.
     pub duration: f64,
@@ -56,21 +57,22 @@ pub struct Summary {
     /// Accepted steps ending with a penetration deeper than the limit, and the deepest (m).
     #[serde(default)]
     pub deep_penetration_steps: usize,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "not_finite")]
     pub deepest_penetration: f64,
     /// Total energy at the end (J, per unit thickness in 2D) when nothing
     /// works on the blocks, and how far it rose above its lowest value in
     /// the steps where it rose beyond a quarter of the energy in play.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "not_finite")]
     pub energy: f64,
     #[serde(default)]
     pub energy_growth_steps: usize,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "not_finite")]
     pub energy_growth: f64,
     /// What went wrong in the run that the results depend on; also printed.
     #[serde(default)]
     pub warnings: Vec<String>,
     /// Normal penalty at the end (after any raises).
+    #[serde(default, skip_serializing_if = "not_finite")]
     pub penalty: f64,
     /// Nominal time step.
     pub dt: f64,
@@ -85,6 +87,11 @@ fn two() -> u32 {
     2
 }
 
+/// Numbers JSON cannot hold are left out rather than written as null.
+fn not_finite(v: &f64) -> bool {
+    !v.is_finite()
+}
+
 /// What a run prints on stderr besides errors.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct RunOptions {
@@ -92,6 +99,95 @@ pub struct RunOptions {
     pub progress: bool,
     /// The driver's notes on automatic choices, at the start.
     pub notes: bool,
+    /// Without a bar: a progress line at the first output time after this
+    /// much wall-clock time, and again each time as much has passed (so a
+    /// short run prints none). `None`: no lines.
+    pub progress_lines: Option<Duration>,
+}
+
+/// How often a run without a terminal reports its progress by default.
+pub const PROGRESS_EVERY: Duration = Duration::from_secs(5);
+
+/// Where `dda run SCENE` writes when no folder is given: `out/<scene file
+/// name without .ron>` under the current folder.
+pub fn default_out_dir(scene_path: &Path) -> PathBuf {
+    let stem = scene_path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .filter(|s| !s.is_empty())
+        .unwrap_or_else(|| "scene".to_string());
+    Path::new("out").join(stem)
+}
+
+/// What a run is expected to take and write, before it runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Estimate {
+    /// Steps at the nominal time step (cut steps come on top).
+    pub steps: f64,
+    /// Output times, time 0 included.
+    pub output_times: f64,
+    /// Rows of `history.csv` (one per block per output time).
+    pub rows: f64,
+    /// Approximate size of `history.csv` in bytes.
+    pub bytes: f64,
+    /// What is absurd about it, with what to change.
+    pub warnings: Vec<String>,
+}
+
+/// More steps than this is a warning in [`estimate`].
+pub const MAX_SENSIBLE_STEPS: f64 = 1e7;
+/// A `history.csv` larger than this (bytes) is a warning in [`estimate`].
+pub const MAX_SENSIBLE_BYTES: f64 = 1e9;
+
+/// The steps and output size a built scene asks for.
+pub fn estimate(model: &AnyModel) -> Estimate {
+    let (duration, dt) = (model.duration(), model.dt());
+    let ratio = duration / dt;
+    // A whole number of steps that division leaves a hair above is whole.
+    let steps = if (ratio - ratio.round()).abs() <= 1e-9 * ratio {
+        ratio.round()
+    } else {
+        ratio.ceil()
+    };
+    let output_times = match model.output_interval() {
+        Some(interval) => (duration / interval).ceil().min(steps) + 1.0,
+        None => steps + 1.0,
+    };
+    let blocks = model.block_count() as f64;
+    let rows = output_times * blocks;
+    // Numbers take about 20 characters each as written, with their commas.
+    let fields = if model.dimension() == 3 { 18.0 } else { 9.0 };
+    let bytes = rows * (20.0 * fields + 20.0);
+    let mut warnings = Vec::new();
+    if steps > MAX_SENSIBLE_STEPS {
+        warnings.push(format!(
+            "{steps:.3e} steps ({duration} s at dt {dt:.3e} s) will take a very long time; check the duration, give a larger dt, or a softer penalty (an automatic dt follows the penalty)"
+        ));
+    }
+    if bytes > MAX_SENSIBLE_BYTES {
+        warnings.push(format!(
+            "history.csv would be about {}; give a larger output.interval",
+            bytes_text(bytes)
+        ));
+    }
+    Estimate {
+        steps,
+        output_times,
+        rows,
+        bytes,
+        warnings,
+    }
+}
+
+/// "12 kB", "3.4 MB", "1.2 GB".
+pub fn bytes_text(bytes: f64) -> String {
+    let units = [("GB", 1e9), ("MB", 1e6), ("kB", 1e3)];
+    for (unit, size) in units {
+        if bytes >= size {
+            return format!("{:.2} {unit}", bytes / size);
+        }
+    }
+    format!("{bytes:.0} B")
 }
 
 /// Runs a scene file, writing `history.csv` (and `contacts.csv` when the
@@ -104,6 +200,7 @@ pub fn run(scene_path: &Path, out_dir: &Path) -> anyhow::Result<Summary> {
         RunOptions {
             progress: terminal,
             notes: terminal,
+            progress_lines: None,
         },
     )
 }
@@ -160,14 +257,20 @@ pub fn run_model<S: Simulation>(
     }
     outputs.push("summary.json".to_string());
     if options.notes {
-        for note in model.driver.notes() {
+        for note in model.all_notes() {
             eprintln!("note: {note}");
         }
     }
-    let bar = progress_bar(options.progress);
     let started = Instant::now();
-    let result = advance(&mut model, &mut writers, &bar);
-    bar.finish_and_clear();
+    let mut progress = Progress {
+        bar: progress_bar(options.progress),
+        every: options.progress_lines.filter(|_| !options.progress),
+        started,
+        last: started,
+        known: Known::default(),
+    };
+    let result = advance(&mut model, &mut writers, &mut progress);
+    progress.bar.finish_and_clear();
     let result = result.with_context(|| {
         format!(
             "the run failed at t = {} s, step {} ({} keeps the rows written until then)",
@@ -178,7 +281,43 @@ pub fn run_model<S: Simulation>(
     });
 
     let driver = &model.driver;
-    let stats = driver.statistics();
+    let mut stats = driver.statistics().clone();
+    let (mut time, mut penalty) = (driver.time(), driver.penalty());
+    let mut warnings = warnings(&stats);
+    // A run that blew up may leave numbers JSON cannot hold (they would be
+    // null); their last finite values stand in, said so.
+    let known = &progress.known;
+    let mut replaced = Vec::new();
+    let mut keep = |name: &str, value: &mut f64, good: Option<f64>| {
+        if !value.is_finite() {
+            match good {
+                Some(good) => {
+                    replaced.push(format!("{name} ({value}; {good} given)"));
+                    *value = good;
+                }
+                None => replaced.push(format!("{name} ({value}; left out)")),
+            }
+        }
+    };
+    keep("time", &mut time, known.time);
+    keep("penalty", &mut penalty, known.penalty);
+    keep("energy", &mut stats.energy, known.energy);
+    keep(
+        "energy_growth",
+        &mut stats.energy_growth,
+        known.energy_growth,
+    );
+    keep(
+        "deepest_penetration",
+        &mut stats.deepest_penetration,
+        known.deepest_penetration,
+    );
+    if !replaced.is_empty() {
+        warnings.push(format!(
+            "not finite when the run stopped: {}; the values given are the last finite ones written, at an output time",
+            replaced.join(", ")
+        ));
+    }
     let summary = Summary {
         scene: scene.origin().to_string(),
         dimension: S::DIMENSION,
@@ -190,7 +329,7 @@ pub fn run_model<S: Simulation>(
         error: result.as_ref().err().map(|e| format!("{e:#}")),
         blocks: driver.block_count(),
         steps: stats.steps,
-        time: driver.time(),
+        time: round_time(time),
         duration: model.duration,
         wall_time: started.elapsed().as_secs_f64(),
         open_close_iterations: stats.open_close_iterations,
@@ -207,10 +346,10 @@ pub fn run_model<S: Simulation>(
         energy: stats.energy,
         energy_growth_steps: stats.energy_growth_steps,
         energy_growth: stats.energy_growth,
-        warnings: warnings(stats),
-        penalty: driver.penalty(),
+        warnings,
+        penalty,
         dt: driver.dt(),
-        notes: driver.notes().to_vec(),
+        notes: model.all_notes(),
         outputs,
     };
     write_json(&out_dir.join("summary.json"), &summary)?;
@@ -259,11 +398,11 @@ struct Writers {
 fn advance<S: Simulation>(
     model: &mut Model<S>,
     writers: &mut Writers,
-    bar: &ProgressBar,
+    progress: &mut Progress,
 ) -> anyhow::Result<()> {
     let duration = model.duration;
     let driver = &mut model.driver;
-    record(driver, writers, bar, duration)?;
+    record(driver, writers, progress, duration)?;
     match model.output_interval {
         Some(interval) => {
             for k in 1.. {
@@ -273,7 +412,7 @@ fn advance<S: Simulation>(
                     t = duration;
                 }
                 driver.advance_to(t)?;
-                record(driver, writers, bar, duration)?;
+                record(driver, writers, progress, duration)?;
                 if t == duration {
                     break;
                 }
@@ -283,19 +422,87 @@ fn advance<S: Simulation>(
             // The driver's own end test (as in advance_to).
             while duration - driver.time() > 1e-9 * driver.dt() {
                 driver.step(duration - driver.time())?;
-                record(driver, writers, bar, duration)?;
+                record(driver, writers, progress, duration)?;
             }
         }
     }
     Ok(())
 }
 
+/// The last finite values, at an output time, of the summary's numbers.
+#[derive(Debug, Clone, Default)]
+struct Known {
+    time: Option<f64>,
+    penalty: Option<f64>,
+    energy: Option<f64>,
+    energy_growth: Option<f64>,
+    deepest_penetration: Option<f64>,
+}
+
+impl Known {
+    fn update<S: Simulation>(&mut self, driver: &S) {
+        let stats = driver.statistics();
+        let pairs = [
+            (&mut self.time, driver.time()),
+            (&mut self.penalty, driver.penalty()),
+            (&mut self.energy, stats.energy),
+            (&mut self.energy_growth, stats.energy_growth),
+            (&mut self.deepest_penetration, stats.deepest_penetration),
+        ];
+        for (slot, value) in pairs {
+            if value.is_finite() {
+                *slot = Some(value);
+            }
+        }
+    }
+}
+
+/// The bar, or the lines printed when there is no terminal, and what the
+/// run last wrote.
+struct Progress {
+    bar: ProgressBar,
+    every: Option<Duration>,
+    started: Instant,
+    last: Instant,
+    /// The last finite value of each number of the summary that a blown-up
+    /// run can lose, as of the last output time (see [`Known`]).
+    known: Known,
+}
+
+impl Progress {
+    fn line<S: Simulation>(&mut self, driver: &S, duration: f64) {
+        let Some(every) = self.every else {
+            return;
+        };
+        let now = Instant::now();
+        if now.duration_since(self.last) < every {
+            return;
+        }
+        self.last = now;
+        let elapsed = now.duration_since(self.started).as_secs_f64();
+        let done = driver.time() / duration;
+        let left = if done > 0.0 {
+            format!(", about {:.0} s left", elapsed * (1.0 - done) / done)
+        } else {
+            String::new()
+        };
+        eprintln!(
+            "t = {:.4} s of {duration} s ({:.0} %), step {}, {elapsed:.0} s elapsed{left}",
+            driver.time(),
+            100.0 * done,
+            driver.statistics().steps,
+        );
+    }
+}
+
 fn record<S: Simulation>(
     driver: &S,
     writers: &mut Writers,
-    bar: &ProgressBar,
+    progress: &mut Progress,
     duration: f64,
 ) -> anyhow::Result<()> {
+    progress.line(driver, duration);
+    let bar = &progress.bar;
     for i in 0..driver.block_count() {
         if !driver.is_finite(i) {
             bail!(
@@ -307,6 +514,7 @@ fn record<S: Simulation>(
     if let Some(contacts) = &mut writers.contacts {
         contacts.write(driver)?;
     }
+    progress.known.update(driver);
     bar.set_position((driver.time() / duration * 1000.0).round() as u64);
     bar.set_message(format!(
         "t = {:.4e} s, step {}",

@@ -1378,3 +1378,87 @@ fn damping_is_checked_and_set() {
     let message = error_of(&damped("(ratio: 0.05)"));
     assert!(message.contains("frequency"), "{message}");
 }
+
+#[test]
+fn acceleration_records_are_baseline_corrected_unless_told_not_to() {
+    // A constant 0.1 g over ten samples: all of it is the drift a
+    // baseline correction takes out.
+    let rows: String = (0..=10)
+        .map(|k| format!("{}, 0.1, 0.0\n", k as f64 * 0.1))
+        .collect();
+    let path = record_file("offset", &rows);
+    let spec = |extra: &str| {
+        format!(
+            "(blocks: [0], motion: Record(path: {:?}, scale: 9.81{extra}))",
+            path.display().to_string()
+        )
+    };
+    let model = Scene::from_str(&with_ground(&spec("")), "good.ron")
+        .unwrap()
+        .build()
+        .unwrap();
+    let ground = model.driver.system.fixed[0].ground.as_ref().unwrap();
+    assert!(ground.displacement(1.0).norm() < 1e-9);
+    let note = model
+        .notes
+        .iter()
+        .find(|n| n.contains("baseline corrected"));
+    assert!(
+        note.is_some_and(|n| n.contains("ends 0.49")),
+        "{:?}",
+        model.notes
+    );
+
+    let model = Scene::from_str(
+        &with_ground(&spec(", baseline_correction: false")),
+        "good.ron",
+    )
+    .unwrap()
+    .build()
+    .unwrap();
+    let ground = model.driver.system.fixed[0].ground.as_ref().unwrap();
+    assert!((ground.displacement(1.0).x - 0.981 / 2.0).abs() < 1e-12);
+    assert!(
+        model
+            .notes
+            .iter()
+            .any(|n| n.contains("no baseline correction")),
+        "{:?}",
+        model.notes
+    );
+
+    // Only acceleration records have a baseline to correct.
+    assert_error(
+        &with_ground(&spec(", quantity: Velocity, baseline_correction: true")),
+        "ground_motion",
+        "ground_motion.motion.baseline_correction",
+        "baseline correction applies to acceleration records only",
+    );
+    let _ = std::fs::remove_file(&path);
+}
+
+#[test]
+fn an_automatic_output_interval_is_noted() {
+    // Left out: the duration / 200, so 201 output times.
+    let text = with("    output: (interval: 0.01),\n", "");
+    let model = Scene::from_str(&text, "good.ron").unwrap().build().unwrap();
+    assert_eq!(model.output_interval, Some(0.005));
+    assert!(
+        model
+            .notes
+            .iter()
+            .any(|n| n.starts_with("output interval 5.0000e-3 s")
+                && n.contains("201 rows per block")),
+        "{:?}",
+        model.notes
+    );
+    // Never shorter than the time step.
+    let text = text.replace("dt: 0.001", "dt: 0.02");
+    let model = Scene::from_str(&text, "good.ron").unwrap().build().unwrap();
+    assert_eq!(model.output_interval, Some(0.02));
+    // 0 writes every step, and is no automatic choice.
+    let text = with("interval: 0.01", "interval: 0.0");
+    let model = Scene::from_str(&text, "good.ron").unwrap().build().unwrap();
+    assert_eq!(model.output_interval, None);
+    assert!(model.notes.iter().all(|n| !n.contains("output interval")));
+}

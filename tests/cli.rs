@@ -185,21 +185,128 @@ fn a_failing_run_keeps_its_history_and_says_why() {
 
 #[test]
 fn usage_errors_exit_with_2() {
-    assert_eq!(
-        dda(&["run", &data("free_fall.ron")]).status.code(),
-        Some(2),
-        "--out is required"
-    );
+    assert_eq!(dda(&["run"]).status.code(), Some(2), "a scene is required");
     assert_eq!(dda(&["frobnicate"]).status.code(), Some(2));
     assert!(dda(&["--help"]).status.success());
 }
 
 #[test]
-fn without_an_interval_every_step_is_written() {
+fn without_out_a_run_writes_to_out_and_the_scene_name() {
+    let dir = scratch("default-out");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(data("free_fall.ron"), dir.join("my_drop.ron")).unwrap();
+    let result = Command::new(env!("CARGO_BIN_EXE_dda"))
+        .args(["run", "my_drop.ron"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let stdout = String::from_utf8(result.stdout).unwrap();
+    assert!(stdout.contains("out/my_drop/history.csv"), "{stdout}");
+    assert_eq!(
+        read_history(dir.join("out/my_drop/history.csv"))
+            .unwrap()
+            .len(),
+        6
+    );
+    assert!(dir.join("out/my_drop/summary.json").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn without_a_terminal_a_run_prints_progress_lines() {
+    let out = scratch("progress");
+    // Every output time, so even this short run prints its lines.
+    let result = dda(&[
+        "run",
+        &data("free_fall.ron"),
+        "--out",
+        out.to_str().unwrap(),
+        "--progress-every",
+        "0",
+    ]);
+    assert!(result.status.success());
+    let stderr = String::from_utf8(result.stderr).unwrap();
+    let lines: Vec<&str> = stderr.lines().filter(|l| l.starts_with("t = ")).collect();
+    assert_eq!(lines.len(), 6, "{stderr}");
+    assert!(
+        lines[5].starts_with("t = 0.0500 s of 0.05 s (100 %), step 5"),
+        "{stderr}"
+    );
+    // By default only runs longer than a few seconds report.
+    let result = dda(&[
+        "run",
+        &data("free_fall.ron"),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8(result.stderr).unwrap();
+    assert!(!stderr.contains("t = "), "{stderr}");
+    let result = dda(&[
+        "run",
+        &data("free_fall.ron"),
+        "--out",
+        out.to_str().unwrap(),
+        "--progress-every=-1",
+    ]);
+    assert_eq!(result.status.code(), Some(1));
+    let stderr = String::from_utf8(result.stderr).unwrap();
+    assert!(
+        stderr.contains("--progress-every must be a number of seconds, zero or more, got -1"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn check_prints_the_steps_and_output_size_and_warns_when_absurd() {
+    let result = dda(&["check", &data("free_fall.ron")]);
+    let stdout = String::from_utf8(result.stdout).unwrap();
+    assert!(
+        stdout.contains("expects 5 steps at dt, 6 output times, 6 history rows (about"),
+        "{stdout}"
+    );
+    let stderr = String::from_utf8(result.stderr).unwrap();
+    assert!(!stderr.contains("warning"), "{stderr}");
+
+    // A day at a microsecond, every step written.
+    let dir = scratch("absurd");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(data("free_fall.ron"))
+        .unwrap()
+        .replace("duration: 0.05", "duration: 86400.0")
+        .replace("dt: 0.01", "dt: 1e-6")
+        .replace("interval: 0.01", "interval: 0.0");
+    assert!(text.contains("86400"));
+    let scene = dir.join("absurd.ron");
+    std::fs::write(&scene, text).unwrap();
+    let result = dda(&["check", scene.to_str().unwrap()]);
+    assert!(result.status.success());
+    let stdout = String::from_utf8(result.stdout).unwrap();
+    assert!(stdout.contains("expects 86400000000 steps"), "{stdout}");
+    let stderr = String::from_utf8(result.stderr).unwrap();
+    assert!(
+        stderr.contains("warning: 8.640e10 steps") && stderr.contains("will take a very long time"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("warning: history.csv would be about")
+            && stderr.contains("give a larger output.interval"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn with_interval_zero_every_step_is_written() {
     let out = scratch("every-step");
     std::fs::create_dir_all(&out).unwrap();
     let text = std::fs::read_to_string(data("free_fall.ron")).unwrap();
-    let text = text.replace("output: (interval: 0.01),", "");
+    let text = text.replace("output: (interval: 0.01),", "output: (interval: 0.0),");
     let scene = out.join("every_step.ron");
     std::fs::write(&scene, text).unwrap();
     let summary = dda::run(&scene, &out.join("out")).unwrap();

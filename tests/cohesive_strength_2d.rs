@@ -35,7 +35,10 @@ fn scene(ramp_end: f64) -> String {
         // Rigid-like blocks: the prediction is for a rigid block, and an
         // elastic one's Poisson strain loads its two corners unequally.
         .replace("young: 1e10", "young: 1e12")
-        .replace("output: (interval: 0.01),", "output: (contacts: true),")
+        .replace(
+            "output: (interval: 0.01),",
+            "output: (interval: 0.0, contacts: true),",
+        )
         .replace("blocks: [", &load)
 }
 

@@ -61,7 +61,9 @@ fn revolve_exactly(axis: Unit<Vector3<f64>>) {
         }
         // The accumulated rotation vector is the swept angle about the axis,
         // reduced to [0, π].
-        let swept = block.orientation().angle_to(&turned);
+        // Compared as matrices: angle_to takes acos of a value round-off can
+        // push past 1 when the two agree.
+        let swept = (block.orientation().matrix() - turned.matrix()).norm();
         assert!(swept < 1e-9, "t = {t}: rotation off by {swept:e}");
         let angle = block.rotation.norm();
         let reduced = if t % TAU <= std::f64::consts::PI {

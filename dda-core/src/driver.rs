@@ -77,6 +77,9 @@ pub struct Driver<S, const N: usize, const T: usize> {
     values: Vec<f64>,
     factored: Option<Vec<f64>>,
     time: f64,
+    /// What rounding left out of `time` (a compensated sum, so thousands of
+    /// steps of 0.001 s add up to 2 s, not 1.9999999999998905).
+    time_carry: f64,
     dt: f64,
     dt_next: f64,
     penalty: f64,
@@ -145,6 +148,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             values: Vec::new(),
             factored: None,
             time: 0.0,
+            time_carry: 0.0,
             dt,
             dt_next: dt,
             penalty,
@@ -212,9 +216,18 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             if (time - self.time).abs() <= 1e-9 * self.dt {
                 // Land on the requested time, not on a sum of rounded steps.
                 self.time = time;
+                self.time_carry = 0.0;
             }
         }
         Ok(())
+    }
+
+    /// Adds `dt` to the time by Kahan's compensated summation.
+    fn advance_time(&mut self, dt: f64) {
+        let y = dt - self.time_carry;
+        let t = self.time + y;
+        self.time_carry = (t - self.time) - y;
+        self.time = t;
     }
 
     /// One accepted step of at most `dt_limit`.
@@ -633,7 +646,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // Newmark β = 1/2, γ = 1: v1 = 2d/dt − v0.
             *v = di * (2.0 / dt) - *v * ratio;
         }
-        self.time += dt;
+        self.advance_time(dt);
         self.system.commit(&d, dt, self.time);
         self.stats.steps += 1;
         self.check_energy(spring_energy);

@@ -2,7 +2,11 @@
 //! records, sinusoids and pulses, integrated exactly to the displacement
 //! that drives the base blocks. `D` is the number of components.
 
-use nalgebra::SVector;
+use nalgebra::{DMatrix, DVector, SVector};
+
+/// Degree of the polynomial a baseline correction takes out of an
+/// acceleration record (so of degree + 2 from its displacement).
+pub const BASELINE_DEGREE: usize = 3;
 
 /// What the samples of a recorded motion are.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -75,23 +79,20 @@ impl<const D: usize> Record<D> {
             Quantity::Velocity => velocity = values,
             Quantity::Displacement => displacement = values,
         }
-        // Integrate piecewise-linear data exactly, segment by segment.
-        for k in 1..n {
-            let h = times[k] - times[k - 1];
-            match quantity {
-                Quantity::Acceleration => {
-                    let (a0, a1) = (acceleration[k - 1], acceleration[k]);
-                    velocity[k] = velocity[k - 1] + (a0 + a1) * (h / 2.0);
-                    displacement[k] =
-                        displacement[k - 1] + velocity[k - 1] * h + (a0 * 2.0 + a1) * (h * h / 6.0);
-                }
-                Quantity::Velocity => {
+        match quantity {
+            Quantity::Acceleration => {
+                (velocity, displacement) = integrate(&times, &acceleration);
+            }
+            Quantity::Velocity => {
+                // Integrate piecewise-linear data exactly, segment by segment.
+                for k in 1..n {
+                    let h = times[k] - times[k - 1];
                     let (v0, v1) = (velocity[k - 1], velocity[k]);
                     displacement[k] = displacement[k - 1] + (v0 + v1) * (h / 2.0);
                     acceleration[k - 1] = (v1 - v0) / h;
                 }
-                Quantity::Displacement => {}
             }
+            Quantity::Displacement => {}
         }
         Ok(Self {
             times,
@@ -100,6 +101,96 @@ impl<const D: usize> Record<D> {
             displacement,
             quantity,
         })
+    }
+
+    /// What the samples are.
+    pub fn quantity(&self) -> Quantity {
+        self.quantity
+    }
+
+    /// Displacement at the last sample (where the ground stays, up to a
+    /// constant velocity, after the record ends).
+    pub fn end_displacement(&self) -> SVector<f64, D> {
+        self.displacement[self.times.len() - 1]
+    }
+
+    /// Velocity at the last sample, kept after the record ends.
+    pub fn end_velocity(&self) -> SVector<f64, D> {
+        self.velocity[self.times.len() - 1]
+    }
+
+    /// The record with its baseline corrected, as is usual for
+    /// accelerograms: a polynomial of degree [`BASELINE_DEGREE`] in time is
+    /// taken out of the acceleration, the one whose doubly integrated
+    /// displacement is nearest (least squares over the samples) to the
+    /// record's own, with the ground ending at rest where it started
+    /// (displacement and velocity zero at the last sample). Small offsets
+    /// of the zero line, which integrate to metres of drift, go; the
+    /// shaking stays. Records of velocity or displacement, and records of
+    /// fewer than [`BASELINE_DEGREE`] + 3 samples, are returned unchanged.
+    pub fn baseline_corrected(&self) -> Record<D> {
+        let n = self.times.len();
+        let m = BASELINE_DEGREE + 1;
+        if self.quantity != Quantity::Acceleration || n < m + 2 {
+            return self.clone();
+        }
+        let (t0, t1) = (self.times[0], self.times[n - 1]);
+        // Powers of the time scaled to [0, 1], for a well-conditioned fit.
+        let basis: Vec<(Vec<f64>, Vec<f64>)> = (0..m)
+            .map(|j| {
+                let a: Vec<SVector<f64, 1>> = self
+                    .times
+                    .iter()
+                    .map(|t| SVector::<f64, 1>::new(((t - t0) / (t1 - t0)).powi(j as i32)))
+                    .collect();
+                let (v, u) = integrate(&self.times, &a);
+                (
+                    u.iter().map(|x| x[0]).collect(),
+                    v.iter().map(|x| x[0]).collect(),
+                )
+            })
+            .collect();
+        // Least squares with the two end conditions as constraints
+        // (Lagrange multipliers): [2AᵀA Cᵀ; C 0].
+        let a = DMatrix::from_fn(n, m, |k, j| basis[j].0[k]);
+        let mut kkt = DMatrix::zeros(m + 2, m + 2);
+        kkt.view_mut((0, 0), (m, m))
+            .copy_from(&(a.transpose() * &a * 2.0));
+        for j in 0..m {
+            let (u_end, v_end) = (basis[j].0[n - 1], basis[j].1[n - 1]);
+            kkt[(m, j)] = u_end;
+            kkt[(j, m)] = u_end;
+            kkt[(m + 1, j)] = v_end;
+            kkt[(j, m + 1)] = v_end;
+        }
+        let Some(lu) = Some(kkt.lu()).filter(|lu| lu.is_invertible()) else {
+            return self.clone();
+        };
+        let mut acceleration = self.acceleration.clone();
+        #[allow(clippy::needless_range_loop)] // c is a component of every sample
+        for c in 0..D {
+            let u = DVector::from_fn(n, |k, _| self.displacement[k][c]);
+            let mut rhs = DVector::zeros(m + 2);
+            rhs.rows_mut(0, m).copy_from(&(a.transpose() * &u * 2.0));
+            rhs[m] = self.displacement[n - 1][c];
+            rhs[m + 1] = self.velocity[n - 1][c];
+            let Some(b) = lu.solve(&rhs) else {
+                return self.clone();
+            };
+            for (k, t) in self.times.iter().enumerate() {
+                let s = (t - t0) / (t1 - t0);
+                let trend: f64 = (0..m).map(|j| b[j] * s.powi(j as i32)).sum();
+                acceleration[k][c] -= trend;
+            }
+        }
+        let (velocity, displacement) = integrate(&self.times, &acceleration);
+        Record {
+            times: self.times.clone(),
+            acceleration,
+            velocity,
+            displacement,
+            quantity: Quantity::Acceleration,
+        }
     }
 
     /// (segment start index, time into it), or None before the first sample.
@@ -171,6 +262,26 @@ impl<const D: usize> Record<D> {
             .map(|a| a.norm())
             .fold(0.0, f64::max)
     }
+}
+
+/// Velocities and displacements of piecewise-linear accelerations, from
+/// rest at the first sample, integrated exactly segment by segment.
+#[allow(clippy::type_complexity)]
+fn integrate<const D: usize>(
+    times: &[f64],
+    acceleration: &[SVector<f64, D>],
+) -> (Vec<SVector<f64, D>>, Vec<SVector<f64, D>>) {
+    let n = times.len();
+    let zero = SVector::<f64, D>::zeros();
+    let (mut velocity, mut displacement) = (vec![zero; n], vec![zero; n]);
+    for k in 1..n {
+        let h = times[k] - times[k - 1];
+        let (a0, a1) = (acceleration[k - 1], acceleration[k]);
+        velocity[k] = velocity[k - 1] + (a0 + a1) * (h / 2.0);
+        displacement[k] =
+            displacement[k - 1] + velocity[k - 1] * h + (a0 * 2.0 + a1) * (h * h / 6.0);
+    }
+    (velocity, displacement)
 }
 
 impl<const D: usize> GroundMotion<D> {
@@ -259,6 +370,37 @@ mod tests {
         let end = pulse.displacement(1.0);
         assert!((end.x - 3.0 * 0.16 / std::f64::consts::TAU).abs() < 1e-15);
         assert_eq!(pulse.displacement(1.0), pulse.displacement(2.0));
+    }
+
+    #[test]
+    fn baseline_correction_takes_out_drift_and_keeps_the_shaking() {
+        // A 2 Hz shaking on a zero line offset by 0.01 m/s², which alone
+        // integrates to 0.5 m of drift over 10 s.
+        let samples: Vec<(f64, Vector2<f64>)> = (0..=1000)
+            .map(|k| {
+                let t = k as f64 * 0.01;
+                let shake = (std::f64::consts::TAU * 2.0 * t).sin() * (t * (10.0 - t) / 25.0);
+                (t, Vector2::new(shake + 0.01, 0.5 * shake - 0.02))
+            })
+            .collect();
+        let raw = Record::new(Quantity::Acceleration, &samples).unwrap();
+        assert!(raw.end_displacement().x > 0.4, "{}", raw.end_displacement());
+        let fixed = raw.baseline_corrected();
+        assert!(fixed.end_displacement().norm() < 1e-9);
+        assert!(fixed.end_velocity().norm() < 1e-9);
+        // The offset goes, the shaking stays.
+        let m = GroundMotion::Record(fixed.clone());
+        let peak = (0..1000)
+            .map(|k| m.displacement(k as f64 * 0.01).x.abs())
+            .fold(0.0, f64::max);
+        assert!(peak < 0.02, "peak displacement {peak}");
+        let change = (fixed.peak_acceleration() - raw.peak_acceleration()).abs();
+        assert!(change < 0.05 * raw.peak_acceleration(), "{change}");
+        // After the record the ground stays where it is.
+        assert!((m.displacement(10.0) - m.displacement(20.0)).norm() < 1e-9);
+        // Other quantities are left alone.
+        let v = Record::new(Quantity::Velocity, &samples).unwrap();
+        assert_eq!(v.baseline_corrected(), v);
     }
 
     #[test]

@@ -21,8 +21,20 @@ pub struct Model<D = Driver2d> {
     pub output_interval: Option<f64>,
     /// Whether to write `contacts.csv`.
     pub write_contacts: bool,
+    /// Why the scene's automatic values were chosen (the driver keeps its
+    /// own: see [`Model::all_notes`]).
+    pub notes: Vec<String>,
     /// The settings the driver was made with.
     pub settings: Settings,
+}
+
+impl<D: crate::Simulation> Model<D> {
+    /// The driver's notes on automatic choices, then the scene's.
+    pub fn all_notes(&self) -> Vec<String> {
+        let mut notes = self.driver.notes().to_vec();
+        notes.extend(self.notes.iter().cloned());
+        notes
+    }
 }
 
 /// A 3D scene ready to run.
@@ -65,11 +77,27 @@ impl AnyModel {
         }
     }
 
-    /// The driver's notes on automatic choices.
-    pub fn notes(&self) -> &[String] {
+    /// Why automatic values were chosen, the driver's and the scene's.
+    pub fn notes(&self) -> Vec<String> {
         match self {
-            AnyModel::Plane(m) => m.driver.notes(),
-            AnyModel::Space(m) => m.driver.notes(),
+            AnyModel::Plane(m) => m.all_notes(),
+            AnyModel::Space(m) => m.all_notes(),
+        }
+    }
+
+    /// The time between outputs; `None` writes every step.
+    pub fn output_interval(&self) -> Option<f64> {
+        match self {
+            AnyModel::Plane(m) => m.output_interval,
+            AnyModel::Space(m) => m.output_interval,
+        }
+    }
+
+    /// Whether `contacts.csv` is written.
+    pub fn write_contacts(&self) -> bool {
+        match self {
+            AnyModel::Plane(m) => m.write_contacts,
+            AnyModel::Space(m) => m.write_contacts,
         }
     }
 }
@@ -219,8 +247,10 @@ impl Scene {
             }
         }
         let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
-        if let Some((driven, motion)) = self.ground_motion::<2>(&slots)? {
+        let mut notes = Vec::new();
+        if let Some((driven, motion, note)) = self.ground_motion::<2>(&slots)? {
             follow_ground(&mut system.fixed, &driven, &motion);
+            notes.extend(note);
         }
 
         let settings = self.settings();
@@ -231,13 +261,15 @@ impl Scene {
             let [vx, vy, w] = spec.velocity;
             driver.set_velocity(k, Vector6::new(vx, vy, w, 0.0, 0.0, 0.0));
         }
-        let interval = self.output.interval;
+        let (output_interval, note) = self.output_interval(driver.dt());
+        notes.extend(note);
         Ok(Model {
             driver,
             duration: a.duration,
-            output_interval: (interval > 0.0).then_some(interval),
+            output_interval,
             write_contacts: self.output.contacts,
             settings,
+            notes,
         })
     }
 
@@ -326,8 +358,10 @@ impl Scene {
             }
         }
         let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
-        if let Some((driven, motion)) = self.ground_motion::<3>(&slots)? {
+        let mut notes = Vec::new();
+        if let Some((driven, motion, note)) = self.ground_motion::<3>(&slots)? {
             follow_ground(&mut system.fixed, &driven, &motion);
+            notes.extend(note);
         }
 
         let settings = self.settings();
@@ -339,13 +373,15 @@ impl Scene {
             v.fixed_rows_mut::<6>(0).copy_from_slice(&spec.velocity);
             driver.set_velocity(k, v);
         }
-        let interval = self.output.interval;
+        let (output_interval, note) = self.output_interval(driver.dt());
+        notes.extend(note);
         Ok(Model {
             driver,
             duration: a.duration,
-            output_interval: (interval > 0.0).then_some(interval),
+            output_interval,
             write_contacts: self.output.contacts,
             settings,
+            notes,
         })
     }
 

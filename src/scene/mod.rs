@@ -188,11 +188,17 @@ enum RotationUpdateDef {
     Linear,
 }
 
+/// How many output times an automatic output interval makes.
+pub const AUTO_OUTPUT_ROWS: f64 = 200.0;
+
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Output {
-    /// Time between history rows; 0 writes every step.
-    pub interval: f64,
+    /// Time between history rows in seconds; 0 writes every step. Left
+    /// out, it is the duration / [`AUTO_OUTPUT_ROWS`], and never less than
+    /// the time step (see [`Scene::output_interval`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interval: Option<f64>,
     /// Also write `contacts.csv`: every contact at every output time.
     pub contacts: bool,
 }
@@ -810,7 +816,9 @@ pub enum MotionSpec {
     /// file's folder; values are multiplied by `scale` (9.81 for records in
     /// g). `components` names the axes of the value columns, in order, when
     /// they are not all of them: `"xz"` reads `time, ax, az` rows (the other
-    /// components are zero).
+    /// components are zero). Acceleration records are baseline corrected
+    /// unless `baseline_correction` is `false` (see
+    /// [`dda_core::Record::baseline_corrected`]).
     Record {
         path: String,
         #[serde(default = "default_quantity", with = "QuantityDef")]
@@ -819,6 +827,8 @@ pub enum MotionSpec {
         scale: f64,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         components: Option<String>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        baseline_correction: Option<bool>,
     },
 }
 
@@ -1054,6 +1064,25 @@ impl Scene {
             self.expanded_blocks_3d().len()
         } else {
             self.expanded_blocks().len()
+        }
+    }
+
+    /// The time between outputs for a nominal time step `dt` (`None`:
+    /// every step), and a note when it was chosen automatically.
+    pub fn output_interval(&self, dt: f64) -> (Option<f64>, Option<String>) {
+        match self.output.interval {
+            Some(interval) => ((interval > 0.0).then_some(interval), None),
+            None => {
+                let duration = self.analysis.duration;
+                let interval = (duration / AUTO_OUTPUT_ROWS).max(dt);
+                let rows = (duration / interval).round() + 1.0;
+                (
+                    Some(interval),
+                    Some(format!(
+                        "output interval {interval:.4e} s: the duration / {AUTO_OUTPUT_ROWS}, at least the time step, so history.csv has {rows} rows per block (give output.interval to choose, 0 for every step)"
+                    )),
+                )
+            }
         }
     }
 

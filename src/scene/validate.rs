@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use dda_2d::polygon::{self, PolygonError};
 use dda_3d::polyhedron::{self as polyhedra, Polyhedron, PolyhedronError};
-use dda_core::{GroundMotion, Record};
+use dda_core::{GroundMotion, Quantity, Record};
 use nalgebra::{Point2, Point3, SVector};
 
 use super::generate::{self, MAX_PARTS};
@@ -137,6 +137,15 @@ pub(super) fn dimension_message(dimension: u32) -> String {
     )
 }
 
+/// A magnitude in a note: 3.726, 0.012 or 3.1e-5.
+fn short(x: f64) -> String {
+    if x >= 1e-3 {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.1e}")
+    }
+}
+
 /// "(x, y)" or "(x, y, z)".
 fn tuple_of(names: &[&str]) -> String {
     format!("({})", names.join(", "))
@@ -150,14 +159,15 @@ impl Scene {
             return Err(self.error(&root.field("dimension"), dimension_message(self.dimension)));
         }
         self.check_analysis()?;
-        let interval = self.output.interval;
-        let at = root.field("output").field("interval");
-        self.finite(&at, "the output interval", interval)?;
-        if interval < 0.0 {
-            return Err(self.error(
-                &at,
-                format!("the output interval must not be negative, got {interval}; use 0 to write every step"),
-            ));
+        if let Some(interval) = self.output.interval {
+            let at = root.field("output").field("interval");
+            self.finite(&at, "the output interval", interval)?;
+            if interval < 0.0 {
+                return Err(self.error(
+                    &at,
+                    format!("the output interval must not be negative, got {interval}; use 0 to write every step, or leave it out for an automatic one"),
+                ));
+            }
         }
         self.check_materials()?;
         let blocks: Vec<Slot> = if self.dimension == 3 {
@@ -1233,11 +1243,12 @@ impl Scene {
     }
 
     /// Checks the ground motion (reading its record, if any) and returns it
-    /// with the blocks it drives.
+    /// with the blocks it drives and a note on a record's baseline.
+    #[allow(clippy::type_complexity)]
     pub(super) fn ground_motion<const D: usize>(
         &self,
         blocks: &[Slot],
-    ) -> Result<Option<(Vec<usize>, Arc<GroundMotion<D>>)>> {
+    ) -> Result<Option<(Vec<usize>, Arc<GroundMotion<D>>, Option<String>)>> {
         let Some(GroundMotionSpec {
             blocks: driven,
             motion,
@@ -1284,6 +1295,7 @@ impl Scene {
         }
         let at = root.field("motion");
         let amplitude = |a: &Coords| SVector::<f64, D>::from_fn(|k, _| a.get(k));
+        let mut note = None;
         let motion = match motion {
             MotionSpec::Sine {
                 amplitude: a,
@@ -1330,8 +1342,15 @@ impl Scene {
                 quantity,
                 scale,
                 components,
+                baseline_correction,
             } => {
                 self.finite(&at.field("scale"), "the scale", *scale)?;
+                if *baseline_correction == Some(true) && *quantity != Quantity::Acceleration {
+                    return Err(self.error(
+                        &at.field("baseline_correction"),
+                        "baseline correction applies to acceleration records only; remove baseline_correction or give quantity: Acceleration",
+                    ));
+                }
                 let axes = if D == 3 { "xyz" } else { "xy" };
                 let layout = match components {
                     None => Layout::full(D as u32),
@@ -1392,10 +1411,34 @@ impl Scene {
                     .collect();
                 let record = Record::new(*quantity, &samples)
                     .map_err(|e| self.error(&at, format!("{}: {e}", file.display())))?;
-                GroundMotion::Record(record)
+                if *quantity == Quantity::Acceleration {
+                    let (u, v) = (record.end_displacement(), record.end_velocity());
+                    let drift = format!(
+                        "as recorded it ends {} m from where it started, moving at {} m/s",
+                        short(u.norm()),
+                        short(v.norm())
+                    );
+                    if *baseline_correction == Some(false) {
+                        note = Some(format!(
+                            "ground-motion record {path}: no baseline correction (baseline_correction: false); {drift}"
+                        ));
+                        GroundMotion::Record(record)
+                    } else {
+                        let fixed = record.baseline_corrected();
+                        note = Some(format!(
+                            "ground-motion record {path}: baseline corrected (a polynomial of degree {} fitted by least squares taken out of the acceleration, so the ground ends at rest where it started; baseline_correction: false turns this off); {drift}; corrected, {} m and {} m/s",
+                            dda_core::motion::BASELINE_DEGREE,
+                            short(fixed.end_displacement().norm()),
+                            short(fixed.end_velocity().norm()),
+                        ));
+                        GroundMotion::Record(fixed)
+                    }
+                } else {
+                    GroundMotion::Record(record)
+                }
             }
         };
-        Ok(Some((driven.clone(), Arc::new(motion))))
+        Ok(Some((driven.clone(), Arc::new(motion), note)))
     }
 
     fn check_history(&self, at: &Place, samples: &[Coords]) -> Result {
