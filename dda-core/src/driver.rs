@@ -76,6 +76,8 @@ pub struct Driver<S, const N: usize, const T: usize> {
     matrix: BlockSparse<N>,
     values: Vec<f64>,
     factored: Option<Vec<f64>>,
+    /// Inverse mass matrices of the blocks in the current step.
+    inverse_masses: Vec<BlockMatrix<N>>,
     time: f64,
     /// What rounding left out of `time` (a compensated sum, so thousands of
     /// steps of 0.001 s add up to 2 s, not 1.9999999999998905).
@@ -147,6 +149,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             solver: Box::new(SparseCholesky::default()),
             values: Vec::new(),
             factored: None,
+            inverse_masses: Vec::new(),
             time: 0.0,
             time_carry: 0.0,
             dt,
@@ -344,6 +347,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             .map(|c| widest_entrance(c, &trial.d, c.record.entrance, tolerance))
             .collect();
         let masses: Vec<BlockMatrix<N>> = (0..nb).map(|i| self.system.mass(i)).collect();
+        self.inverse_masses = masses
+            .iter()
+            .map(|m| m.try_inverse().unwrap_or_else(BlockMatrix::<N>::zeros))
+            .collect();
         for _ in 0..self.settings.open_close_limit {
             self.stats.open_close_iterations += 1;
             self.newton(dt, &masses, &mut trial)?;
@@ -484,8 +491,20 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let entrance = &c.entrances[e];
             let kin = self.kinematics(i, e, trial, dt);
             let history = c.record.history.as_ref().expect("history set at search");
-            let response = self.laws[c.law].response(state, &kin, history);
+            let mut response = self.laws[c.law].response(state, &kin, history);
             let [a, b] = c.blocks;
+            if self.settings.contact_damping > 0.0 {
+                // A dashpot beside the normal spring, a share of critical
+                // for the contact's own effective mass: impacts end in a
+                // few steps instead of ringing on the penalty springs, and
+                // a block released onto its contacts does not bounce. Its
+                // force on the step's approach dissipates only.
+                let c = self.settings.contact_damping
+                    * 2.0
+                    * (response.normal_stiffness * self.normal_mass(a, b, &entrance.normal)).sqrt();
+                response.normal_force -= c * (kin.gap - kin.gap_start) / dt;
+                response.normal_stiffness += c / dt;
+            }
             let mut ra = BlockVector::<N>::zeros();
             let mut rb = BlockVector::<N>::zeros();
             // Normal spring: force along the gap gradient.
@@ -499,9 +518,19 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let stretch = self.stretch(i, e, trial);
             let length = stretch.norm();
             let direction = stretch.try_normalize(1e-300).unwrap_or(trial.directions[i]);
+            let step_shear = entrance.shear_at(&block(&trial.d, a), &block(&trial.d, b));
             for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
-                add_spring(&mut matrix, a, b, ta, tb, response.shear_stiffness);
-                let force = -response.shear_force * direction[k];
+                let mut stiffness = response.shear_stiffness;
+                let mut force = -response.shear_force * direction[k];
+                if self.settings.contact_damping > 0.0 && state == ContactState::Locked {
+                    // The shear spring's dashpot, as the normal one's.
+                    let c = self.settings.contact_damping
+                        * 2.0
+                        * (stiffness * self.normal_mass(a, b, &[*ta, *tb])).sqrt();
+                    force -= c * step_shear[k] / dt;
+                    stiffness += c / dt;
+                }
+                add_spring(&mut matrix, a, b, ta, tb, stiffness);
                 ra += ta * force;
                 rb += tb * force;
             }
@@ -528,6 +557,18 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             c.record.shear
         } else {
             SVector::zeros()
+        }
+    }
+
+    /// The effective mass of two blocks along a contact's normal rows:
+    /// 1 / (n_aᵀ M_a⁻¹ n_a + n_bᵀ M_b⁻¹ n_b), rotation and strain included.
+    fn normal_mass(&self, a: usize, b: usize, [na, nb]: &[BlockVector<N>; 2]) -> f64 {
+        let compliance =
+            na.dot(&(self.inverse_masses[a] * na)) + nb.dot(&(self.inverse_masses[b] * nb));
+        if compliance > 0.0 {
+            1.0 / compliance
+        } else {
+            0.0
         }
     }
 

@@ -48,6 +48,16 @@ pub struct Settings {
     /// on every block. A damping ratio ξ at angular frequency ω is α = 2ξω.
     /// Zero (off) by default.
     pub mass_damping: f64,
+    /// Contact damping as a share of critical (0 off, the default; 1
+    /// critical): a dashpot beside each closed contact's normal spring, and
+    /// beside its shear spring while locked, of coefficient 2ζ·sqrt(k·m)
+    /// with k the spring and m the contact's effective mass along it. At 1
+    /// an impact ends without rebound of the striking point (Housner's
+    /// inelastic impact, which a rocking rigid block assumes) and a block
+    /// released onto its contacts settles without bouncing, so a block near
+    /// its friction limit does not slide off during the first bounces;
+    /// 0 gives Shi's undamped springs, whose rebound depends on the step.
+    pub contact_damping: f64,
 }
 
 impl Default for Settings {
@@ -67,6 +77,7 @@ impl Default for Settings {
             contact_tolerance: 1e-7,
             length_scale: None,
             mass_damping: 0.0,
+            contact_damping: 0.0,
         }
     }
 }
@@ -108,6 +119,12 @@ impl Settings {
             return Err(DdaError::Settings(format!(
                 "mass_damping must be zero or positive, got {}",
                 self.mass_damping
+            )));
+        }
+        if !(self.contact_damping.is_finite() && self.contact_damping >= 0.0) {
+            return Err(DdaError::Settings(format!(
+                "contact_damping must be zero or positive (1 is critical), got {}",
+                self.contact_damping
             )));
         }
         if self.open_close_limit == 0 || self.newton_limit == 0 {

@@ -399,6 +399,7 @@ impl Scene {
             raise_penalty: a.raise_penalty,
             length_scale: a.length_scale,
             mass_damping: a.damping.map_or(0.0, |d| d.mass_coefficient()),
+            contact_damping: a.contact_damping,
             ..Settings::default()
         }
     }

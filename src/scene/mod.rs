@@ -107,6 +107,9 @@ pub struct Analysis {
     /// Mass-proportional viscous damping; none when left out.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub damping: Option<Damping>,
+    /// Contact damping, a share of critical (0 off, the default; 1
+    /// critical): see [`dda_core::Settings::contact_damping`].
+    pub contact_damping: f64,
 }
 
 fn is_plane_strain(plane: &Plane) -> bool {
@@ -151,6 +154,7 @@ impl Default for Analysis {
             rotation_update: RotationUpdate::Exact,
             fixed_penalty: None,
             damping: None,
+            contact_damping: s.contact_damping,
         }
     }
 }

@@ -336,6 +336,12 @@ impl Scene {
                 ),
             ));
         }
+        self.non_negative(
+            &at("contact_damping"),
+            "contact_damping",
+            a.contact_damping,
+            "it is a share of critical damping: 0 off, 1 critical",
+        )?;
         let auto = "give a value or leave it out for an automatic one";
         if let Some(p) = a.penalty {
             self.positive(&at("penalty"), "the penalty", p, auto)?;
