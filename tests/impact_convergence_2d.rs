@@ -4,7 +4,7 @@
 //! restitution it implies approach Housner's (r = 1 − 1.5 sin² α) as dt
 //! shrinks, monotonically, within 1 % at dt ≤ 0.5 ms. The steps over which
 //! the landing corner's contact still opens and closes are printed (not yet
-//! "a few": 19 steps at 1 ms, 47 at 0.5 ms, 153 at 0.25 ms).
+//! "a few": 19 steps at 1 ms, 47 at 0.5 ms, 148 at 0.25 ms).
 
 use dda::scene::Scene;
 use dda::Simulation;

@@ -230,8 +230,8 @@ fn grid(cases: &[Case]) -> Vec<(Case, f64, f64, f64, Outcome)> {
 /// Checks and prints one case's grid; returns the failures.
 fn check(results: &[(Case, f64, f64, f64, Outcome)]) -> Vec<String> {
     let mut failures = Vec::new();
-    println!("| case | FS | dt (ms) | penalty / automatic | creep 1–2 s (m) | off dip (m) | a / Coulomb a | energy rise | outcome |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("| case | FS | dt (ms) | penalty / automatic | creep 1–2 s (m) | off dip (m) | a / Coulomb a | energy rise | unconverged steps | outcome |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for &(case, factor, dt, p, o) in results {
         let plunge = -case.dip().z; // sin of the sliding direction's plunge
         let coulomb = G * plunge * (1.0 - factor);
@@ -253,13 +253,14 @@ fn check(results: &[(Case, f64, f64, f64, Outcome)]) -> Vec<String> {
             word.to_string()
         };
         println!(
-            "| {} | {factor} | {} | {p} | {:.1e} | {:.1e} | {:.4} | {:.1e} | {word} |",
+            "| {} | {factor} | {} | {p} | {:.1e} | {:.1e} | {:.4} | {:.1e} | {} | {word} |",
             case.name(),
             dt * 1e3,
             o.creep,
             o.off_dip,
             ratio,
             o.energy_rise,
+            o.unconverged,
         );
         let at = format!("{} FS {factor} dt {dt} penalty ×{p}", case.name());
         if factor > 1.0 {
@@ -290,30 +291,14 @@ fn check(results: &[(Case, f64, f64, f64, Outcome)]) -> Vec<String> {
 }
 
 /// Cells (case, factor of safety, dt, penalty factor) that still fail,
-/// and why: open-close passes that cycle at the smallest steps with the
-/// softest penalties in 3D (accepted unconverged at the smallest step),
-/// and a creep at the largest step with the stiffest penalty.
+/// and why: the wedge creeps at the softest penalty with the smallest step
+/// (0.45 µm in a second) and at the stiffest with the largest (0.6 mm),
+/// and the cube's total energy rises by 3e-7 of itself in a step at 5 ms
+/// with 10 × the penalty (reported by the run's energy check).
 const KNOWN_GAPS: &[(&str, f64, f64, f64)] = &[
-    ("3D cube, dip 30/035", 1.01, 2e-4, 0.1),
-    ("3D cube, dip 30/035", 1.01, 2e-4, 1.0),
-    ("3D cube, dip 30/035", 1.01, 5e-4, 0.1),
-    ("3D cube, dip 30/035", 1.01, 5e-4, 1.0),
-    ("3D cube, dip 30/035", 1.01, 1e-3, 0.1),
     ("3D cube, dip 30/035", 1.01, 5e-3, 10.0),
-    ("3D cube, dip 30/035", 0.99, 2e-4, 0.1),
-    ("3D cube, dip 30/035", 0.99, 5e-4, 0.1),
     ("3D wedge", 1.01, 2e-4, 0.1),
-    ("3D wedge", 1.01, 2e-4, 1.0),
-    ("3D wedge", 1.01, 5e-4, 0.1),
-    ("3D wedge", 1.01, 1e-3, 0.1),
     ("3D wedge", 1.01, 5e-3, 100.0),
-    ("3D prism 0.2 m deep", 1.01, 2e-4, 0.1),
-    ("3D prism 0.2 m deep", 1.01, 2e-4, 1.0),
-    ("3D prism 0.2 m deep", 1.01, 2e-4, 10.0),
-    ("3D prism 0.2 m deep", 1.01, 5e-3, 1.0),
-    ("3D prism 0.2 m deep", 0.99, 2e-4, 0.1),
-    ("3D prism 4 m deep", 1.01, 2e-4, 0.1),
-    ("3D prism 4 m deep", 1.01, 2e-4, 1.0),
 ];
 
 /// Fails on any failure not listed in `KNOWN_GAPS`, or a listed cell that

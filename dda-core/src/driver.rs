@@ -358,10 +358,29 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             for i in 0..self.contacts.len() {
                 let c = &self.contacts[i];
                 let e = trial.entrances[i];
-                let kin = self.kinematics(i, e, &trial, dt);
+                let mut kin = self.kinematics(i, e, &trial, dt);
                 let law = &self.laws[c.law];
                 let history = c.record.history.as_ref().expect("history set at search");
                 let state = trial.states[i];
+                if self.settings.contact_damping > 0.0 {
+                    // Friction bounds the whole tangential force, the shear
+                    // dashpot's too: test the spring stretch that carries
+                    // it, so locked and sliding stay complementary.
+                    let k = law
+                        .response(ContactState::Locked, &kin, history)
+                        .shear_stiffness;
+                    if k > 0.0 {
+                        let entrance = &c.entrances[e];
+                        let [a, b] = c.blocks;
+                        let ds = entrance.shear_at(&block(&trial.d, a), &block(&trial.d, b));
+                        let carried = self.carried_shear(c, e);
+                        let loaded = SVector::<f64, T>::from_fn(|r, _| {
+                            let damper = self.dashpot(a, b, &entrance.tangents[r], k);
+                            carried[r] + ds[r] * (1.0 + damper / (k * dt))
+                        });
+                        kin.shear = loaded.norm();
+                    }
+                }
                 let next = law.next_state(state, &kin, history);
                 // The slip direction is the trial spring stretch's (the
                 // return map's), so a sliding contact's friction opposes
@@ -499,9 +518,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 // few steps instead of ringing on the penalty springs, and
                 // a block released onto its contacts does not bounce. Its
                 // force on the step's approach dissipates only.
-                let c = self.settings.contact_damping
-                    * 2.0
-                    * (response.normal_stiffness * self.normal_mass(a, b, &entrance.normal)).sqrt();
+                let c = self.dashpot(a, b, &entrance.normal, response.normal_stiffness);
                 response.normal_force -= c * (kin.gap - kin.gap_start) / dt;
                 response.normal_stiffness += c / dt;
             }
@@ -524,9 +541,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 let mut force = -response.shear_force * direction[k];
                 if self.settings.contact_damping > 0.0 && state == ContactState::Locked {
                     // The shear spring's dashpot, as the normal one's.
-                    let c = self.settings.contact_damping
-                        * 2.0
-                        * (stiffness * self.normal_mass(a, b, &[*ta, *tb])).sqrt();
+                    let c = self.dashpot(a, b, &[*ta, *tb], stiffness);
                     force -= c * step_shear[k] / dt;
                     stiffness += c / dt;
                 }
@@ -560,13 +575,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         }
     }
 
-    /// The effective mass of two blocks along a contact's normal rows:
-    /// 1 / (n_aᵀ M_a⁻¹ n_a + n_bᵀ M_b⁻¹ n_b), rotation and strain included.
-    fn normal_mass(&self, a: usize, b: usize, [na, nb]: &[BlockVector<N>; 2]) -> f64 {
+    /// The coefficient of the dashpot beside a spring of stiffness `k`
+    /// along a contact's rows: `contact_damping` × 2·sqrt(k·m), with m the
+    /// two blocks' effective mass along the rows, 1 / (gₐᵀ Mₐ⁻¹ gₐ + g_bᵀ
+    /// M_b⁻¹ g_b) (rotation and strain included).
+    fn dashpot(&self, a: usize, b: usize, [ga, gb]: &[BlockVector<N>; 2], k: f64) -> f64 {
         let compliance =
-            na.dot(&(self.inverse_masses[a] * na)) + nb.dot(&(self.inverse_masses[b] * nb));
-        if compliance > 0.0 {
-            1.0 / compliance
+            ga.dot(&(self.inverse_masses[a] * ga)) + gb.dot(&(self.inverse_masses[b] * gb));
+        if compliance > 0.0 && k > 0.0 {
+            self.settings.contact_damping * 2.0 * (k / compliance).sqrt()
         } else {
             0.0
         }
@@ -647,7 +664,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             spring_energy += stored(response.normal_force, response.normal_stiffness);
             spring_energy += match state {
                 ContactState::Locked => stored(response.shear_force, response.shear_stiffness),
-                ContactState::Sliding => stored(response.shear_force, sliding_stiffness),
+                ContactState::Sliding => {
+                    let kept = response.shear_force.min(sliding_stiffness * shear.norm());
+                    stored(kept, sliding_stiffness)
+                }
                 ContactState::Open => 0.0,
             };
             // Mutate after all reads of the old record.
@@ -666,8 +686,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 // The spring keeps the stretch that carries the friction
                 // force, so a contact that locks again starts from the force
                 // it had instead of from zero (no stick-slip creep).
+                // Never more than the trial stretch: with a shear dashpot
+                // a contact may slide before its spring alone reaches the
+                // strength, and a stretch it never had would be energy
+                // from nowhere.
                 ContactState::Sliding if sliding_stiffness > 0.0 => {
-                    trial.directions[i] * (response.shear_force / sliding_stiffness)
+                    trial.directions[i]
+                        * (response.shear_force / sliding_stiffness).min(shear.norm())
                 }
                 _ => SVector::zeros(),
             };
