@@ -51,6 +51,10 @@ pub struct Summary {
     pub penetration_cuts: usize,
     /// Steps accepted at the smallest time step without open-close agreement.
     pub unconverged_steps: usize,
+    /// Steps whose open-close passes cycled between two sets of states,
+    /// settled by keeping each cycling contact sliding or closed.
+    #[serde(default)]
+    pub cycle_breaks: usize,
     /// Open-close passes whose Newton iteration kept its best, unconverged iterate.
     #[serde(default)]
     pub newton_failures: usize,
@@ -340,6 +344,7 @@ pub fn run_model<S: Simulation>(
         penalty_raises: stats.penalty_raises,
         penetration_cuts: stats.penetration_cuts,
         unconverged_steps: stats.unconverged_steps,
+        cycle_breaks: stats.cycle_breaks,
         newton_failures: stats.newton_failures,
         deep_penetration_steps: stats.deep_penetration_steps,
         deepest_penetration: stats.deepest_penetration,

@@ -91,4 +91,11 @@ fn arch_five_percent_below_the_minimum_collapses_through_hinges() {
         early > 1e-3 * R && later > 2.0 * early && latest > later,
         "crown drop {early} → {later} → {latest} m"
     );
+
+    // Through the whole collapse, debris included, every step converges.
+    model.driver.advance_to(model.duration).unwrap();
+    let stats = model.driver.statistics();
+    assert_eq!(model.duration, 3.0);
+    assert_eq!(stats.unconverged_steps, 0, "{stats:?}");
+    println!("{stats:?}");
 }

@@ -35,6 +35,10 @@ pub struct Statistics {
     pub penetration_cuts: usize,
     /// Steps accepted at the smallest time step without open-close agreement.
     pub unconverged_steps: usize,
+    /// Steps whose open-close passes returned to the states of two passes
+    /// before (a cycle), settled by keeping each cycling contact's sliding
+    /// or closed state.
+    pub cycle_breaks: usize,
     /// Open-close passes whose Newton-Raphson iteration did not converge
     /// (the best iterate was kept).
     pub newton_failures: usize,
@@ -351,9 +355,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             .iter()
             .map(|m| m.try_inverse().unwrap_or_else(BlockMatrix::<N>::zeros))
             .collect();
+        // The states two passes back: a pass that returns to them is a
+        // cycle, which more passes would only repeat.
+        let mut before: Option<Vec<ContactState>> = None;
         for _ in 0..self.settings.open_close_limit {
             self.stats.open_close_iterations += 1;
             self.newton(dt, &masses, &mut trial)?;
+            let assumed = trial.states.clone();
             let mut changed = false;
             for i in 0..self.contacts.len() {
                 let c = &self.contacts[i];
@@ -399,6 +407,21 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 trial.converged = true;
                 break;
             }
+            if before.as_ref() == Some(&trial.states) {
+                // Each cycling contact takes the state that stores less
+                // elastic work (sliding rather than locked, closed rather
+                // than open, so nothing passes through), and one more pass
+                // solves the step with it.
+                for (state, &other) in trial.states.iter_mut().zip(&assumed) {
+                    *state = break_cycle(*state, other);
+                }
+                self.stats.open_close_iterations += 1;
+                self.stats.cycle_breaks += 1;
+                self.newton(dt, &masses, &mut trial)?;
+                trial.converged = true;
+                break;
+            }
+            before = Some(assumed);
         }
         Ok(trial)
     }
@@ -749,6 +772,18 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             stats.energy_growth = stats.energy_growth.max(rise);
         }
         self.energy_floor = Some(floor.min(total));
+    }
+}
+
+/// The state a contact cycling between `a` and `b` keeps: sliding over
+/// locked (the friction force at its limit stores less than the spring),
+/// closed over open (so blocks do not pass through each other).
+fn break_cycle(a: ContactState, b: ContactState) -> ContactState {
+    use ContactState::{Locked, Open, Sliding};
+    match (a, b) {
+        (Open, other) | (other, Open) => other,
+        (Locked, Sliding) | (Sliding, Locked) => Sliding,
+        (same, _) => same,
     }
 }
 

@@ -1,0 +1,81 @@
+//! Open-close passes that cycle between two sets of states are detected
+//! and broken: a law that always answers "the other state" for a closed
+//! contact (locked ↔ sliding) makes every step cycle. The driver keeps the
+//! sliding state after two passes, counts the break, and neither cuts the
+//! step nor accepts it unconverged; without the break every step would be
+//! cut down to the floor.
+
+use dda_2d::{Block, Driver2d, Plane, PlaneElastic, Polygons};
+use dda_contact::Coulomb;
+use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics, Settings};
+use nalgebra::{Point2, Vector2};
+
+/// Coulomb, except that a closed contact always asks for the other of
+/// locked and sliding.
+struct Flipping(Coulomb);
+
+impl ContactLaw for Flipping {
+    type History = <Coulomb as ContactLaw>::History;
+
+    fn initial_history(&self, at_start: bool) -> Self::History {
+        self.0.initial_history(at_start)
+    }
+    fn response(&self, s: ContactState, k: &LocalKinematics, h: &Self::History) -> ContactResponse {
+        self.0.response(s, k, h)
+    }
+    fn next_state(&self, s: ContactState, k: &LocalKinematics, h: &Self::History) -> ContactState {
+        match self.0.next_state(s, k, h) {
+            ContactState::Open => ContactState::Open,
+            _ if s == ContactState::Locked => ContactState::Sliding,
+            _ => ContactState::Locked,
+        }
+    }
+    fn commit(&self, s: ContactState, k: &LocalKinematics, h: &mut Self::History) {
+        self.0.commit(s, k, h)
+    }
+}
+
+fn square(cx: f64, cy: f64, w: f64, h: f64) -> Vec<Point2<f64>> {
+    [(-w, -h), (w, -h), (w, h), (-w, h)]
+        .iter()
+        .map(|&(x, y)| Point2::new(cx + x / 2.0, cy + y / 2.0))
+        .collect()
+}
+
+#[test]
+fn a_two_state_cycle_is_broken_by_sliding_and_counted() {
+    let blocks = vec![
+        Block::new(&square(0.0, -0.5, 4.0, 1.0), 0, 2700.0).unwrap(),
+        Block::new(&square(0.0, 0.5, 1.0, 1.0), 0, 2700.0).unwrap(),
+    ];
+    let material = PlaneElastic {
+        young: 1e10,
+        poisson: 0.25,
+        plane: Plane::Strain,
+    };
+    let mut system = Polygons::new(blocks, vec![Box::new(material)]);
+    system.gravity = Vector2::new(0.0, -9.81);
+    system.fix_block(0);
+    let settings = Settings {
+        dt: Some(1e-3),
+        ..Settings::default()
+    };
+    let law = Flipping(Coulomb::frictional(30.0));
+    let mut driver = Driver2d::new(system, vec![Box::new(law)], settings).unwrap();
+    driver.advance_to(0.05).unwrap();
+    let stats = driver.statistics();
+    assert!(stats.cycle_breaks > 0, "{stats:?}");
+    assert_eq!(stats.unconverged_steps, 0, "{stats:?}");
+    assert_eq!(stats.open_close_cuts, 0, "{stats:?}");
+    let closed: Vec<ContactState> = driver
+        .contacts()
+        .iter()
+        .map(|c| c.record.state)
+        .filter(|s| s.is_closed())
+        .collect();
+    assert!(!closed.is_empty());
+    assert!(
+        closed.iter().all(|&s| s == ContactState::Sliding),
+        "the cycling contacts kept sliding: {closed:?}"
+    );
+}
