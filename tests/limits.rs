@@ -80,23 +80,11 @@ impl Case {
     }
 }
 
-/// Upward unit normal of a plane of given dip and dip direction (degrees).
-fn plane_normal(dip: f64, direction: f64) -> Vector3<f64> {
-    let (d, a) = (dip.to_radians(), direction.to_radians());
-    Vector3::new(d.sin() * a.sin(), d.sin() * a.cos(), d.cos())
-}
-
 /// The wedge's sliding direction and the tan φ at which it is at its limit
 /// (reference B5: planes 50/130 and 50/230).
 fn wedge() -> (Vector3<f64>, f64) {
-    let (n1, n2) = (plane_normal(50.0, 130.0), plane_normal(50.0, 230.0));
-    let w = Vector3::new(0.0, 0.0, -1.0);
-    let m = n1.cross(&n2);
-    let s = if m.dot(&w) > 0.0 { m } else { -m }.normalize();
-    let m2 = m.norm_squared();
-    let r1 = -w.cross(&n2).dot(&m) / m2;
-    let r2 = -w.cross(&n1).dot(&n2.cross(&n1)) / m2;
-    (s, w.dot(&s) / (r1 + r2))
+    let (s, along, reactions) = common::reference_wedge();
+    (s, along / reactions)
 }
 
 /// The scene of a case with its friction angle, time step and penalty.

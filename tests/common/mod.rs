@@ -136,3 +136,25 @@ pub fn two_stage_slide(t: f64) -> f64 {
         d1 + a1 * t1 * (t - t1) + 0.5 * a2 * (t - t1).powi(2)
     }
 }
+
+/// Upward unit normal of a plane of given dip and dip direction (degrees;
+/// x east, y north, z up).
+pub fn plane_normal(dip: f64, direction: f64) -> nalgebra::Vector3<f64> {
+    let (d, a) = (dip.to_radians(), direction.to_radians());
+    nalgebra::Vector3::new(d.sin() * a.sin(), d.sin() * a.cos(), d.cos())
+}
+
+/// The vector solution for the reference wedge on planes 50/130 and 50/230
+/// (B5) with equal friction: its sliding direction ŝ, the share ŵ·ŝ of its
+/// weight along ŝ and the planes' normal reactions (N1 + N2)/W, so that
+/// a/g = ŵ·ŝ − (N1 + N2)/W · tan φ.
+pub fn reference_wedge() -> (nalgebra::Vector3<f64>, f64, f64) {
+    let (n1, n2) = (plane_normal(50.0, 130.0), plane_normal(50.0, 230.0));
+    let w = nalgebra::Vector3::new(0.0, 0.0, -1.0);
+    let m = n1.cross(&n2);
+    let s = if m.dot(&w) > 0.0 { m } else { -m }.normalize();
+    let m2 = m.norm_squared();
+    let r1 = -w.cross(&n2).dot(&m) / m2;
+    let r2 = -w.cross(&n1).dot(&n2.cross(&n1)) / m2;
+    (s, w.dot(&s), r1 + r2)
+}
