@@ -153,8 +153,8 @@ impl BlockSystem<6, 1> for Polygons {
     }
 
     fn potential_energy(&self) -> Option<f64> {
-        let driven = self.fixed.iter().any(|f| f.is_driven());
-        if driven || !self.loads.is_empty() {
+        let held = dda_core::loads::held_energy(&self.fixed, self.fixed_penalty)?;
+        if !self.loads.is_empty() {
             return None;
         }
         let gravity: f64 = self
@@ -168,15 +168,7 @@ impl BlockSystem<6, 1> for Polygons {
             .iter()
             .map(|b| 0.5 * b.area() * b.stress.dot(&b.strain))
             .sum();
-        let springs: f64 = self
-            .fixed
-            .iter()
-            .map(|f| {
-                let gap = f.held() * (f.target - f.point);
-                0.5 * self.fixed_penalty * gap.norm_squared()
-            })
-            .sum();
-        Some(gravity + strain + springs)
+        Some(gravity + strain + held)
     }
 
     fn max_displacement(&self, d: &[BlockVector<6>]) -> f64 {

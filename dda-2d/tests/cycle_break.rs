@@ -8,7 +8,7 @@
 use dda_2d::{Block, Driver2d, Plane, PlaneElastic, Polygons};
 use dda_contact::Coulomb;
 use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics, Settings};
-use nalgebra::{Point2, Vector2};
+use nalgebra::Vector2;
 
 /// Coulomb, except that a closed contact always asks for the other of
 /// locked and sliding.
@@ -35,12 +35,8 @@ impl ContactLaw for Flipping {
     }
 }
 
-fn square(cx: f64, cy: f64, w: f64, h: f64) -> Vec<Point2<f64>> {
-    [(-w, -h), (w, -h), (w, h), (-w, h)]
-        .iter()
-        .map(|&(x, y)| Point2::new(cx + x / 2.0, cy + y / 2.0))
-        .collect()
-}
+mod common;
+use common::square;
 
 #[test]
 fn a_two_state_cycle_is_broken_by_sliding_and_counted() {

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use dda_2d::{Block, Driver2d, Plane, PlaneElastic, Polygons};
 use dda_contact::Coulomb;
 use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics, Settings};
-use nalgebra::{Point2, Vector2};
+use nalgebra::Vector2;
 
 /// Coulomb, counting commits globally and in each contact's history.
 struct Counting {
@@ -35,12 +35,8 @@ impl ContactLaw for Counting {
     }
 }
 
-fn square(cx: f64, cy: f64, w: f64, h: f64) -> Vec<Point2<f64>> {
-    [(-w, -h), (w, -h), (w, h), (-w, h)]
-        .iter()
-        .map(|&(x, y)| Point2::new(cx + x / 2.0, cy + y / 2.0))
-        .collect()
-}
+mod common;
+use common::square;
 
 #[test]
 fn histories_change_once_per_accepted_step_even_when_steps_are_cut() {

@@ -157,8 +157,8 @@ impl BlockSystem<12, 2> for Polyhedra {
     }
 
     fn potential_energy(&self) -> Option<f64> {
-        let driven = self.fixed.iter().any(|f| f.is_driven());
-        if driven || !self.loads.is_empty() {
+        let held = dda_core::loads::held_energy(&self.fixed, self.fixed_penalty)?;
+        if !self.loads.is_empty() {
             return None;
         }
         let gravity: f64 = self
@@ -172,15 +172,7 @@ impl BlockSystem<12, 2> for Polyhedra {
             .iter()
             .map(|b| 0.5 * b.volume() * b.stress.dot(&b.strain))
             .sum();
-        let springs: f64 = self
-            .fixed
-            .iter()
-            .map(|f| {
-                let gap = f.held() * (f.target - f.point);
-                0.5 * self.fixed_penalty * gap.norm_squared()
-            })
-            .sum();
-        Some(gravity + strain + springs)
+        Some(gravity + strain + held)
     }
 
     fn max_displacement(&self, d: &[BlockVector<12>]) -> f64 {

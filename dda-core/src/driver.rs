@@ -578,6 +578,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     for (l, gl) in entrance.tangents.iter().enumerate() {
                         let identity = if k == l { 1.0 } else { 0.0 };
                         let projector = identity - direction[k] * direction[l];
+                        let (gk, gl) = ((&gk[0], &gk[1]), (&gl[0], &gl[1]));
                         add_coupling(&mut matrix, a, b, gk, gl, turning * projector);
                     }
                 }
@@ -805,12 +806,7 @@ fn add_spring<const N: usize>(
     gb: &BlockVector<N>,
     k: f64,
 ) {
-    if k == 0.0 {
-        return;
-    }
-    matrix.add(a, a, &(ga * ga.transpose() * k));
-    matrix.add(b, b, &(gb * gb.transpose() * k));
-    matrix.add(a, b, &(ga * gb.transpose() * k));
+    add_coupling(matrix, a, b, (ga, gb), (ga, gb), k);
 }
 
 /// Adds k·g·hᵀ with g = (ga, gb) and h = (ha, hb); called for (g, h) and
@@ -819,8 +815,8 @@ fn add_coupling<const N: usize>(
     matrix: &mut BlockSparse<N>,
     a: usize,
     b: usize,
-    [ga, gb]: &[BlockVector<N>; 2],
-    [ha, hb]: &[BlockVector<N>; 2],
+    (ga, gb): (&BlockVector<N>, &BlockVector<N>),
+    (ha, hb): (&BlockVector<N>, &BlockVector<N>),
     k: f64,
 ) {
     if k == 0.0 {

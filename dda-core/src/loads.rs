@@ -97,6 +97,20 @@ impl<const D: usize> FixedPoint<D> {
     }
 }
 
+/// Energy stored in the springs (of stiffness `stiffness`) that hold fixed
+/// points, or `None` when a point is driven and so does work on the blocks.
+pub fn held_energy<const D: usize>(fixed: &[FixedPoint<D>], stiffness: f64) -> Option<f64> {
+    if fixed.iter().any(|f| f.is_driven()) {
+        return None;
+    }
+    Some(
+        fixed
+            .iter()
+            .map(|f| 0.5 * stiffness * (f.held() * (f.target - f.point)).norm_squared())
+            .sum(),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
