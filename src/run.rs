@@ -55,6 +55,14 @@ pub struct Summary {
     /// settled by keeping each cycling contact sliding or closed.
     #[serde(default)]
     pub cycle_breaks: usize,
+    /// The first contacts that cycled: when, which, between which states,
+    /// and the state kept.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cycles: Vec<CycleReport>,
+    /// Open-close passes solved again with friction's coupling to the
+    /// normal force in the tangent after the symmetric iteration failed.
+    #[serde(default)]
+    pub coupled_solves: usize,
     /// Open-close passes whose Newton iteration kept its best, unconverged iterate.
     #[serde(default)]
     pub newton_failures: usize,
@@ -345,6 +353,8 @@ pub fn run_model<S: Simulation>(
         penetration_cuts: stats.penetration_cuts,
         unconverged_steps: stats.unconverged_steps,
         cycle_breaks: stats.cycle_breaks,
+        cycles: stats.cycles.iter().map(CycleReport::from).collect(),
+        coupled_solves: stats.coupled_solves,
         newton_failures: stats.newton_failures,
         deep_penetration_steps: stats.deep_penetration_steps,
         deepest_penetration: stats.deepest_penetration,
@@ -362,6 +372,33 @@ pub fn run_model<S: Simulation>(
         eprintln!("warning: {warning}");
     }
     result.map(|_| summary)
+}
+
+/// A contact whose open-close state cycled in a step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CycleReport {
+    /// End of the step (s).
+    pub time: f64,
+    /// The entering block and the block it touches.
+    pub blocks: [u32; 2],
+    /// The entering vertex and the feature (edge, face or vertex) entered.
+    pub features: [u32; 2],
+    /// The two states the passes alternated between, and the one kept.
+    pub between: [String; 2],
+    pub kept: String,
+}
+
+impl From<&dda_core::Cycle> for CycleReport {
+    fn from(c: &dda_core::Cycle) -> Self {
+        let name = |s: dda_core::ContactState| format!("{s:?}").to_lowercase();
+        Self {
+            time: round_time(c.time),
+            blocks: [c.key.block_a, c.key.block_b],
+            features: [c.key.feature_a, c.key.feature_b],
+            between: [name(c.between[0]), name(c.between[1])],
+            kept: name(c.kept),
+        }
+    }
 }
 
 /// The driver's reports of steps it could not do well.
@@ -382,10 +419,44 @@ fn warnings(stats: &dda_core::Statistics) -> Vec<String> {
             stats.deep_penetration_steps, stats.deepest_penetration
         ));
     }
+    if let Some(first) = stats.cycles.first() {
+        let c = CycleReport::from(first);
+        out.push(format!(
+            "in {} steps some contacts' open-close passes alternated between two states; each was \
+             settled by keeping the state that stores less work (sliding over locked, closed over open). \
+             The first: at t = {} s, the contact of block {} on block {}, {} and {}, kept {} \
+             (summary.json lists up to 20 under \"cycles\")",
+            stats.cycle_breaks, c.time, c.blocks[0], c.blocks[1], c.between[0], c.between[1], c.kept
+        ));
+    }
     if stats.energy_growth_steps > 0 {
+        // The advice follows what the run saw: friction itself never adds
+        // energy, so a rise comes from raised penalties, unsolved passes or
+        // steps accepted without agreement.
+        let mut causes = Vec::new();
+        if stats.penalty_raises > 0 {
+            causes.push(format!(
+                "the penalty was raised {} times, which multiplies the force of every existing overlap: leave raise_penalty off",
+                stats.penalty_raises
+            ));
+        }
+        if stats.newton_failures > 0 {
+            causes.push(format!(
+                "{} passes kept an unconverged Newton-Raphson iterate: a softer penalty or a smaller dt makes the springs less stiff against the blocks' inertia",
+                stats.newton_failures
+            ));
+        }
+        if stats.unconverged_steps > 0 {
+            causes.push("steps were accepted without open-close agreement (see above)".into());
+        }
+        let advice = if causes.is_empty() {
+            "no cut, raise or unconverged pass explains it; please report the scene".to_string()
+        } else {
+            causes.join("; ")
+        };
         out.push(format!(
             "the total energy rose by up to {:.3e} J in {} steps although nothing did work on the blocks; \
-             the method added energy and the results are suspect (try a smaller dt, or leave raise_penalty off)",
+             the method added energy and the results are suspect ({advice})",
             stats.energy_growth, stats.energy_growth_steps
         ));
     }

@@ -122,4 +122,17 @@ fn energy_growth_is_reported() {
         warned(&summary, &stderr, "the total energy rose"),
         "{stderr}"
     );
+    // The advice is the cause this run saw, not a smaller dt.
+    assert!(
+        warned(&summary, &stderr, "leave raise_penalty off"),
+        "{stderr}"
+    );
+    let energy = summary["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|w| w.as_str())
+        .find(|w| w.contains("the total energy rose"))
+        .unwrap();
+    assert!(!energy.contains("smaller dt"), "{energy}");
 }

@@ -61,6 +61,18 @@ fn a_two_state_cycle_is_broken_by_sliding_and_counted() {
     driver.advance_to(0.05).unwrap();
     let stats = driver.statistics();
     assert!(stats.cycle_breaks > 0, "{stats:?}");
+    // The cycling contacts are named: the block's corners on the base,
+    // with the states they alternated between and the one kept.
+    assert!(
+        !stats.cycles.is_empty() && stats.cycles.len() <= 20,
+        "{stats:?}"
+    );
+    for c in &stats.cycles {
+        assert_eq!([c.key.block_a, c.key.block_b], [1, 0], "{c:?}");
+        assert_ne!(c.between[0], c.between[1], "{c:?}");
+        assert!(c.between.contains(&c.kept), "{c:?}");
+        assert!(c.time > 0.0 && c.time <= 0.05 + 1e-12, "{c:?}");
+    }
     assert_eq!(stats.unconverged_steps, 0, "{stats:?}");
     assert_eq!(stats.open_close_cuts, 0, "{stats:?}");
     let closed: Vec<ContactState> = driver

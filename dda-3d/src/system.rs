@@ -156,6 +156,12 @@ impl BlockSystem<12, 2> for Polyhedra {
         contacts
     }
 
+    fn supports(&self, start: f64, end: f64) -> Vec<dda_core::loads::Support<12>> {
+        dda_core::loads::supports(&self.fixed, self.fixed_penalty, (start, end), |f| {
+            t_matrix(&f.point, &self.blocks[f.block].centroid())
+        })
+    }
+
     fn potential_energy(&self) -> Option<f64> {
         let held = dda_core::loads::held_energy(&self.fixed, self.fixed_penalty)?;
         if !self.loads.is_empty() {

@@ -9,12 +9,13 @@
 
 use std::time::{Duration, Instant};
 
-use nalgebra::SVector;
+use nalgebra::{DMatrix, DVector, SVector};
 
 use crate::assembly::BlockSparse;
 use crate::contact::{ContactResponse, ContactState, DynContactLaw, LocalKinematics};
-use crate::contacts::{transfer_records, BlockVector, Contact};
+use crate::contacts::{transfer_records, BlockVector, Contact, ContactKey};
 use crate::error::DdaError;
+use crate::loads::Support;
 use crate::settings::Settings;
 use crate::solve::{LinearSolver, SparseCholesky};
 use crate::system::{BlockMatrix, BlockSystem};
@@ -39,9 +40,15 @@ pub struct Statistics {
     /// before (a cycle), settled by keeping each cycling contact's sliding
     /// or closed state.
     pub cycle_breaks: usize,
+    /// The first contacts that cycled (at most 20), each with the two
+    /// states it cycled between and the one it kept.
+    pub cycles: Vec<Cycle>,
     /// Open-close passes whose Newton-Raphson iteration did not converge
     /// (the best iterate was kept).
     pub newton_failures: usize,
+    /// Open-close passes solved again with friction's coupling to the
+    /// normal force in the tangent, after the symmetric iteration failed.
+    pub coupled_solves: usize,
     /// Accepted steps that ended with a penetration deeper than the limit.
     pub deep_penetration_steps: usize,
     /// The deepest penetration of any accepted step.
@@ -58,6 +65,36 @@ pub struct Statistics {
     pub energy_growth: f64,
     pub energy_growth_steps: usize,
     pub wall_time: Duration,
+}
+
+/// Sliding contacts beyond this many are solved with the symmetric tangent
+/// only (the coupled solve costs one back-substitution per contact).
+const COUPLED_SLIDING_LIMIT: usize = 64;
+
+/// The most halvings of a coupled Newton-Raphson step.
+const LINE_SEARCH_HALVINGS: usize = 12;
+
+/// How a sliding contact's friction force changes with its normal gap:
+/// the tangent gains `slope`·u·vᵀ, u the friction's rows along the slip
+/// direction, v the gap's rows, on blocks `blocks`.
+struct FrictionCoupling<const N: usize> {
+    blocks: [usize; 2],
+    u: [BlockVector<N>; 2],
+    v: [BlockVector<N>; 2],
+    slope: f64,
+}
+
+/// How many cycling contacts the statistics name.
+const CYCLES_KEPT: usize = 20;
+
+/// A contact whose open-close passes cycled between two states in a step
+/// ending at `time`, and the state it kept.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cycle {
+    pub time: f64,
+    pub key: ContactKey,
+    pub between: [ContactState; 2],
+    pub kept: ContactState,
 }
 
 /// The trial solution of one step attempt.
@@ -82,6 +119,9 @@ pub struct Driver<S, const N: usize, const T: usize> {
     factored: Option<Vec<f64>>,
     /// Inverse mass matrices of the blocks in the current step.
     inverse_masses: Vec<BlockMatrix<N>>,
+    /// The held directions of fixed and driven points in the current step
+    /// (only with contact damping).
+    supports: Vec<Support<N>>,
     time: f64,
     /// What rounding left out of `time` (a compensated sum, so thousands of
     /// steps of 0.001 s add up to 2 s, not 1.9999999999998905).
@@ -143,6 +183,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 dt
             }
         };
+        if settings.contact_damping == 0.0 && system.block_count() > 1 {
+            notes.push(
+                "contact damping is off (Shi's undamped penalty springs): a block landing on, or released onto, its contacts bounces on them, and near its friction limit (a factor of safety below about 1.1) the bounces can start a slide of millimetres to metres; analysis.contact_damping: 1.0 ends impacts and holds such blocks (docs/limits.md)".into(),
+            );
+        }
         Ok(Self {
             velocity: vec![BlockVector::<N>::zeros(); blocks],
             matrix: BlockSparse::new(blocks, []),
@@ -154,6 +199,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             values: Vec::new(),
             factored: None,
             inverse_masses: Vec::new(),
+            supports: Vec::new(),
             time: 0.0,
             time_carry: 0.0,
             dt,
@@ -355,6 +401,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             .iter()
             .map(|m| m.try_inverse().unwrap_or_else(BlockMatrix::<N>::zeros))
             .collect();
+        self.supports = if self.settings.contact_damping > 0.0 {
+            self.system.supports(self.time, self.time + dt)
+        } else {
+            Vec::new()
+        };
         // The states two passes back: a pass that returns to them is a
         // cycle, which more passes would only repeat.
         let mut before: Option<Vec<ContactState>> = None;
@@ -412,7 +463,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 // elastic work (sliding rather than locked, closed rather
                 // than open, so nothing passes through), and one more pass
                 // solves the step with it.
-                for (state, &other) in trial.states.iter_mut().zip(&assumed) {
+                for (i, (state, &other)) in trial.states.iter_mut().zip(&assumed).enumerate() {
+                    if *state != other && self.stats.cycles.len() < CYCLES_KEPT {
+                        self.stats.cycles.push(Cycle {
+                            time: self.time + dt,
+                            key: self.contacts[i].key,
+                            between: [other, *state],
+                            kept: break_cycle(*state, other),
+                        });
+                    }
                     *state = break_cycle(*state, other);
                 }
                 self.stats.open_close_iterations += 1;
@@ -427,21 +486,62 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     }
 
     /// Newton-Raphson on the step's residual with the contact states fixed.
+    ///
+    /// The symmetric tangent leaves out how a sliding contact's friction
+    /// grows with its normal force; where springs are stiff against the
+    /// blocks' inertia (large steps, stiff penalties) that iteration does
+    /// not converge, and the step is solved again from its best iterate
+    /// with the whole tangent.
     fn newton(
         &mut self,
         dt: f64,
         masses: &[BlockMatrix<N>],
         trial: &mut Trial<T>,
     ) -> Result<(), DdaError> {
+        if self.iterate(dt, masses, trial, false)? {
+            return Ok(());
+        }
+        let sliding = trial
+            .states
+            .iter()
+            .filter(|s| **s == ContactState::Sliding)
+            .count();
+        if (1..=COUPLED_SLIDING_LIMIT).contains(&sliding)
+            && self.iterate(dt, masses, trial, true)?
+        {
+            self.stats.coupled_solves += 1;
+            return Ok(());
+        }
+        self.stats.newton_failures += 1;
+        Ok(())
+    }
+
+    /// Newton-Raphson iterations from `trial.d`; with `coupled`, the
+    /// tangent includes friction's dependence on the normal gap (a rank-one
+    /// term per sliding contact, solved by the Sherman-Morrison-Woodbury
+    /// formula on the symmetric factor). Returns whether it converged;
+    /// otherwise `trial.d` is left at the iterate with the smallest
+    /// residual (the first one is Shi's explicit-friction solution).
+    fn iterate(
+        &mut self,
+        dt: f64,
+        masses: &[BlockMatrix<N>],
+        trial: &mut Trial<T>,
+        coupled: bool,
+    ) -> Result<bool, DdaError> {
         let mut first = 0.0;
         let mut residual = vec![0.0; trial.d.len()];
-        // The iterate with the smallest residual so far: the tangent leaves
-        // out the coupling of friction to the normal force, so for steep
-        // couplings the iteration can diverge; it then falls back to the
-        // best iterate (the first one is Shi's explicit-friction solution).
+        let mut couplings = Vec::new();
         let mut best = (f64::INFINITY, trial.d.clone());
         for iteration in 0..=self.settings.newton_limit {
-            self.assemble(dt, masses, trial, &mut residual);
+            couplings.clear();
+            self.assemble(
+                dt,
+                masses,
+                trial,
+                &mut residual,
+                coupled.then_some(&mut couplings),
+            );
             if residual.iter().any(|v| !v.is_finite()) {
                 return Err(DdaError::NotFinite {
                     time: self.time + dt,
@@ -458,14 +558,36 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let diverging = norm > 1e3 * best.0;
             if converged || diverging || iteration == self.settings.newton_limit {
                 if !converged {
-                    self.stats.newton_failures += 1;
                     trial.d = best.1;
                 }
-                return Ok(());
+                return Ok(converged);
             }
             self.stats.newton_iterations += 1;
             self.factorize()?;
             self.solver.solve(&mut residual);
+            if !couplings.is_empty() {
+                self.correct(&couplings, &mut residual);
+                // The friction's direction turns fast with the stretch, so
+                // a full step can overshoot: halve it until the residual
+                // falls (the exact tangent makes the step a descent one).
+                let step = std::mem::take(&mut residual);
+                let start = trial.d.clone();
+                let mut scale = 1.0;
+                let mut probe = vec![0.0; step.len()];
+                for _ in 0..LINE_SEARCH_HALVINGS {
+                    for ((d, d0), dd) in trial.d.iter_mut().zip(&start).zip(&step) {
+                        *d = d0 + scale * dd;
+                    }
+                    self.assemble(dt, masses, trial, &mut probe, None);
+                    let trial_norm = probe.iter().map(|r| r * r).sum::<f64>().sqrt();
+                    if trial_norm < (1.0 - 1e-4 * scale) * norm {
+                        break;
+                    }
+                    scale *= 0.5;
+                }
+                trial.d = start;
+                residual = step.iter().map(|dd| dd * scale).collect();
+            }
             let mut largest: f64 = 0.0;
             for (d, dd) in trial.d.iter_mut().zip(&residual) {
                 *d += dd;
@@ -477,10 +599,43 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 });
             }
             if largest <= self.settings.increment_tolerance * self.length_scale {
-                return Ok(());
+                return Ok(true);
             }
         }
-        Ok(())
+        Ok(false)
+    }
+
+    /// Turns `y = K⁻¹r` (K the symmetric tangent) into the solution with
+    /// K + Σ sⱼ uⱼvⱼᵀ: x = y − Z (I + S VᵀZ)⁻¹ S Vᵀy, with Z = K⁻¹U.
+    fn correct(&self, couplings: &[FrictionCoupling<N>], y: &mut [f64]) {
+        let m = couplings.len();
+        let size = y.len();
+        let dot = |c: &FrictionCoupling<N>, x: &[f64]| {
+            c.v[0].dot(&block(x, c.blocks[0])) + c.v[1].dot(&block(x, c.blocks[1]))
+        };
+        let z: Vec<Vec<f64>> = couplings
+            .iter()
+            .map(|c| {
+                let mut u = vec![0.0; size];
+                add_block(&mut u, c.blocks[0], &c.u[0]);
+                add_block(&mut u, c.blocks[1], &c.u[1]);
+                self.solver.solve(&mut u);
+                u
+            })
+            .collect();
+        let system = DMatrix::from_fn(m, m, |i, j| {
+            let identity = if i == j { 1.0 } else { 0.0 };
+            identity + couplings[i].slope * dot(&couplings[i], &z[j])
+        });
+        let rhs = DVector::from_fn(m, |i, _| couplings[i].slope * dot(&couplings[i], y));
+        let Some(c) = system.lu().solve(&rhs) else {
+            return;
+        };
+        for (zj, cj) in z.iter().zip(c.iter()) {
+            for (yi, zi) in y.iter_mut().zip(zj) {
+                *yi -= cj * zi;
+            }
+        }
     }
 
     /// Factorizes the assembled matrix unless its values are unchanged.
@@ -506,6 +661,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         masses: &[BlockMatrix<N>],
         trial: &Trial<T>,
         residual: &mut [f64],
+        mut couplings: Option<&mut Vec<FrictionCoupling<N>>>,
     ) {
         let mut matrix = std::mem::take(&mut self.matrix);
         matrix.clear();
@@ -523,6 +679,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             self.system.block_terms(i, end, &d, &mut k, &mut r);
             matrix.add(i, i, &k);
             residual[i * N..(i + 1) * N].copy_from_slice(r.as_slice());
+        }
+        for support in &self.supports {
+            // A dashpot beside each fixed point's spring, as beside a
+            // contact's: a supporting block does not ring on its springs.
+            let (i, g) = (support.block, &support.row);
+            let zero = BlockVector::<N>::zeros();
+            let c = self.dashpot(i, i, &[*g, zero], support.stiffness);
+            let moved = g.dot(&block(&trial.d, i)) - support.target_step;
+            matrix.add(i, i, &(g * g.transpose() * (c / dt)));
+            add_block(residual, i, &(g * (-c * moved / dt)));
         }
         for (i, c) in self.contacts.iter().enumerate() {
             let state = trial.states[i];
@@ -557,6 +723,20 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // spring), whose tangent turns the force with the stretch in 3D.
             let stretch = self.stretch(i, e, trial);
             let length = stretch.norm();
+            // A sliding contact's force is the return map's, min(k_s·|s|,
+            // strength) along the stretch s: within the elastic limit (an
+            // iterate that reverses the slip) it is the spring's, so the
+            // force stays continuous and Newton-Raphson does not jump
+            // between opposite friction forces.
+            let mut slipping = state == ContactState::Sliding;
+            if slipping {
+                let spring = self.laws[c.law].response(ContactState::Locked, &kin, history);
+                if spring.shear_stiffness > 0.0 && spring.shear_force < response.shear_force {
+                    response.shear_force = spring.shear_force;
+                    response.shear_stiffness = spring.shear_stiffness;
+                    slipping = false;
+                }
+            }
             let direction = stretch.try_normalize(1e-300).unwrap_or(trial.directions[i]);
             let step_shear = entrance.shear_at(&block(&trial.d, a), &block(&trial.d, b));
             for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
@@ -572,7 +752,29 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 ra += ta * force;
                 rb += tb * force;
             }
-            if state == ContactState::Sliding && T > 1 && length > 0.0 {
+            if let (Some(couplings), true) = (couplings.as_deref_mut(), slipping) {
+                // d(friction)/d(gap), by central differences: laws are pure.
+                let h = 1e-6 * kin.gap.abs().max(kin.tolerance);
+                let at = |gap: f64| {
+                    let kin = LocalKinematics { gap, ..kin };
+                    self.laws[c.law].response(state, &kin, history).shear_force
+                };
+                let slope = (at(kin.gap + h) - at(kin.gap - h)) / (2.0 * h);
+                if slope != 0.0 {
+                    let mut u = [BlockVector::<N>::zeros(), BlockVector::<N>::zeros()];
+                    for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
+                        u[0] += ta * direction[k];
+                        u[1] += tb * direction[k];
+                    }
+                    couplings.push(FrictionCoupling {
+                        blocks: [a, b],
+                        u,
+                        v: [*na, *nb],
+                        slope,
+                    });
+                }
+            }
+            if slipping && T > 1 && length > 0.0 {
                 let turning = response.shear_force / length;
                 for (k, gk) in entrance.tangents.iter().enumerate() {
                     for (l, gl) in entrance.tangents.iter().enumerate() {

@@ -21,7 +21,7 @@ pub mod system;
 pub use constitutive::ConstitutiveLaw;
 pub use contact::{ContactLaw, ContactResponse, ContactState, DynContactLaw, LocalKinematics};
 pub use contacts::{BlockVector, Contact, ContactKey, ContactRecord, Entrance};
-pub use driver::{Driver, Statistics};
+pub use driver::{Cycle, Driver, Statistics};
 pub use element::ElementKinematics;
 pub use error::DdaError;
 pub use loads::{FixedPoint, Force, PointLoad};

@@ -97,6 +97,49 @@ impl<const D: usize> FixedPoint<D> {
     }
 }
 
+/// One held direction of a fixed or driven point: the spring along `row`
+/// (the point's displacement along the direction is `row·d` for the block's
+/// step displacement d), so the driver can put a dashpot beside it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Support<const N: usize> {
+    pub block: usize,
+    pub row: SVector<f64, N>,
+    /// Spring stiffness (force per length).
+    pub stiffness: f64,
+    /// How far the point's target moves along the direction in the step.
+    pub target_step: f64,
+}
+
+/// The held directions of `fixed` for a step from `start` to `end`; `t`
+/// gives a point's T-matrix (D × N) on its block.
+pub fn supports<const D: usize, const N: usize>(
+    fixed: &[FixedPoint<D>],
+    stiffness: f64,
+    (start, end): (f64, f64),
+    t: impl Fn(&FixedPoint<D>) -> SMatrix<f64, D, N>,
+) -> Vec<Support<N>> {
+    let mut rows = Vec::new();
+    for f in fixed {
+        let t = t(f);
+        let moved = f.target_at(end) - f.target_at(start);
+        let directions: Vec<SVector<f64, D>> = match f.axis {
+            Some(n) => vec![n],
+            None => (0..D)
+                .map(|k| SVector::<f64, D>::from_fn(|r, _| if r == k { 1.0 } else { 0.0 }))
+                .collect(),
+        };
+        for n in directions {
+            rows.push(Support {
+                block: f.block,
+                row: t.transpose() * n,
+                stiffness,
+                target_step: n.dot(&moved),
+            });
+        }
+    }
+    rows
+}
+
 /// Energy stored in the springs (of stiffness `stiffness`) that hold fixed
 /// points, or `None` when a point is driven and so does work on the blocks.
 pub fn held_energy<const D: usize>(fixed: &[FixedPoint<D>], stiffness: f64) -> Option<f64> {

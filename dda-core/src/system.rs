@@ -3,6 +3,7 @@
 use nalgebra::SMatrix;
 
 use crate::contacts::{BlockVector, Contact};
+use crate::loads::Support;
 
 /// One block's N×N matrix (mass, stiffness).
 pub type BlockMatrix<const N: usize> = SMatrix<f64, N, N>;
@@ -52,6 +53,12 @@ pub trait BlockSystem<const N: usize, const T: usize> {
     /// Contact candidates within `range` of each other, linearised about the
     /// current geometry, with fresh records and law indices.
     fn find_contacts(&self, range: f64) -> Vec<Contact<N, T>>;
+
+    /// The held directions of the fixed and driven points for a step from
+    /// `start` to `end` (for the dashpots of contact damping).
+    fn supports(&self, _start: f64, _end: f64) -> Vec<Support<N>> {
+        Vec::new()
+    }
 
     /// Largest displacement of any boundary point for step displacements `d`.
     fn max_displacement(&self, d: &[BlockVector<N>]) -> f64;
