@@ -1,6 +1,6 @@
 //! A Shi polygon block: its geometry, integrals, stress and accumulated motion.
 
-use dda_core::ElementKinematics;
+use dda_core::{BlockKind, ElementKinematics};
 use nalgebra::{Matrix2, Matrix2x6, Point2, Rotation2, Vector2, Vector3, Vector6};
 
 use crate::kinematics::{
@@ -16,6 +16,8 @@ pub struct Block {
     angles: Vec<f64>,
     /// Index of the block's material.
     pub material: usize,
+    /// Rigid or deformable; deformable unless set.
+    pub kind: BlockKind,
     /// Mass per unit thickness; constant while the area changes with strain.
     pub mass: f64,
     /// Stress (σx, σy, τxy), tension positive.
@@ -42,6 +44,7 @@ impl Block {
             moments,
             angles,
             material,
+            kind: BlockKind::Deformable,
             stress: Vector3::zeros(),
             strain: Vector3::zeros(),
             rotation: 0.0,

@@ -106,6 +106,10 @@ impl BlockSystem<6, 1> for Polygons {
             .fold(0.0, f64::max)
     }
 
+    fn dofs(&self, block: usize) -> usize {
+        self.blocks[block].kind.dofs(6)
+    }
+
     fn mass(&self, block: usize) -> BlockMatrix<6> {
         self.blocks[block].mass_matrix()
     }

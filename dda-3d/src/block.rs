@@ -1,6 +1,6 @@
 //! A polyhedral block: its geometry, integrals, stress and accumulated motion.
 
-use dda_core::ElementKinematics;
+use dda_core::{BlockKind, ElementKinematics};
 use nalgebra::{Point3, Rotation3, Vector3, Vector6};
 
 use crate::kinematics::{
@@ -15,6 +15,8 @@ pub struct Block {
     shape: Polyhedron,
     /// Index of the block's material.
     pub material: usize,
+    /// Rigid or deformable; deformable unless set.
+    pub kind: BlockKind,
     /// Mass; constant while the volume changes with strain.
     pub mass: f64,
     /// Stress (σx, σy, σz, τyz, τzx, τxy), tension positive, global frame.
@@ -47,6 +49,7 @@ impl Block {
             mass: density * shape.volume(),
             shape,
             material,
+            kind: BlockKind::Deformable,
             stress: Vector6::zeros(),
             strain: Vector6::zeros(),
             rotation: Vector3::zeros(),

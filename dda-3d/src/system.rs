@@ -110,6 +110,10 @@ impl BlockSystem<12, 2> for Polyhedra {
             .fold(0.0, f64::max)
     }
 
+    fn dofs(&self, block: usize) -> usize {
+        self.blocks[block].kind.dofs(12)
+    }
+
     fn mass(&self, block: usize) -> BlockMatrix<12> {
         self.blocks[block].mass_matrix()
     }

@@ -143,9 +143,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 dt
             }
         };
+        let dofs = (0..blocks).map(|i| system.dofs(i)).collect();
         Ok(Self {
             velocity: vec![BlockVector::<N>::zeros(); blocks],
-            matrix: BlockSparse::new(blocks, []),
+            matrix: BlockSparse::new(dofs, []),
             system,
             laws,
             contacts: Vec::new(),
@@ -206,9 +207,17 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         &self.velocity
     }
 
-    /// Sets a block's generalised velocity (initial conditions).
+    /// Sets a block's generalised velocity (initial conditions); a block
+    /// with fewer DOF keeps the leading ones only.
     pub fn set_velocity(&mut self, block: usize, v: BlockVector<N>) {
-        self.velocity[block] = v;
+        let n = self.system.dofs(block);
+        self.velocity[block] = v.map_with_location(|r, _, x| if r < n { x } else { 0.0 });
+    }
+
+    /// The number of unknowns of the step's system: the DOF the blocks move
+    /// by.
+    pub fn unknowns(&self) -> usize {
+        self.matrix.dim()
     }
 
     /// Contacts of the last step, with their records.
@@ -264,7 +273,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.contacts = fresh;
         let pattern_changed = {
             let pairs = self.contacts.iter().map(|c| (c.blocks[0], c.blocks[1]));
-            let matrix = BlockSparse::new(self.system.block_count(), pairs);
+            let dofs = (0..self.system.block_count())
+                .map(|i| self.system.dofs(i))
+                .collect();
+            let matrix = BlockSparse::new(dofs, pairs);
             let changed = matrix.pattern() != self.matrix.pattern();
             self.matrix = matrix;
             changed
@@ -353,7 +365,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let masses: Vec<BlockMatrix<N>> = (0..nb).map(|i| self.system.mass(i)).collect();
         self.inverse_masses = masses
             .iter()
-            .map(|m| m.try_inverse().unwrap_or_else(BlockMatrix::<N>::zeros))
+            .enumerate()
+            .map(|(i, m)| self.matrix.kept_inverse(i, m))
             .collect();
         // The states two passes back: a pass that returns to them is a
         // cycle, which more passes would only repeat.
@@ -434,7 +447,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         trial: &mut Trial<T>,
     ) -> Result<(), DdaError> {
         let mut first = 0.0;
-        let mut residual = vec![0.0; trial.d.len()];
+        let mut residual = vec![0.0; self.matrix.dim()];
         // The iterate with the smallest residual so far: the tangent leaves
         // out the coupling of friction to the normal force, so for steep
         // couplings the iteration can diverge; it then falls back to the
@@ -467,9 +480,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             self.factorize()?;
             self.solver.solve(&mut residual);
             let mut largest: f64 = 0.0;
-            for (d, dd) in trial.d.iter_mut().zip(&residual) {
-                *d += dd;
-                largest = largest.max(dd.abs());
+            for (i, d) in trial.d.chunks_exact_mut(N).enumerate() {
+                for (d, dd) in d.iter_mut().zip(self.matrix.block(&residual, i).iter()) {
+                    *d += dd;
+                    largest = largest.max(dd.abs());
+                }
             }
             if !largest.is_finite() {
                 return Err(DdaError::NotFinite {
@@ -522,7 +537,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let mut r = m * (v0 * (2.0 / dt + alpha) - d * (2.0 / (dt * dt) + 2.0 * alpha / dt));
             self.system.block_terms(i, end, &d, &mut k, &mut r);
             matrix.add(i, i, &k);
-            residual[i * N..(i + 1) * N].copy_from_slice(r.as_slice());
+            matrix.add_block(residual, i, &r);
         }
         for (i, c) in self.contacts.iter().enumerate() {
             let state = trial.states[i];
@@ -583,8 +598,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     }
                 }
             }
-            add_block(residual, a, &ra);
-            add_block(residual, b, &rb);
+            matrix.add_block(residual, a, &ra);
+            matrix.add_block(residual, b, &rb);
         }
         self.matrix = matrix;
     }
@@ -835,12 +850,6 @@ fn split<const N: usize>(d: &[f64]) -> Vec<BlockVector<N>> {
     d.chunks_exact(N)
         .map(BlockVector::<N>::from_column_slice)
         .collect()
-}
-
-fn add_block<const N: usize>(r: &mut [f64], i: usize, v: &BlockVector<N>) {
-    for (x, y) in r[i * N..(i + 1) * N].iter_mut().zip(v.iter()) {
-        *x += y;
-    }
 }
 
 /// Shi's entrance choice: the entrance with the largest gap at the trial

@@ -27,4 +27,4 @@ pub use error::DdaError;
 pub use loads::{FixedPoint, Force, PointLoad};
 pub use motion::{GroundMotion, Quantity, Record};
 pub use settings::Settings;
-pub use system::{BlockMatrix, BlockSystem};
+pub use system::{BlockKind, BlockMatrix, BlockSystem};
