@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::scene::Scene;
+use crate::scene::{BlockKind, Scene};
 
 /// What to measure.
 #[derive(Debug, Clone)]
@@ -19,14 +19,19 @@ pub struct BenchOptions {
     pub steps: usize,
     /// Runs per size; the median is reported.
     pub repeats: usize,
+    /// The bricks' kind: rigid bricks solve for half the unknowns.
+    pub kind: BlockKind,
 }
 
 /// One size's result.
 #[derive(Debug, Clone, Serialize)]
 pub struct BenchRow {
     pub courses: usize,
+    pub kind: BlockKind,
     pub blocks: usize,
     pub contacts: usize,
+    /// Unknowns of the step's system.
+    pub unknowns: usize,
     /// Median wall time per step, milliseconds.
     pub median_ms_per_step: f64,
     /// The same relative to the smallest wall's.
@@ -64,7 +69,9 @@ pub fn bench(options: &BenchOptions) -> anyhow::Result<Vec<BenchRow>> {
         let mut times = Vec::with_capacity(options.repeats);
         let mut last = None;
         for _ in 0..options.repeats.max(1) {
-            let mut model = wall_scene(n).build()?;
+            let mut scene = wall_scene(n);
+            scene.materials[0].1.kind = options.kind;
+            let mut model = scene.build()?;
             let dt = model.driver.dt();
             model.driver.step(dt)?;
             let before = model.driver.statistics().clone();
@@ -82,6 +89,8 @@ pub fn bench(options: &BenchOptions) -> anyhow::Result<Vec<BenchRow>> {
         let steps = (after.steps - before.steps) as f64;
         rows.push(BenchRow {
             courses: n,
+            kind: options.kind,
+            unknowns: model.driver.unknowns(),
             blocks: model.driver.system.blocks.len(),
             contacts: model.driver.contacts().len(),
             median_ms_per_step: median,

@@ -102,6 +102,7 @@ pub fn extrude_with(scene: &Scene, how: &Extrusion) -> Result<Scene, ExtrudeErro
             let [sx, sy, sxy] = b.stress;
             BlockSpec::Polyhedron {
                 material: scene.blocks[b.entry].material().map(str::to_string),
+                kind: scene.blocks[b.entry].block_kind(),
                 vertices,
                 faces,
                 fixed: b.fixed,

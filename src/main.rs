@@ -46,6 +46,9 @@ enum Command {
         /// Runs per size (the median is reported)
         #[arg(long, default_value_t = 3)]
         repeats: usize,
+        /// Make the bricks rigid (3 DOF each instead of Shi's 6)
+        #[arg(long)]
+        rigid: bool,
         /// Also write the results as JSON to this file
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
@@ -158,26 +161,35 @@ fn execute(command: Command) -> anyhow::Result<()> {
             sizes,
             steps,
             repeats,
+            rigid,
             json,
         } => {
+            let kind = if rigid {
+                dda::scene::BlockKind::Rigid
+            } else {
+                dda::scene::BlockKind::Deformable
+            };
             let rows = dda::bench::bench(&dda::bench::BenchOptions {
                 sizes,
                 steps,
                 repeats,
+                kind,
             })?;
             println!(
-                "walls of n × n bricks, {steps} steps timed per run, median of {repeats} runs"
+                "walls of n × n {} bricks, {steps} steps timed per run, median of {repeats} runs",
+                if rigid { "rigid" } else { "deformable" }
             );
             println!(
-                "{:>4} {:>7} {:>9} {:>10} {:>9} {:>7} {:>7}",
-                "n", "blocks", "contacts", "ms/step", "× base", "passes", "factor."
+                "{:>4} {:>7} {:>9} {:>8} {:>10} {:>9} {:>7} {:>7}",
+                "n", "blocks", "contacts", "unknowns", "ms/step", "× base", "passes", "factor."
             );
             for r in &rows {
                 println!(
-                    "{:>4} {:>7} {:>9} {:>10.2} {:>9.2} {:>7.2} {:>7.2}",
+                    "{:>4} {:>7} {:>9} {:>8} {:>10.2} {:>9.2} {:>7.2} {:>7.2}",
                     r.courses,
                     r.blocks,
                     r.contacts,
+                    r.unknowns,
                     r.median_ms_per_step,
                     r.ratio_to_baseline,
                     r.passes_per_step,

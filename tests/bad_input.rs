@@ -184,6 +184,28 @@ fn too_few_vertices() {
 }
 
 #[test]
+fn a_rigid_block_with_an_initial_stress() {
+    let text = with(
+        "Polygon(vertices: [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])",
+        "Polygon(kind: Rigid, vertices: [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],\n            stress: (-1e5, 0.0, 0.0))",
+    );
+    assert_error(
+        &text,
+        "stress:",
+        "blocks[1].stress",
+        "a rigid block carries no stress",
+    );
+    // The material's kind applies to blocks that do not give their own.
+    let text = with("poisson: 0.25)", "poisson: 0.25, kind: Rigid)").replace(
+        "(0.0, 1.0)])",
+        "(0.0, 1.0)],\n            stress: (-1e5, 0.0, 0.0))",
+    );
+    assert_error(&text, "stress:", "blocks[1].stress", "carries no stress");
+    let text = text.replace("Polygon(", "Polygon(kind: Deformable, ");
+    assert!(load_and_build(&text).is_ok());
+}
+
+#[test]
 fn nan_and_infinity_are_rejected() {
     let text = with("(1.0, 1.0), (0.0, 1.0)]", "(1.0, NaN), (0.0, 1.0)]");
     assert_error(

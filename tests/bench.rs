@@ -1,6 +1,7 @@
 //! The `dda bench` command times walls of growing size against the smallest.
 
 use dda::bench::{bench, wall_scene, BenchOptions};
+use dda::scene::BlockKind;
 
 #[test]
 fn bench_reports_medians_and_ratios_to_the_smallest_wall() {
@@ -8,6 +9,7 @@ fn bench_reports_medians_and_ratios_to_the_smallest_wall() {
         sizes: vec![3, 6],
         steps: 2,
         repeats: 3,
+        kind: BlockKind::Deformable,
     })
     .unwrap();
     assert_eq!(rows.len(), 2);
@@ -19,6 +21,7 @@ fn bench_reports_medians_and_ratios_to_the_smallest_wall() {
     let expected = |n: usize| 1 + n * n + n / 2;
     assert_eq!(rows[0].blocks, expected(3));
     assert_eq!(rows[1].blocks, expected(6));
+    assert_eq!(rows[1].unknowns, 6 * expected(6));
     assert!(
         (rows[1].ratio_to_baseline - rows[1].median_ms_per_step / rows[0].median_ms_per_step).abs()
             < 1e-12
@@ -27,6 +30,21 @@ fn bench_reports_medians_and_ratios_to_the_smallest_wall() {
     let mut model = wall_scene(4).build().unwrap();
     model.driver.advance_to(0.05).unwrap();
     assert_eq!(model.driver.statistics().unconverged_steps, 0);
+}
+
+#[test]
+fn rigid_bricks_solve_for_half_the_unknowns() {
+    let rows = bench(&BenchOptions {
+        sizes: vec![3],
+        steps: 1,
+        repeats: 1,
+        kind: BlockKind::Rigid,
+    })
+    .unwrap();
+    assert_eq!(
+        (rows[0].kind, rows[0].unknowns),
+        (BlockKind::Rigid, 3 * rows[0].blocks)
+    );
 }
 
 #[test]
@@ -43,6 +61,29 @@ fn bench_command_prints_a_table() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
         text.contains("ms/step") && text.lines().count() == 3,
+        "{text}"
+    );
+}
+
+#[test]
+fn bench_command_times_rigid_bricks() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_dda"))
+        .args([
+            "bench",
+            "--sizes",
+            "3",
+            "--steps",
+            "1",
+            "--repeats",
+            "1",
+            "--rigid",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("rigid bricks") && text.contains("unknowns"),
         "{text}"
     );
 }

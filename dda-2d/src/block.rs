@@ -1,7 +1,10 @@
 //! A Shi polygon block: its geometry, integrals, stress and accumulated motion.
 
-use dda_core::ElementKinematics;
-use nalgebra::{Matrix2, Matrix2x6, Point2, Rotation2, Vector2, Vector3, Vector6};
+use dda_core::{BlockKind, Element};
+use nalgebra::{Matrix2, Matrix2x6, Point2, Rotation2, Vector3, Vector6};
+
+use crate::broad_phase::near_pairs;
+use crate::contact::{pair_contacts, Contact2};
 
 use crate::kinematics::{
     mass_matrix, move_point, strain_tensor, t_matrix, Matrix6, RotationUpdate,
@@ -16,6 +19,8 @@ pub struct Block {
     angles: Vec<f64>,
     /// Index of the block's material.
     pub material: usize,
+    /// Rigid or deformable; deformable unless set.
+    pub kind: BlockKind,
     /// Mass per unit thickness; constant while the area changes with strain.
     pub mass: f64,
     /// Stress (σx, σy, τxy), tension positive.
@@ -42,6 +47,7 @@ impl Block {
             moments,
             angles,
             material,
+            kind: BlockKind::Deformable,
             stress: Vector3::zeros(),
             strain: Vector3::zeros(),
             rotation: 0.0,
@@ -119,42 +125,93 @@ impl Block {
     }
 }
 
-/// Shi's 6-DOF kinematics with the exact-rotation update.
-impl ElementKinematics<6, 2> for Block {
-    fn reference_point(&self) -> Vector2<f64> {
-        self.centroid().coords
+/// Shi's 6-DOF polygon: the 2D element of the shared block set.
+impl Element<2, 6, 1, 3> for Block {
+    fn vertices(&self) -> &[Point2<f64>] {
+        &self.vertices
     }
 
-    fn t_matrix(&self, p: &Vector2<f64>) -> Matrix2x6<f64> {
-        t_matrix(&Point2::from(*p), &self.centroid())
+    fn centroid(&self) -> Point2<f64> {
+        self.moments.centroid
+    }
+
+    fn measure(&self) -> f64 {
+        self.moments.area
+    }
+
+    fn size(&self) -> f64 {
+        self.moments.area.abs().sqrt()
+    }
+
+    fn bounds(&self) -> (Point2<f64>, Point2<f64>) {
+        Block::bounds(self)
+    }
+
+    fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    fn material(&self) -> usize {
+        self.material
+    }
+
+    fn kind(&self) -> BlockKind {
+        self.kind
+    }
+
+    fn stress(&self) -> &Vector3<f64> {
+        &self.stress
+    }
+
+    fn strain(&self) -> &Vector3<f64> {
+        &self.strain
     }
 
     fn mass_matrix(&self) -> Matrix6 {
         Block::mass_matrix(self)
     }
 
-    fn displaced(&self, p: &Vector2<f64>, d: &Vector6<f64>) -> Vector2<f64> {
-        self.move_point(&Point2::from(*p), d, RotationUpdate::Exact)
-            .coords
+    fn t_matrix(&self, p: &Point2<f64>) -> Matrix2x6<f64> {
+        t_matrix(p, &self.moments.centroid)
+    }
+
+    fn move_point(&self, p: &Point2<f64>, d: &Vector6<f64>, update: RotationUpdate) -> Point2<f64> {
+        Block::move_point(self, p, d, update)
+    }
+
+    fn commit(&mut self, d: &Vector6<f64>, stress: Vector3<f64>, update: RotationUpdate) {
+        Block::commit(self, d, stress, update)
+    }
+
+    fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)> {
+        let outlines: Vec<&[Point2<f64>]> = blocks.iter().map(|b| b.vertices()).collect();
+        near_pairs(&outlines, range)
+    }
+
+    fn pair_contacts(blocks: &[Self], i: usize, j: usize, range: f64, law: usize) -> Vec<Contact2> {
+        pair_contacts(blocks, i, j, range, law)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::Vector2;
 
     #[test]
     fn t_matrix_is_the_derivative_of_the_committed_motion() {
         let v = [(0.0, 0.0), (2.0, -0.3), (2.6, 1.1), (1.1, 2.0), (-0.4, 1.2)]
             .map(|(x, y)| Point2::new(x + 10.0, y - 3.0));
         let block = Block::new(&v, 0, 2000.0).unwrap();
-        let p = Vector2::new(11.3, -1.7);
-        let t = ElementKinematics::t_matrix(&block, &p);
+        let p = Point2::new(11.3, -1.7);
+        let t = Element::t_matrix(&block, &p);
         let h = 1e-6;
+        let exact = RotationUpdate::Exact;
         for k in 0..6 {
             let mut d = Vector6::zeros();
             d[k] = h;
-            let fd = (block.displaced(&p, &d) - block.displaced(&p, &(-d))) / (2.0 * h);
+            let fd =
+                (block.move_point(&p, &d, exact) - block.move_point(&p, &(-d), exact)) / (2.0 * h);
             assert!(
                 (fd - t.column(k)).norm() < 1e-8,
                 "column {k}: {fd} vs {}",
@@ -162,8 +219,8 @@ mod tests {
             );
         }
         // Rigid-body DOF move the centroid as a translation only.
-        let c = block.reference_point();
+        let c = block.centroid();
         let d = Vector6::new(0.1, 0.2, 0.7, 0.0, 0.0, 0.0);
-        assert!((block.displaced(&c, &d) - c - Vector2::new(0.1, 0.2)).norm() < 1e-14);
+        assert!((block.move_point(&c, &d, exact) - c - Vector2::new(0.1, 0.2)).norm() < 1e-14);
     }
 }

@@ -10,18 +10,12 @@
 //!   ordinary vertex-edge contact with each edge at the reflex vertex.
 //!   Edge-to-edge contacts are the two vertex contacts at their ends.
 
+use dda_core::block_set::{ANGLE_TOLERANCE, PENETRATION_SHARE};
 use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
 use nalgebra::{Matrix2x6, Point2, Vector2, Vector6};
 
 use crate::block::Block;
 use crate::kinematics::t_matrix;
-
-/// Angle tolerance for parallel edges and wedge tests (Shi's h1 = 3°).
-const ANGLE_TOLERANCE: f64 = 3.0 * std::f64::consts::PI / 180.0;
-
-/// Deepest penetration a contact candidate may have, as a share of the
-/// search range (Shi's d9 = 0.3·d0).
-const PENETRATION_SHARE: f64 = 0.3;
 
 /// Marks `feature_b` of a vertex-vertex contact (a vertex, not an edge).
 const VERTEX: u32 = 1 << 31;

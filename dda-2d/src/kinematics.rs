@@ -47,16 +47,7 @@ pub fn mass_matrix(m: &CentralMoments, density: f64) -> Matrix6 {
     (upper + upper.transpose() - Matrix6::from_diagonal(&upper.diagonal())) * density
 }
 
-/// How vertices move at the end of a step.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum RotationUpdate {
-    /// Strain first, then the exact rotation R(r0): no false area growth.
-    #[default]
-    Exact,
-    /// Shi's original linear update x + T·D, which inflates the area by
-    /// (1 + r0²) each step; kept for comparison.
-    Linear,
-}
+pub use dda_core::RotationUpdate;
 
 /// Where point `p` goes for step displacement `d` about centroid `c`.
 pub fn move_point(

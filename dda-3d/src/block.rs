@@ -1,6 +1,9 @@
 //! A polyhedral block: its geometry, integrals, stress and accumulated motion.
 
-use dda_core::ElementKinematics;
+use dda_core::{BlockKind, Element};
+
+use crate::broad_phase::near_pairs;
+use crate::contact::{pair_contacts, Contact3};
 use nalgebra::{Point3, Rotation3, Vector3, Vector6};
 
 use crate::kinematics::{
@@ -15,6 +18,8 @@ pub struct Block {
     shape: Polyhedron,
     /// Index of the block's material.
     pub material: usize,
+    /// Rigid or deformable; deformable unless set.
+    pub kind: BlockKind,
     /// Mass; constant while the volume changes with strain.
     pub mass: f64,
     /// Stress (σx, σy, σz, τyz, τzx, τxy), tension positive, global frame.
@@ -47,6 +52,7 @@ impl Block {
             mass: density * shape.volume(),
             shape,
             material,
+            kind: BlockKind::Deformable,
             stress: Vector6::zeros(),
             strain: Vector6::zeros(),
             rotation: Vector3::zeros(),
@@ -119,23 +125,71 @@ impl Block {
     }
 }
 
-/// Shi's 12-DOF kinematics with the exact-rotation update.
-impl ElementKinematics<12, 3> for Block {
-    fn reference_point(&self) -> Vector3<f64> {
-        self.centroid().coords
+/// Shi's 12-DOF polyhedron: the 3D element of the shared block set.
+impl Element<3, 12, 2, 6> for Block {
+    fn vertices(&self) -> &[Point3<f64>] {
+        self.shape.vertices()
     }
 
-    fn t_matrix(&self, p: &Vector3<f64>) -> TMatrix {
-        Block::t_matrix(self, &Point3::from(*p))
+    fn centroid(&self) -> Point3<f64> {
+        self.shape.centroid()
+    }
+
+    fn measure(&self) -> f64 {
+        self.shape.volume()
+    }
+
+    fn size(&self) -> f64 {
+        self.shape.volume().abs().cbrt()
+    }
+
+    fn bounds(&self) -> (Point3<f64>, Point3<f64>) {
+        self.shape.bounds()
+    }
+
+    fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    fn material(&self) -> usize {
+        self.material
+    }
+
+    fn kind(&self) -> BlockKind {
+        self.kind
+    }
+
+    fn stress(&self) -> &Vector6<f64> {
+        &self.stress
+    }
+
+    fn strain(&self) -> &Vector6<f64> {
+        &self.strain
     }
 
     fn mass_matrix(&self) -> Matrix12 {
         Block::mass_matrix(self)
     }
 
-    fn displaced(&self, p: &Vector3<f64>, d: &Vector12) -> Vector3<f64> {
-        self.move_point(&Point3::from(*p), d, RotationUpdate::Exact)
-            .coords
+    fn t_matrix(&self, p: &Point3<f64>) -> TMatrix {
+        Block::t_matrix(self, p)
+    }
+
+    fn move_point(&self, p: &Point3<f64>, d: &Vector12, update: RotationUpdate) -> Point3<f64> {
+        Block::move_point(self, p, d, update)
+    }
+
+    fn commit(&mut self, d: &Vector12, stress: Vector6<f64>, update: RotationUpdate) {
+        Block::commit(self, d, stress, update)
+    }
+
+    fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)> {
+        let points: Vec<&[Point3<f64>]> = blocks.iter().map(|b| b.vertices()).collect();
+        near_pairs(&points, range)
+    }
+
+    fn pair_contacts(blocks: &[Self], i: usize, j: usize, range: f64, law: usize) -> Vec<Contact3> {
+        pair_contacts(blocks, i, j, range, law)
     }
 }
 
@@ -156,13 +210,15 @@ mod tests {
     #[test]
     fn t_matrix_is_the_derivative_of_the_committed_motion() {
         let block = brick();
-        let p = Vector3::new(10.3, -2.7, 2.2);
-        let t = ElementKinematics::t_matrix(&block, &p);
+        let p = Point3::new(10.3, -2.7, 2.2);
+        let t = Element::t_matrix(&block, &p);
         let h = 1e-6;
+        let exact = RotationUpdate::Exact;
         for k in 0..12 {
             let mut d = Vector12::zeros();
             d[k] = h;
-            let fd = (block.displaced(&p, &d) - block.displaced(&p, &(-d))) / (2.0 * h);
+            let fd =
+                (block.move_point(&p, &d, exact) - block.move_point(&p, &(-d), exact)) / (2.0 * h);
             assert!(
                 (fd - t.column(k)).norm() < 1e-8,
                 "column {k}: {fd} vs {}",

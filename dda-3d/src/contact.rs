@@ -54,13 +54,14 @@
 //! Concave faces are handled by point-in-polygon tests and ear-clipped
 //! triangles.
 
+use dda_core::block_set::{ANGLE_TOLERANCE, PENETRATION_SHARE};
 use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
 use nalgebra::{Point2, Point3, Vector3};
 
 use crate::block::Block;
 use crate::face;
 use crate::kinematics::Vector12;
-use crate::polyhedron::{EdgeKind, Polyhedron, ANGLE_TOLERANCE};
+use crate::polyhedron::{EdgeKind, Polyhedron};
 
 /// A 3D contact: 12 DOF per block, two tangential directions.
 pub type Contact3 = Contact<12, 2>;
@@ -475,10 +476,6 @@ fn edge_edge(
     let n = crossing_normal(&(q1 - p1), &(q2 - p2), valid)?;
     edge_entrance(a, ea, b, eb, &n, false).filter(|e| e.gap > -PENETRATION_SHARE * range)
 }
-
-/// Deepest penetration a contact candidate may have, as a share of the
-/// search range (Shi's d9 = 0.3·d0).
-const PENETRATION_SHARE: f64 = 0.3;
 
 /// Parameters (s, t) of the closest points of the lines p1 + s(q1 − p1) and
 /// p2 + t(q2 − p2); `None` if they are parallel.

@@ -50,17 +50,7 @@ pub fn mass_matrix(m: &CentralMoments, density: f64) -> Matrix12 {
     k * density
 }
 
-/// How vertices move at the end of a step.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum RotationUpdate {
-    /// Strain first, then the exact rotation R(r) (Rodrigues): no false
-    /// volume growth.
-    #[default]
-    Exact,
-    /// Shi's original linear update x + T·D, which inflates the volume by
-    /// (1 + |r|²) each step; kept for comparison.
-    Linear,
-}
+pub use dda_core::RotationUpdate;
 
 /// The small-strain tensor of the DOF vector.
 pub fn strain_tensor(d: &Vector12) -> Matrix3<f64> {

@@ -19,7 +19,7 @@ use nalgebra::{Matrix3, Point2, Point3, Rotation3, Vector3};
 use crate::face::{self, FaceFrame};
 
 /// Angle tolerance of the convexity and entrance tests (Shi's h1 = 3°).
-pub const ANGLE_TOLERANCE: f64 = 3.0 * std::f64::consts::PI / 180.0;
+pub use dda_core::block_set::ANGLE_TOLERANCE;
 
 /// A face vertex farther than this fraction of the block size from the face's
 /// plane makes the face non-planar.

@@ -1,10 +1,13 @@
 //! Block-sparse assembly of the step's system matrix.
 //!
-//! The matrix has one N×N block per block on the diagonal and one per pair of
-//! blocks in contact. Only the lower triangle is stored (the matrix is
-//! symmetric); the pattern is fixed for a step, since contacts are not searched
-//! again inside the open-close loop, so the solver's symbolic analysis is reused
-//! across passes.
+//! The matrix has one block per block on the diagonal and one per pair of
+//! blocks in contact. Block i takes the leading `dofs[i]` of its N DOF (a
+//! rigid block its translation and rotation): the rest never enter the
+//! matrix, so they stay exactly zero, and a system of rigid blocks is
+//! factorised at the size of its rigid DOF. Only the lower triangle is stored
+//! (the matrix is symmetric); the pattern is fixed for a step, since contacts
+//! are not searched again inside the open-close loop, so the solver's
+//! symbolic analysis is reused across passes.
 
 use std::collections::HashMap;
 
@@ -28,12 +31,17 @@ pub struct BlockSparse<const N: usize> {
     /// (row block, column block) of each entry of `lower`.
     pairs: Vec<(usize, usize)>,
     index: HashMap<(usize, usize), usize>,
+    /// The DOF each block keeps, and where they start in the global vector.
+    dofs: Vec<usize>,
+    offsets: Vec<usize>,
 }
 
 impl<const N: usize> BlockSparse<N> {
-    /// A zero matrix with `blocks` diagonal blocks and one off-diagonal block
-    /// for every distinct pair in `pairs`.
-    pub fn new(blocks: usize, pairs: impl IntoIterator<Item = (usize, usize)>) -> Self {
+    /// A zero matrix with one diagonal block per entry of `dofs` (how many
+    /// of its N DOF the block keeps) and one off-diagonal block for every
+    /// distinct pair in `pairs`.
+    pub fn new(dofs: Vec<usize>, pairs: impl IntoIterator<Item = (usize, usize)>) -> Self {
+        assert!(dofs.iter().all(|&n| n <= N), "a block keeps at most N DOF");
         let mut index = HashMap::new();
         let mut list = Vec::new();
         for (a, b) in pairs {
@@ -51,16 +59,61 @@ impl<const N: usize> BlockSparse<N> {
         order.sort_by_key(|&i| (list[i].1, list[i].0));
         let pairs: Vec<(usize, usize)> = order.iter().map(|&i| list[i]).collect();
         let index = pairs.iter().enumerate().map(|(i, &p)| (p, i)).collect();
+        let mut offsets = Vec::with_capacity(dofs.len() + 1);
+        offsets.push(0);
+        for n in &dofs {
+            offsets.push(offsets.last().copied().unwrap_or(0) + n);
+        }
         Self {
-            diagonal: vec![BlockMatrix::<N>::zeros(); blocks],
+            diagonal: vec![BlockMatrix::<N>::zeros(); dofs.len()],
             lower: vec![BlockMatrix::<N>::zeros(); pairs.len()],
             pairs,
             index,
+            dofs,
+            offsets,
         }
     }
 
     pub fn block_count(&self) -> usize {
         self.diagonal.len()
+    }
+
+    /// The number of unknowns: the DOF the blocks keep.
+    pub fn dim(&self) -> usize {
+        self.offsets.last().copied().unwrap_or(0)
+    }
+
+    /// How many of its N DOF block `i` keeps.
+    pub fn dofs(&self, i: usize) -> usize {
+        self.dofs[i]
+    }
+
+    /// Adds the kept DOF of block `i`'s vector `v` to the global vector `x`.
+    pub fn add_block(&self, x: &mut [f64], i: usize, v: &BlockVector<N>) {
+        let kept = &mut x[self.offsets[i]..self.offsets[i + 1]];
+        for (x, v) in kept.iter_mut().zip(v.iter()) {
+            *x += v;
+        }
+    }
+
+    /// Block `i`'s N-vector from the global vector `x`, zero beyond the DOF
+    /// it keeps.
+    pub fn block(&self, x: &[f64], i: usize) -> BlockVector<N> {
+        let kept = &x[self.offsets[i]..self.offsets[i + 1]];
+        BlockVector::<N>::from_fn(|r, _| kept.get(r).copied().unwrap_or(0.0))
+    }
+
+    /// The inverse of a block's matrix over the DOF the block keeps, zero
+    /// elsewhere (zero too when singular).
+    pub fn kept_inverse(&self, i: usize, m: &BlockMatrix<N>) -> BlockMatrix<N> {
+        let n = self.dofs[i];
+        let kept = BlockMatrix::<N>::from_fn(|r, c| match (r < n, c < n) {
+            (true, true) => m[(r, c)],
+            _ if r == c => 1.0,
+            _ => 0.0,
+        });
+        let inverse = kept.try_inverse().unwrap_or_else(BlockMatrix::<N>::zeros);
+        BlockMatrix::<N>::from_fn(|r, c| if r < n && c < n { inverse[(r, c)] } else { 0.0 })
     }
 
     pub fn clear(&mut self) {
@@ -84,29 +137,26 @@ impl<const N: usize> BlockSparse<N> {
 
     /// The scalar CSC pattern of the lower triangle.
     pub fn pattern(&self) -> CscPattern {
-        let blocks = self.block_count();
-        let dim = blocks * N;
-        let mut col_ptr = Vec::with_capacity(dim + 1);
+        let (dofs, offsets) = (&self.dofs, &self.offsets);
+        let mut col_ptr = Vec::with_capacity(self.dim() + 1);
         let mut row_idx = Vec::new();
         col_ptr.push(0);
         let mut next = 0;
-        for cb in 0..blocks {
+        for cb in 0..self.block_count() {
             let start = next;
             while next < self.pairs.len() && self.pairs[next].1 == cb {
                 next += 1;
             }
-            for c in 0..N {
-                for r in c..N {
-                    row_idx.push(cb * N + r);
-                }
+            for c in 0..dofs[cb] {
+                row_idx.extend((c..dofs[cb]).map(|r| offsets[cb] + r));
                 for &(rb, _) in &self.pairs[start..next] {
-                    row_idx.extend((0..N).map(|r| rb * N + r));
+                    row_idx.extend((0..dofs[rb]).map(|r| offsets[rb] + r));
                 }
                 col_ptr.push(row_idx.len());
             }
         }
         CscPattern {
-            dim,
+            dim: self.dim(),
             col_ptr,
             row_idx,
         }
@@ -115,6 +165,7 @@ impl<const N: usize> BlockSparse<N> {
     /// Values in the order of [`BlockSparse::pattern`].
     pub fn values_into(&self, values: &mut Vec<f64>) {
         values.clear();
+        let dofs = &self.dofs;
         let mut next = 0;
         for cb in 0..self.block_count() {
             let start = next;
@@ -122,22 +173,26 @@ impl<const N: usize> BlockSparse<N> {
                 next += 1;
             }
             let d = &self.diagonal[cb];
-            for c in 0..N {
-                values.extend((c..N).map(|r| d[(r, c)]));
-                for m in &self.lower[start..next] {
-                    values.extend((0..N).map(|r| m[(r, c)]));
+            for c in 0..dofs[cb] {
+                values.extend((c..dofs[cb]).map(|r| d[(r, c)]));
+                for (m, &(rb, _)) in self.lower[start..next].iter().zip(&self.pairs[start..next]) {
+                    values.extend((0..dofs[rb]).map(|r| m[(r, c)]));
                 }
             }
         }
     }
 
-    /// y = A x for the full symmetric matrix (used in tests and checks).
-    pub fn multiply(&self, x: &[BlockVector<N>]) -> Vec<BlockVector<N>> {
-        let mut y: Vec<BlockVector<N>> =
-            self.diagonal.iter().zip(x).map(|(d, xi)| d * xi).collect();
+    /// y = A x for the full symmetric matrix on the global vector of kept
+    /// DOF (used in tests and checks).
+    pub fn multiply(&self, x: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; self.dim()];
+        let xs: Vec<BlockVector<N>> = (0..self.block_count()).map(|i| self.block(x, i)).collect();
+        for (i, d) in self.diagonal.iter().enumerate() {
+            self.add_block(&mut y, i, &(d * xs[i]));
+        }
         for (m, &(r, c)) in self.lower.iter().zip(&self.pairs) {
-            y[r] += m * x[c];
-            y[c] += m.transpose() * x[r];
+            self.add_block(&mut y, r, &(m * xs[c]));
+            self.add_block(&mut y, c, &(m.transpose() * xs[r]));
         }
         y
     }
@@ -147,22 +202,8 @@ impl<const N: usize> BlockSparse<N> {
 mod tests {
     use super::*;
 
-    #[test]
-    fn pattern_and_values_match_the_dense_matrix() {
-        const N: usize = 2;
-        let mut a = BlockSparse::<N>::new(3, [(0, 2), (2, 0), (1, 2)]);
-        let m = |s: f64| BlockMatrix::<N>::new(s, 1.0 + s, 2.0 + s, 3.0 + s);
-        a.add(0, 0, &(m(10.0) + m(10.0).transpose()));
-        a.add(1, 1, &(m(20.0) + m(20.0).transpose()));
-        a.add(2, 2, &(m(30.0) + m(30.0).transpose()));
-        a.add(0, 2, &m(1.0));
-        a.add(2, 1, &m(2.0));
-        let p = a.pattern();
-        let mut v = Vec::new();
-        a.values_into(&mut v);
-        assert_eq!(p.row_idx.len(), v.len());
-        assert_eq!(p.col_ptr.len(), p.dim + 1);
-        // Rebuild the dense lower triangle and compare with multiply().
+    /// The dense symmetric matrix of the stored lower triangle.
+    fn dense(p: &CscPattern, v: &[f64]) -> Vec<Vec<f64>> {
         let mut dense = vec![vec![0.0; p.dim]; p.dim];
         for (c, span) in p.col_ptr.windows(2).enumerate() {
             for (&r, &value) in p.row_idx[span[0]..span[1]].iter().zip(&v[span[0]..span[1]]) {
@@ -171,15 +212,75 @@ mod tests {
                 dense[c][r] = value;
             }
         }
-        let x: Vec<BlockVector<N>> = (0..3)
-            .map(|i| BlockVector::<N>::new(1.0 + i as f64, -0.5 * i as f64))
-            .collect();
+        dense
+    }
+
+    fn filled(dofs: Vec<usize>) -> BlockSparse<3> {
+        let mut a = BlockSparse::<3>::new(dofs, [(0, 2), (2, 0), (1, 2)]);
+        let m = |s: f64| BlockMatrix::<3>::from_fn(|r, c| s + (3 * r + c) as f64);
+        a.add(0, 0, &(m(10.0) + m(10.0).transpose()));
+        a.add(1, 1, &(m(20.0) + m(20.0).transpose()));
+        a.add(2, 2, &(m(30.0) + m(30.0).transpose()));
+        a.add(0, 2, &m(1.0));
+        a.add(2, 1, &m(2.0));
+        a
+    }
+
+    #[test]
+    fn pattern_and_values_match_the_dense_matrix() {
+        let a = filled(vec![3, 3, 3]);
+        let p = a.pattern();
+        let mut v = Vec::new();
+        a.values_into(&mut v);
+        assert_eq!(p.row_idx.len(), v.len());
+        assert_eq!((p.dim, p.col_ptr.len()), (9, 10));
+        let dense = dense(&p, &v);
+        let x: Vec<f64> = (0..9).map(|i| 1.0 + 0.3 * i as f64).collect();
         let y = a.multiply(&x);
         for r in 0..p.dim {
-            let expect: f64 = (0..p.dim).map(|c| dense[r][c] * x[c / N][c % N]).sum();
-            assert!((y[r / N][r % N] - expect).abs() < 1e-12);
+            let expect: f64 = (0..p.dim).map(|c| dense[r][c] * x[c]).sum();
+            assert!((y[r] - expect).abs() < 1e-12);
         }
-        // Block (2, 0) holds m(1)ᵀ: entry (row 2*2+1, col 0) = m(1)[(0, 1)].
-        assert_eq!(dense[5][0], m(1.0)[(0, 1)]);
+        // Block (2, 0) holds m(1)ᵀ: entry (row 2·3 + 1, col 0) = m(1)[(0, 1)].
+        assert_eq!(dense[7][0], 1.0 + 1.0);
+    }
+
+    #[test]
+    fn blocks_keep_their_leading_dofs_only() {
+        // Block 1 keeps 2 of 3 DOF, block 2 only 1.
+        let full = filled(vec![3, 3, 3]);
+        let a = filled(vec![3, 2, 1]);
+        assert_eq!(a.dim(), 6);
+        let (p, pf) = (a.pattern(), full.pattern());
+        let (mut v, mut vf) = (Vec::new(), Vec::new());
+        a.values_into(&mut v);
+        full.values_into(&mut vf);
+        let (d, df) = (dense(&p, &v), dense(&pf, &vf));
+        // The kept matrix is the full one without the dropped rows and columns.
+        let kept = [0, 1, 2, 3, 4, 6];
+        for (r, &fr) in kept.iter().enumerate() {
+            for (c, &fc) in kept.iter().enumerate() {
+                assert_eq!(d[r][c], df[fr][fc], "({r}, {c})");
+            }
+        }
+        // Vectors go in and out at the blocks' offsets, dropped DOF as zero.
+        let mut x = vec![0.0; a.dim()];
+        a.add_block(&mut x, 1, &BlockVector::<3>::new(1.0, 2.0, 3.0));
+        a.add_block(&mut x, 2, &BlockVector::<3>::new(4.0, 5.0, 6.0));
+        assert_eq!(x, [0.0, 0.0, 0.0, 1.0, 2.0, 4.0]);
+        assert_eq!(a.block(&x, 1), BlockVector::<3>::new(1.0, 2.0, 0.0));
+        assert_eq!(a.block(&x, 2), BlockVector::<3>::new(4.0, 0.0, 0.0));
+        // The kept inverse inverts the kept part only.
+        let m = BlockMatrix::<3>::new(4.0, 1.0, 9.0, 1.0, 3.0, 9.0, 9.0, 9.0, 0.0);
+        let inv = a.kept_inverse(1, &m);
+        let two = nalgebra::Matrix2::new(4.0, 1.0, 1.0, 3.0)
+            .try_inverse()
+            .unwrap();
+        assert!((inv.fixed_view::<2, 2>(0, 0) - two).norm() < 1e-15);
+        assert!(inv
+            .row(2)
+            .iter()
+            .chain(inv.column(2).iter())
+            .all(|&x| x == 0.0));
     }
 }

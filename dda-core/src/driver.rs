@@ -188,9 +188,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 "contact damping is off (Shi's undamped penalty springs): a block landing on, or released onto, its contacts bounces on them, and near its friction limit (a factor of safety below about 1.1) the bounces can start a slide of millimetres to metres; analysis.contact_damping: 1.0 ends impacts and holds such blocks (docs/limits.md)".into(),
             );
         }
+        let dofs = (0..blocks).map(|i| system.dofs(i)).collect();
         Ok(Self {
             velocity: vec![BlockVector::<N>::zeros(); blocks],
-            matrix: BlockSparse::new(blocks, []),
+            matrix: BlockSparse::new(dofs, []),
             system,
             laws,
             contacts: Vec::new(),
@@ -252,9 +253,17 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         &self.velocity
     }
 
-    /// Sets a block's generalised velocity (initial conditions).
+    /// Sets a block's generalised velocity (initial conditions); a block
+    /// with fewer DOF keeps the leading ones only.
     pub fn set_velocity(&mut self, block: usize, v: BlockVector<N>) {
-        self.velocity[block] = v;
+        let n = self.system.dofs(block);
+        self.velocity[block] = v.map_with_location(|r, _, x| if r < n { x } else { 0.0 });
+    }
+
+    /// The number of unknowns of the step's system: the DOF the blocks move
+    /// by.
+    pub fn unknowns(&self) -> usize {
+        self.matrix.dim()
     }
 
     /// Contacts of the last step, with their records.
@@ -310,7 +319,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.contacts = fresh;
         let pattern_changed = {
             let pairs = self.contacts.iter().map(|c| (c.blocks[0], c.blocks[1]));
-            let matrix = BlockSparse::new(self.system.block_count(), pairs);
+            let dofs = (0..self.system.block_count())
+                .map(|i| self.system.dofs(i))
+                .collect();
+            let matrix = BlockSparse::new(dofs, pairs);
             let changed = matrix.pattern() != self.matrix.pattern();
             self.matrix = matrix;
             changed
@@ -399,7 +411,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let masses: Vec<BlockMatrix<N>> = (0..nb).map(|i| self.system.mass(i)).collect();
         self.inverse_masses = masses
             .iter()
-            .map(|m| m.try_inverse().unwrap_or_else(BlockMatrix::<N>::zeros))
+            .enumerate()
+            .map(|(i, m)| self.matrix.kept_inverse(i, m))
             .collect();
         self.supports = if self.settings.contact_damping > 0.0 {
             self.system.supports(self.time, self.time + dt)
@@ -530,7 +543,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         coupled: bool,
     ) -> Result<bool, DdaError> {
         let mut first = 0.0;
-        let mut residual = vec![0.0; trial.d.len()];
+        let mut residual = vec![0.0; self.matrix.dim()];
         let mut couplings = Vec::new();
         let mut best = (f64::INFINITY, trial.d.clone());
         for iteration in 0..=self.settings.newton_limit {
@@ -575,8 +588,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 let mut scale = 1.0;
                 let mut probe = vec![0.0; step.len()];
                 for _ in 0..LINE_SEARCH_HALVINGS {
-                    for ((d, d0), dd) in trial.d.iter_mut().zip(&start).zip(&step) {
-                        *d = d0 + scale * dd;
+                    for (i, (d, d0)) in trial
+                        .d
+                        .chunks_exact_mut(N)
+                        .zip(start.chunks_exact(N))
+                        .enumerate()
+                    {
+                        let dd = self.matrix.block(&step, i);
+                        for ((d, d0), dd) in d.iter_mut().zip(d0).zip(dd.iter()) {
+                            *d = d0 + scale * dd;
+                        }
                     }
                     self.assemble(dt, masses, trial, &mut probe, None);
                     let trial_norm = probe.iter().map(|r| r * r).sum::<f64>().sqrt();
@@ -589,9 +610,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 residual = step.iter().map(|dd| dd * scale).collect();
             }
             let mut largest: f64 = 0.0;
-            for (d, dd) in trial.d.iter_mut().zip(&residual) {
-                *d += dd;
-                largest = largest.max(dd.abs());
+            for (i, d) in trial.d.chunks_exact_mut(N).enumerate() {
+                for (d, dd) in d.iter_mut().zip(self.matrix.block(&residual, i).iter()) {
+                    *d += dd;
+                    largest = largest.max(dd.abs());
+                }
             }
             if !largest.is_finite() {
                 return Err(DdaError::NotFinite {
@@ -611,14 +634,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let m = couplings.len();
         let size = y.len();
         let dot = |c: &FrictionCoupling<N>, x: &[f64]| {
-            c.v[0].dot(&block(x, c.blocks[0])) + c.v[1].dot(&block(x, c.blocks[1]))
+            c.v[0].dot(&self.matrix.block(x, c.blocks[0]))
+                + c.v[1].dot(&self.matrix.block(x, c.blocks[1]))
         };
         let z: Vec<Vec<f64>> = couplings
             .iter()
             .map(|c| {
                 let mut u = vec![0.0; size];
-                add_block(&mut u, c.blocks[0], &c.u[0]);
-                add_block(&mut u, c.blocks[1], &c.u[1]);
+                self.matrix.add_block(&mut u, c.blocks[0], &c.u[0]);
+                self.matrix.add_block(&mut u, c.blocks[1], &c.u[1]);
                 self.solver.solve(&mut u);
                 u
             })
@@ -678,7 +702,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let mut r = m * (v0 * (2.0 / dt + alpha) - d * (2.0 / (dt * dt) + 2.0 * alpha / dt));
             self.system.block_terms(i, end, &d, &mut k, &mut r);
             matrix.add(i, i, &k);
-            residual[i * N..(i + 1) * N].copy_from_slice(r.as_slice());
+            matrix.add_block(residual, i, &r);
         }
         for support in &self.supports {
             // A dashpot beside each fixed point's spring, as beside a
@@ -688,7 +712,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let c = self.dashpot(i, i, &[*g, zero], support.stiffness);
             let moved = g.dot(&block(&trial.d, i)) - support.target_step;
             matrix.add(i, i, &(g * g.transpose() * (c / dt)));
-            add_block(residual, i, &(g * (-c * moved / dt)));
+            matrix.add_block(residual, i, &(g * (-c * moved / dt)));
         }
         for (i, c) in self.contacts.iter().enumerate() {
             let state = trial.states[i];
@@ -785,8 +809,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     }
                 }
             }
-            add_block(residual, a, &ra);
-            add_block(residual, b, &rb);
+            matrix.add_block(residual, a, &ra);
+            matrix.add_block(residual, b, &rb);
         }
         self.matrix = matrix;
     }
@@ -1037,12 +1061,6 @@ fn split<const N: usize>(d: &[f64]) -> Vec<BlockVector<N>> {
     d.chunks_exact(N)
         .map(BlockVector::<N>::from_column_slice)
         .collect()
-}
-
-fn add_block<const N: usize>(r: &mut [f64], i: usize, v: &BlockVector<N>) {
-    for (x, y) in r[i * N..(i + 1) * N].iter_mut().zip(v.iter()) {
-        *x += y;
-    }
 }
 
 /// Shi's entrance choice: the entrance with the largest gap at the trial

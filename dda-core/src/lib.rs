@@ -1,16 +1,18 @@
 //! Dimension-agnostic core of Discontinuous Deformation Analysis (DDA).
 //!
-//! The dimension crates implement [`BlockSystem`] (blocks with `N` DOF each,
+//! The dimension crates implement [`Element`] (a block's geometry,
+//! T-matrix, integrals, narrow phase and motion), and the shared
+//! [`BlockSet`] over it is the [`BlockSystem`] (blocks with `N` DOF each,
 //! contacts with `T` tangential directions); the [`Driver`] runs any of them
 //! with Newmark (β = 1/2, γ = 1) steps and open-close iterations, calling
 //! [`ContactLaw`]s in the contacts' local frames.
 
 pub mod assembly;
+pub mod block_set;
 pub mod constitutive;
 pub mod contact;
 pub mod contacts;
 pub mod driver;
-pub mod element;
 pub mod error;
 pub mod loads;
 pub mod motion;
@@ -18,13 +20,13 @@ pub mod settings;
 pub mod solve;
 pub mod system;
 
+pub use block_set::{BlockSet, Element, RotationUpdate};
 pub use constitutive::ConstitutiveLaw;
 pub use contact::{ContactLaw, ContactResponse, ContactState, DynContactLaw, LocalKinematics};
 pub use contacts::{BlockVector, Contact, ContactKey, ContactRecord, Entrance};
 pub use driver::{Cycle, Driver, Statistics};
-pub use element::ElementKinematics;
 pub use error::DdaError;
 pub use loads::{FixedPoint, Force, PointLoad};
 pub use motion::{GroundMotion, Quantity, Record};
 pub use settings::Settings;
-pub use system::{BlockMatrix, BlockSystem};
+pub use system::{BlockKind, BlockMatrix, BlockSystem};

@@ -1,12 +1,38 @@
 //! The block system: what a dimension crate provides so the driver can run it.
 
 use nalgebra::SMatrix;
+use serde::{Deserialize, Serialize};
 
 use crate::contacts::{BlockVector, Contact};
 use crate::loads::Support;
 
 /// One block's N×N matrix (mass, stiffness).
 pub type BlockMatrix<const N: usize> = SMatrix<f64, N, N>;
+
+/// What a block may do in a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+pub enum BlockKind {
+    /// Translation and rotation only (3 DOF in 2D, 6 in 3D): it never
+    /// strains and carries no stress.
+    Rigid,
+    /// Translation, rotation and uniform strain (Shi's 6 DOF in 2D, 12 in
+    /// 3D).
+    #[default]
+    Deformable,
+}
+
+impl BlockKind {
+    /// The DOF a block of this kind keeps of the `n` of a deformable one.
+    /// The DOF order puts translation and rotation first and the strains
+    /// after; in d dimensions there are d(d + 1)/2 of each, so a rigid block
+    /// keeps the leading half.
+    pub fn dofs(self, n: usize) -> usize {
+        match self {
+            BlockKind::Rigid => n / 2,
+            BlockKind::Deformable => n,
+        }
+    }
+}
 
 /// A set of blocks with `N` DOF each and contacts with `T` tangential
 /// directions. Everything is evaluated about the geometry at the start of the
@@ -32,6 +58,13 @@ pub trait BlockSystem<const N: usize, const T: usize> {
     /// block's contacts are about as stiff as the block itself.
     fn automatic_penalty(&self) -> f64 {
         2.0 * self.stiffness_scale() / self.block_size()
+    }
+
+    /// How many of its N DOF block `i` moves by: the leading ones, the rest
+    /// stay zero (see [`BlockKind::dofs`]). All N unless told otherwise.
+    fn dofs(&self, block: usize) -> usize {
+        let _ = block;
+        N
     }
 
     /// Mass matrix of a block, ∫ρ TᵀT.

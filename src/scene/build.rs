@@ -192,6 +192,7 @@ impl Scene {
             let mut block = Block::new(&to_points(&spec.vertices), material, density)
                 .map_err(|e| self.error(&at, polygon_message(&e)))?;
             block.stress = Vector3::from(spec.stress);
+            block.kind = self.kind_of(&self.blocks[spec.entry]);
             blocks.push(block);
         }
 
@@ -302,6 +303,7 @@ impl Scene {
             let mut block = dda_3d::Block::new(&points, &spec.faces, material, density)
                 .map_err(|e| self.error(&at, e.to_string()))?;
             block.stress = Vector6::from(spec.stress);
+            block.kind = self.kind_of(&self.blocks[spec.entry]);
             blocks.push(block);
         }
 

@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 
 pub use dda_2d::{Plane, RotationUpdate};
 pub use dda_contact::Weakening;
-pub use dda_core::Quantity;
+pub use dda_core::{BlockKind, Quantity};
 
 pub use build::{AnyModel, LawTable, Model, Model3};
 pub use error::{Location, SceneError};
@@ -215,6 +215,14 @@ pub struct Material {
     pub young: f64,
     #[serde(default = "default_poisson")]
     pub poisson: f64,
+    /// `Rigid` (translation and rotation only) or `Deformable` (also
+    /// uniform strain, the default) for the blocks of this material.
+    #[serde(default, skip_serializing_if = "is_deformable")]
+    pub kind: BlockKind,
+}
+
+fn is_deformable(kind: &BlockKind) -> bool {
+    *kind == BlockKind::Deformable
 }
 
 fn default_poisson() -> f64 {
@@ -347,6 +355,9 @@ pub enum BlockSpec {
     Polygon {
         #[serde(default)]
         material: Option<String>,
+        /// `Rigid` or `Deformable`; the material's kind when left out.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        kind: Option<BlockKind>,
         vertices: Vec<[f64; 2]>,
         #[serde(default)]
         fixed: bool,
@@ -360,6 +371,9 @@ pub enum BlockSpec {
     Rectangle {
         #[serde(default)]
         material: Option<String>,
+        /// `Rigid` or `Deformable`; the material's kind when left out.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        kind: Option<BlockKind>,
         center: [f64; 2],
         width: f64,
         height: f64,
@@ -379,6 +393,9 @@ pub enum BlockSpec {
     Arch {
         #[serde(default)]
         material: Option<String>,
+        /// `Rigid` or `Deformable`; the material's kind when left out.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        kind: Option<BlockKind>,
         center: [f64; 2],
         /// Of the centreline; the intrados is at radius − thickness/2, the
         /// extrados at radius + thickness/2.
@@ -408,6 +425,9 @@ pub enum BlockSpec {
     Column {
         #[serde(default)]
         material: Option<String>,
+        /// `Rigid` or `Deformable`; the material's kind when left out.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        kind: Option<BlockKind>,
         base: [f64; 2],
         drums: usize,
         drum_height: f64,
@@ -426,6 +446,9 @@ pub enum BlockSpec {
     Polyhedron {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         material: Option<String>,
+        /// `Rigid` or `Deformable`; the material's kind when left out.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        kind: Option<BlockKind>,
         vertices: Vec<[f64; 3]>,
         faces: Vec<Vec<usize>>,
         #[serde(default, skip_serializing_if = "is_false")]
@@ -446,6 +469,9 @@ pub enum BlockSpec {
     Box {
         #[serde(default)]
         material: Option<String>,
+        /// `Rigid` or `Deformable`; the material's kind when left out.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        kind: Option<BlockKind>,
         center: [f64; 3],
         size: [f64; 3],
         #[serde(default)]
@@ -464,6 +490,9 @@ pub enum BlockSpec {
     Prism {
         #[serde(default)]
         material: Option<String>,
+        /// `Rigid` or `Deformable`; the material's kind when left out.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        kind: Option<BlockKind>,
         outline: Vec<[f64; 2]>,
         z0: f64,
         z1: f64,
@@ -480,6 +509,9 @@ pub enum BlockSpec {
     Wall {
         #[serde(default)]
         material: Option<String>,
+        /// `Rigid` or `Deformable`; the material's kind when left out.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        kind: Option<BlockKind>,
         origin: [f64; 2],
         length: f64,
         courses: usize,
@@ -570,6 +602,20 @@ impl BlockSpec {
             | BlockSpec::Polyhedron { material, .. }
             | BlockSpec::Box { material, .. }
             | BlockSpec::Prism { material, .. } => material.as_deref(),
+        }
+    }
+
+    /// The block's own kind, if it gives one.
+    pub fn block_kind(&self) -> Option<BlockKind> {
+        match self {
+            BlockSpec::Polygon { kind, .. }
+            | BlockSpec::Rectangle { kind, .. }
+            | BlockSpec::Arch { kind, .. }
+            | BlockSpec::Column { kind, .. }
+            | BlockSpec::Wall { kind, .. }
+            | BlockSpec::Polyhedron { kind, .. }
+            | BlockSpec::Box { kind, .. }
+            | BlockSpec::Prism { kind, .. } => *kind,
         }
     }
 
@@ -1098,6 +1144,14 @@ impl Scene {
             None if self.dimension == 3 => vec![0.0, 0.0, -9.81],
             None => vec![0.0, -9.81],
         }
+    }
+
+    /// A block entry's kind: its own, or else its material's.
+    pub fn kind_of(&self, block: &BlockSpec) -> BlockKind {
+        block.block_kind().unwrap_or_else(|| {
+            self.material_index(block)
+                .map_or(BlockKind::Deformable, |m| self.materials[m].1.kind)
+        })
     }
 
     /// Index of the block's material, if it names one that exists (or the

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use dda_2d::polygon::{self, PolygonError};
 use dda_3d::polyhedron::{self as polyhedra, Polyhedron, PolyhedronError};
-use dda_core::{GroundMotion, Quantity, Record};
+use dda_core::{BlockKind, GroundMotion, Quantity, Record};
 use nalgebra::{Point2, Point3, SVector};
 
 use super::generate::{self, MAX_PARTS};
@@ -785,6 +785,13 @@ impl Scene {
                     ),
                 ))
             }
+        }
+        // A rigid block never strains, so it cannot carry a stress either.
+        if self.kind_of(block) == BlockKind::Rigid && block.stress().iter().any(|s| *s != 0.0) {
+            return Err(self.error(
+                &at.field("stress"),
+                "a rigid block carries no stress; remove the initial stress or make the block Deformable",
+            ));
         }
         Ok(())
     }

@@ -1,0 +1,298 @@
+//! The block set both dimensions share: blocks with their materials, joint
+//! laws, gravity, point loads and fixed or driven points, written once over
+//! an [`Element`] that a dimension crate implements with its geometry,
+//! T-matrix, integrals, narrow phase and end-of-step motion.
+
+use std::collections::HashMap;
+
+use nalgebra::{Point, SMatrix, SVector};
+
+use crate::constitutive::ConstitutiveLaw;
+use crate::contacts::{BlockVector, Contact};
+use crate::loads::{held_energy, FixedPoint, PointLoad};
+use crate::system::{BlockKind, BlockMatrix, BlockSystem};
+
+/// Angle tolerance for parallel edges and faces and for wedge tests (Shi's
+/// h1 = 3°), in radians.
+pub const ANGLE_TOLERANCE: f64 = 3.0 * std::f64::consts::PI / 180.0;
+
+/// Deepest penetration a contact candidate may have, as a share of the
+/// search range (Shi's d9 = 0.3·d0).
+pub const PENETRATION_SHARE: f64 = 0.3;
+
+/// How vertices move at the end of a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RotationUpdate {
+    /// Strain first, then the exact rotation of the step (Rodrigues in 3D):
+    /// no false growth of the area or volume.
+    #[default]
+    Exact,
+    /// Shi's original linear update x + T·D, which inflates the block by
+    /// (1 + |r|²) each step; kept for comparison.
+    Linear,
+}
+
+/// One block of a dimension: a body in `D` dimensions with `N` DOF about its
+/// centroid (translation and rotation first, the `S` strains last), meeting
+/// others through contacts with `T` tangential directions.
+pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize>: Sized {
+    fn vertices(&self) -> &[Point<f64, D>];
+    fn centroid(&self) -> Point<f64, D>;
+    /// Area (2D, per unit thickness) or volume (3D).
+    fn measure(&self) -> f64;
+    /// A typical length: the square root of the area or the cube root of
+    /// the volume.
+    fn size(&self) -> f64;
+    /// Axis-aligned bounds (min, max).
+    fn bounds(&self) -> (Point<f64, D>, Point<f64, D>);
+    /// Mass (per unit thickness in 2D); constant while the block strains.
+    fn mass(&self) -> f64;
+    /// Index of the block's material.
+    fn material(&self) -> usize;
+    fn kind(&self) -> BlockKind;
+    /// Stress, tension positive, engineering order of the strains.
+    fn stress(&self) -> &SVector<f64, S>;
+    /// Accumulated strain.
+    fn strain(&self) -> &SVector<f64, S>;
+    /// ∫ρTᵀT over the block.
+    fn mass_matrix(&self) -> SMatrix<f64, N, N>;
+    /// The T-matrix: the displacement of point `p` is `T(p)·d` to first
+    /// order.
+    fn t_matrix(&self, p: &Point<f64, D>) -> SMatrix<f64, D, N>;
+    /// Where point `p` of the block goes when step `d` is committed; its
+    /// derivative at `d = 0` is the T-matrix.
+    fn move_point(
+        &self,
+        p: &Point<f64, D>,
+        d: &SVector<f64, N>,
+        update: RotationUpdate,
+    ) -> Point<f64, D>;
+    /// Applies an accepted step: vertices, stress (`stress` is the stress
+    /// after the step's strain, in the frame at the start of the step),
+    /// strain and rotation.
+    fn commit(&mut self, d: &SVector<f64, N>, stress: SVector<f64, S>, update: RotationUpdate);
+    /// Pairs (i, j), i < j, of blocks close enough to touch within `range`.
+    fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)>;
+    /// The contacts between blocks `i` and `j` within `range`, with law
+    /// index `law`.
+    fn pair_contacts(
+        blocks: &[Self],
+        i: usize,
+        j: usize,
+        range: f64,
+        law: usize,
+    ) -> Vec<Contact<N, T>>;
+}
+
+/// Blocks of one dimension with what acts on them: the [`BlockSystem`] the
+/// driver runs.
+pub struct BlockSet<B, const D: usize, const N: usize, const T: usize, const S: usize> {
+    pub blocks: Vec<B>,
+    /// Constitutive law of each material.
+    pub materials: Vec<Box<dyn ConstitutiveLaw<S>>>,
+    /// Contact law index for each pair of materials (symmetric).
+    pub joint_laws: Vec<Vec<usize>>,
+    /// Contact law index for particular pairs of blocks (a joint set),
+    /// keyed (lower index, higher index); overrides `joint_laws`.
+    pub pair_laws: HashMap<(usize, usize), usize>,
+    /// Body force per unit mass (m/s²).
+    pub gravity: SVector<f64, D>,
+    pub loads: Vec<PointLoad<D>>,
+    pub fixed: Vec<FixedPoint<D>>,
+    /// Stiffness of the fixed-point springs (force per length); scenes take
+    /// ten times the contact penalty unless they set it.
+    pub fixed_penalty: f64,
+    pub rotation_update: RotationUpdate,
+    /// Model length scale; `None` takes half the diagonal of the model's bounds.
+    pub length_scale: Option<f64>,
+}
+
+impl<B, const D: usize, const N: usize, const T: usize, const S: usize> BlockSet<B, D, N, T, S>
+where
+    B: Element<D, N, T, S>,
+{
+    /// Blocks with one material law each, all joints using law 0, no loads.
+    pub fn new(blocks: Vec<B>, materials: Vec<Box<dyn ConstitutiveLaw<S>>>) -> Self {
+        let n = materials.len();
+        let stiffest = materials.iter().map(|m| m.modulus()).fold(0.0, f64::max);
+        Self {
+            blocks,
+            materials,
+            joint_laws: vec![vec![0; n]; n],
+            pair_laws: HashMap::new(),
+            gravity: SVector::zeros(),
+            loads: Vec::new(),
+            fixed: Vec::new(),
+            fixed_penalty: stiffest,
+            rotation_update: RotationUpdate::Exact,
+            length_scale: None,
+        }
+    }
+
+    /// Holds every vertex of a block in place.
+    pub fn fix_block(&mut self, block: usize) {
+        for v in self.blocks[block].vertices().to_vec() {
+            self.fixed.push(FixedPoint::at(block, v));
+        }
+    }
+
+    /// The contact law of the joints between blocks `i` < `j`: their joint
+    /// set's, or their materials'.
+    pub fn law(&self, i: usize, j: usize) -> usize {
+        self.pair_laws.get(&(i, j)).copied().unwrap_or_else(|| {
+            self.joint_laws[self.blocks[i].material()][self.blocks[j].material()]
+        })
+    }
+
+    /// Stress after the strain of step `d`, and its tangent.
+    fn stress_after(
+        &self,
+        block: &B,
+        d: &SVector<f64, N>,
+    ) -> (SVector<f64, S>, SMatrix<f64, S, S>) {
+        let increment = d.fixed_rows::<S>(N - S).into_owned();
+        self.materials[block.material()].stress(block.stress(), &increment)
+    }
+}
+
+impl<B, const D: usize, const N: usize, const T: usize, const S: usize> BlockSystem<N, T>
+    for BlockSet<B, D, N, T, S>
+where
+    B: Element<D, N, T, S>,
+{
+    fn block_count(&self) -> usize {
+        self.blocks.len()
+    }
+
+    fn length_scale(&self) -> f64 {
+        if let Some(w) = self.length_scale {
+            return w;
+        }
+        let mut lo = Point::from(SVector::<f64, D>::repeat(f64::INFINITY));
+        let mut hi = Point::from(SVector::<f64, D>::repeat(f64::NEG_INFINITY));
+        for b in &self.blocks {
+            let (l, h) = b.bounds();
+            lo = lo.inf(&l);
+            hi = hi.sup(&h);
+        }
+        ((hi - lo).norm() / 2.0).max(f64::MIN_POSITIVE)
+    }
+
+    fn block_size(&self) -> f64 {
+        let mut sizes: Vec<f64> = self.blocks.iter().map(|b| b.size()).collect();
+        sizes.sort_by(f64::total_cmp);
+        sizes
+            .get(sizes.len().saturating_sub(1) / 2)
+            .copied()
+            .unwrap_or(1.0)
+    }
+
+    fn stiffness_scale(&self) -> f64 {
+        self.materials
+            .iter()
+            .map(|m| m.modulus())
+            .fold(0.0, f64::max)
+    }
+
+    fn dofs(&self, block: usize) -> usize {
+        self.blocks[block].kind().dofs(N)
+    }
+
+    fn mass(&self, block: usize) -> BlockMatrix<N> {
+        self.blocks[block].mass_matrix()
+    }
+
+    fn block_terms(
+        &self,
+        i: usize,
+        time: f64,
+        d: &BlockVector<N>,
+        k: &mut BlockMatrix<N>,
+        r: &mut BlockVector<N>,
+    ) {
+        let block = &self.blocks[i];
+        let measure = block.measure();
+        let (stress, tangent) = self.stress_after(block, d);
+        let mut elastic = k.fixed_view_mut::<S, S>(N - S, N - S);
+        elastic += tangent * measure;
+        let mut strain_rows = r.fixed_rows_mut::<S>(N - S);
+        strain_rows -= stress * measure;
+        for axis in 0..D {
+            r[axis] += block.mass() * self.gravity[axis];
+        }
+        for load in self.loads.iter().filter(|l| l.block == i) {
+            *r += block.t_matrix(&load.point).transpose() * load.force.at(time);
+        }
+        for fp in self.fixed.iter().filter(|f| f.block == i) {
+            let t = block.t_matrix(&fp.point);
+            let held = fp.held() * self.fixed_penalty;
+            let drift = fp.target_at(time) - fp.point;
+            *k += t.transpose() * held * t;
+            *r += t.transpose() * held * (drift - t * d);
+        }
+    }
+
+    fn find_contacts(&self, range: f64) -> Vec<Contact<N, T>> {
+        let mut contacts = Vec::new();
+        for (i, j) in B::near_pairs(&self.blocks, range) {
+            contacts.extend(B::pair_contacts(&self.blocks, i, j, range, self.law(i, j)));
+        }
+        contacts
+    }
+
+    fn supports(&self, start: f64, end: f64) -> Vec<crate::loads::Support<N>> {
+        crate::loads::supports(&self.fixed, self.fixed_penalty, (start, end), |f| {
+            self.blocks[f.block].t_matrix(&f.point)
+        })
+    }
+
+    fn potential_energy(&self) -> Option<f64> {
+        let held = held_energy(&self.fixed, self.fixed_penalty)?;
+        if !self.loads.is_empty() {
+            return None;
+        }
+        let gravity: f64 = self
+            .blocks
+            .iter()
+            .map(|b| -b.mass() * self.gravity.dot(&b.centroid().coords))
+            .sum();
+        // ½ V σ·ε, with engineering shear strains.
+        let strain: f64 = self
+            .blocks
+            .iter()
+            .map(|b| 0.5 * b.measure() * b.stress().dot(b.strain()))
+            .sum();
+        Some(gravity + strain + held)
+    }
+
+    fn max_displacement(&self, d: &[BlockVector<N>]) -> f64 {
+        self.blocks
+            .iter()
+            .zip(d)
+            .flat_map(|(b, di)| {
+                b.vertices()
+                    .iter()
+                    .map(move |v| (b.t_matrix(v) * di).norm())
+            })
+            .fold(0.0, f64::max)
+    }
+
+    fn commit(&mut self, d: &[BlockVector<N>], _dt: f64, _time: f64) {
+        let update = self.rotation_update;
+        for fp in &mut self.fixed {
+            fp.point = self.blocks[fp.block].move_point(&fp.point, &d[fp.block], update);
+        }
+        for load in &mut self.loads {
+            load.point = self.blocks[load.block].move_point(&load.point, &d[load.block], update);
+        }
+        let stresses: Vec<SVector<f64, S>> = self
+            .blocks
+            .iter()
+            .zip(d)
+            .map(|(b, di)| self.stress_after(b, di).0)
+            .collect();
+        for ((block, di), stress) in self.blocks.iter_mut().zip(d).zip(stresses) {
+            block.commit(di, stress, update);
+        }
+    }
+}
