@@ -42,6 +42,7 @@
 //! ```
 
 pub mod bench;
+pub mod cli;
 pub mod extrude;
 pub mod output;
 pub mod run;

@@ -13,9 +13,12 @@
 //!   contact at the start, and break for good the first time the contact
 //!   opens or slides (Shi's rule).
 
-use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics};
+#[cfg(test)]
+use dda_core::ContactLaw;
+use dda_core::{ContactState, LocalKinematics};
 
-use crate::springs::{mohr_coulomb, Springs};
+use crate::springs::mohr_coulomb;
+use crate::{Strength, StrengthLaw};
 
 /// The penalty Coulomb law.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,29 +48,6 @@ impl Coulomb {
             shear_stiffness: None,
         }
     }
-
-    fn springs(&self, kin: &LocalKinematics) -> Springs {
-        Springs::new(self.normal_stiffness, self.shear_stiffness, kin)
-    }
-
-    /// Shear strength and tensile capacity (forces) at the trial gap.
-    fn strengths(
-        &self,
-        springs: &Springs,
-        kin: &LocalKinematics,
-        history: &CoulombHistory,
-    ) -> (f64, f64) {
-        let (c, t0) = if history.bonded {
-            (self.cohesion, self.tensile_strength)
-        } else {
-            (0.0, 0.0)
-        };
-        let normal = springs.normal_force(kin);
-        (
-            mohr_coulomb(self.friction_angle, c, normal, kin),
-            t0 * kin.length,
-        )
-    }
 }
 
 /// Whether the joint's bond (cohesion and tensile strength) still holds.
@@ -76,43 +56,44 @@ pub struct CoulombHistory {
     pub bonded: bool,
 }
 
-impl ContactLaw for Coulomb {
+impl StrengthLaw for Coulomb {
     type History = CoulombHistory;
 
-    fn initial_history(&self, at_start: bool) -> CoulombHistory {
+    fn penalties(&self) -> (Option<f64>, Option<f64>) {
+        (self.normal_stiffness, self.shear_stiffness)
+    }
+
+    fn new_history(&self, at_start: bool) -> CoulombHistory {
         CoulombHistory {
             bonded: at_start && (self.cohesion > 0.0 || self.tensile_strength > 0.0),
         }
     }
 
-    fn response(
-        &self,
-        state: ContactState,
-        kin: &LocalKinematics,
-        history: &CoulombHistory,
-    ) -> ContactResponse {
-        let springs = self.springs(kin);
-        let (strength, _) = self.strengths(&springs, kin, history);
-        springs.response(state, kin, strength)
+    fn strength(&self, normal: f64, kin: &LocalKinematics, history: &CoulombHistory) -> Strength {
+        let (c, t0) = if history.bonded {
+            (self.cohesion, self.tensile_strength)
+        } else {
+            (0.0, 0.0)
+        };
+        Strength {
+            shear: mohr_coulomb(self.friction_angle, c, normal, kin),
+            tension: t0 * kin.length,
+        }
     }
 
-    fn next_state(
+    fn update_history(
         &self,
         state: ContactState,
-        kin: &LocalKinematics,
-        history: &CoulombHistory,
-    ) -> ContactState {
-        let springs = self.springs(kin);
-        let (strength, tension) = self.strengths(&springs, kin, history);
-        springs.next_state(state, kin, strength, tension)
-    }
-
-    fn commit(&self, state: ContactState, _kin: &LocalKinematics, history: &mut CoulombHistory) {
+        _kin: &LocalKinematics,
+        history: &mut CoulombHistory,
+    ) {
         if state != ContactState::Locked {
             history.bonded = false;
         }
     }
 }
+
+crate::strength_law!(Coulomb);
 
 #[cfg(test)]
 mod tests {
