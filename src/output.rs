@@ -1,5 +1,5 @@
-//! Output files: `history.csv` and, when the scene asks, `contacts.csv`
-//! (both written as the run goes), and `summary.json`.
+//! Output files written as the run goes, as [`Observer`]s: `history.csv`
+//! and, when the scene asks, `contacts.csv`; and their readers.
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Write};
@@ -9,7 +9,7 @@ use anyhow::{bail, Context};
 use dda_core::ContactState;
 use serde::Serialize;
 
-use crate::simulation::Simulation;
+use crate::observe::{Observer, RunView};
 
 /// The header line of a 2D scene's `history.csv`.
 pub const HISTORY_HEADER: &str = "step,time,block,x,y,rotation,vx,vy,omega,sxx,syy,sxy";
@@ -76,8 +76,8 @@ impl HistoryWriter {
         Ok(Self { out })
     }
 
-    /// One row per block at the driver's current time.
-    pub fn write<S: Simulation>(&mut self, driver: &S) -> anyhow::Result<()> {
+    /// One row per block at the run's current time.
+    pub fn write(&mut self, driver: &dyn RunView) -> anyhow::Result<()> {
         let step = driver.statistics().steps;
         let time = round_time(driver.time());
         for i in 0..driver.block_count() {
@@ -89,6 +89,12 @@ impl HistoryWriter {
         }
         self.out.flush()?;
         Ok(())
+    }
+}
+
+impl Observer for HistoryWriter {
+    fn on_output(&mut self, run: &dyn RunView) -> anyhow::Result<()> {
+        self.write(run)
     }
 }
 
@@ -136,8 +142,8 @@ impl ContactWriter {
         Ok(Self { out })
     }
 
-    /// One row per contact at the driver's current time.
-    pub fn write<S: Simulation>(&mut self, driver: &S) -> anyhow::Result<()> {
+    /// One row per contact at the run's current time.
+    pub fn write(&mut self, driver: &dyn RunView) -> anyhow::Result<()> {
         let step = driver.statistics().steps;
         let time = num(round_time(driver.time()));
         for c in driver.contact_lines() {
@@ -155,6 +161,12 @@ impl ContactWriter {
         }
         self.out.flush()?;
         Ok(())
+    }
+}
+
+impl Observer for ContactWriter {
+    fn on_output(&mut self, run: &dyn RunView) -> anyhow::Result<()> {
+        self.write(run)
     }
 }
 

@@ -62,8 +62,7 @@ impl StrengthLaw for RateFriction {
         kin: &LocalKinematics,
         _: &(),
     ) -> ContactState {
-        if from == ContactState::Sliding && by_strength == ContactState::Locked && kin.slip >= 0.0
-        {
+        if from == ContactState::Sliding && by_strength == ContactState::Locked && kin.slip >= 0.0 {
             ContactState::Sliding
         } else {
             by_strength
