@@ -16,24 +16,31 @@
 #[cfg(test)]
 use dda_core::ContactLaw;
 use dda_core::{ContactState, LocalKinematics};
+use serde::{Deserialize, Serialize};
 
 use crate::springs::mohr_coulomb;
 use crate::{Strength, StrengthLaw};
 
-/// The penalty Coulomb law.
-#[derive(Debug, Clone, PartialEq)]
+/// The penalty Coulomb law; a scene's `Coulomb(...)` joint.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Coulomb {
-    /// Friction angle φ in degrees (rock joints 25–40°, dry masonry 30–40°).
+    /// Friction angle φ, degrees, in [0, 90); required (rock joints 25–40°,
+    /// dry masonry 30–40°).
     pub friction_angle: f64,
-    /// Cohesion c in stress units (Pa); 0 for dry joints, 0.1–1 MPa for
-    /// mortar or cemented rock joints.
+    /// Cohesion c, Pa; default 0 (dry joints); 0.1–1 MPa for mortar or
+    /// cemented rock joints.
+    #[serde(default)]
     pub cohesion: f64,
-    /// Tensile strength T0 in stress units (Pa); 0 for dry joints.
+    /// Tensile strength T0, Pa; default 0 (dry joints).
+    #[serde(default)]
     pub tensile_strength: f64,
-    /// Normal penalty k_n per unit contact length (2D) or area (3D), N/m³; `None`
-    /// takes the driver's penalty.
+    /// Normal penalty k_n per unit contact length (2D) or area (3D), N/m³;
+    /// default `None`: the driver's penalty.
+    #[serde(default)]
     pub normal_stiffness: Option<f64>,
-    /// Shear penalty k_s; `None` takes k_n / 2.5 (Shi's default).
+    /// Shear penalty k_s, N/m³; default `None`: k_n / 2.5 (Shi's).
+    #[serde(default)]
     pub shear_stiffness: Option<f64>,
 }
 

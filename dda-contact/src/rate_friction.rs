@@ -8,19 +8,27 @@
 //! of a step all see the same coefficient and do not chatter.
 
 use dda_core::{ContactState, LocalKinematics};
+use serde::{Deserialize, Serialize};
 
 use crate::{Strength, StrengthLaw};
 
-#[derive(Debug, Clone, PartialEq)]
+/// Rate-dependent friction; a scene's `RateFriction(...)` joint.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RateFriction {
-    /// Friction angle at rest, degrees.
+    /// Friction angle at rest, degrees, in [0, 90); required.
     pub static_friction_angle: f64,
-    /// Friction angle at fast slip, degrees.
+    /// Friction angle at fast slip, degrees, in [0, 90); required.
     pub dynamic_friction_angle: f64,
-    /// Slip rate v_c (m/s) over which μ falls by 1/e of its drop
+    /// Slip rate v_c over which μ falls by 1/e of its drop, m/s; required
     /// (0.01–1 m/s for rock joints).
     pub characteristic_rate: f64,
+    /// Normal penalty per unit contact length (2D) or area (3D), N/m³;
+    /// default `None`: the driver's.
+    #[serde(default)]
     pub normal_stiffness: Option<f64>,
+    /// Shear penalty, N/m³; default `None`: normal / 2.5.
+    #[serde(default)]
     pub shear_stiffness: Option<f64>,
 }
 

@@ -10,21 +10,28 @@
 #[cfg(test)]
 use dda_core::ContactLaw;
 use dda_core::{ContactState, LocalKinematics};
+use serde::{Deserialize, Serialize};
 
 use crate::springs::mohr_coulomb;
 use crate::{Strength, StrengthLaw};
 
-#[derive(Debug, Clone, PartialEq)]
+/// The threshold bond; a scene's `ThresholdBond(...)` joint.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ThresholdBond {
-    /// Friction angle φ after the bond breaks, degrees.
+    /// Friction angle φ after the bond breaks, degrees, in [0, 90); required.
     pub friction_angle: f64,
-    /// Opening (m) at which the bond breaks in tension (typically 1e-5–1e-3 m).
+    /// Opening at which the bond breaks in tension, m; required (typically
+    /// 1e-5–1e-3 m).
     pub max_opening: f64,
-    /// Shear displacement (m) at which the bond breaks in shear.
+    /// Shear displacement at which the bond breaks in shear, m; required.
     pub max_shear: f64,
-    /// Normal penalty per unit contact length (2D) or area (3D), N/m³; `None`: the driver's.
+    /// Normal penalty per unit contact length (2D) or area (3D), N/m³;
+    /// default `None`: the driver's.
+    #[serde(default)]
     pub normal_stiffness: Option<f64>,
-    /// Shear penalty; `None`: normal / 2.5.
+    /// Shear penalty, N/m³; default `None`: normal / 2.5.
+    #[serde(default)]
     pub shear_stiffness: Option<f64>,
 }
 

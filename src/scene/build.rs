@@ -4,7 +4,7 @@ use std::collections::HashMap;
 
 use dda_2d::{Block, Driver2d, FixedPoint, Force, PlaneElastic, PointLoad, Polygons};
 use dda_3d::{Driver3d, IsotropicElastic, Polyhedra};
-use dda_contact::{Coulomb, LawRegistry, Params, RateFriction, SlipWeakening, ThresholdBond};
+use dda_contact::{LawRegistry, Params, SlipWeakening};
 use dda_core::{BlockSystem, ConstitutiveLaw, DynContactLaw, Settings};
 use nalgebra::{Point2, Point3, SVector, Vector2, Vector3, Vector6};
 
@@ -475,32 +475,8 @@ fn vector<const D: usize>(c: &Coords) -> SVector<f64, D> {
 /// the registry.
 fn contact_law(law: &JointLaw, registry: &LawRegistry) -> Result<Box<dyn DynContactLaw>, String> {
     Ok(match law.clone() {
-        JointLaw::Coulomb {
-            friction_angle,
-            cohesion,
-            tensile_strength,
-            normal_stiffness,
-            shear_stiffness,
-        } => Box::new(Coulomb {
-            friction_angle,
-            cohesion,
-            tensile_strength,
-            normal_stiffness,
-            shear_stiffness,
-        }),
-        JointLaw::ThresholdBond {
-            friction_angle,
-            max_opening,
-            max_shear,
-            normal_stiffness,
-            shear_stiffness,
-        } => Box::new(ThresholdBond {
-            friction_angle,
-            max_opening,
-            max_shear,
-            normal_stiffness,
-            shear_stiffness,
-        }),
+        JointLaw::Coulomb(law) => Box::new(law),
+        JointLaw::ThresholdBond(law) => Box::new(law),
         JointLaw::DisplacementStrength {
             friction_angle,
             residual_friction_angle,
@@ -531,19 +507,7 @@ fn contact_law(law: &JointLaw, registry: &LawRegistry) -> Result<Box<dyn DynCont
             shear_stiffness,
             ..SlipWeakening::friction(peak_friction_angle, residual_friction_angle, weakening)
         }),
-        JointLaw::RateFriction {
-            static_friction_angle,
-            dynamic_friction_angle,
-            characteristic_rate,
-            normal_stiffness,
-            shear_stiffness,
-        } => Box::new(RateFriction {
-            static_friction_angle,
-            dynamic_friction_angle,
-            characteristic_rate,
-            normal_stiffness,
-            shear_stiffness,
-        }),
+        JointLaw::RateFriction(law) => Box::new(law),
         JointLaw::Custom { name, params } => {
             let mut params = Params::from(
                 params

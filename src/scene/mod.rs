@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 pub use dda_2d::{Plane, RotationUpdate};
-pub use dda_contact::Weakening;
+pub use dda_contact::{Coulomb, RateFriction, ThresholdBond, Weakening};
 pub use dda_core::Quantity;
 
 pub use build::{AnyModel, LawTable, Model, Model3};
@@ -244,28 +244,10 @@ pub struct Joint {
 pub enum JointLaw {
     /// Penalty Coulomb joint with a bond (cohesion, tensile strength) that
     /// breaks the first time the joint opens or slides.
-    Coulomb {
-        friction_angle: f64,
-        #[serde(default)]
-        cohesion: f64,
-        #[serde(default)]
-        tensile_strength: f64,
-        #[serde(default)]
-        normal_stiffness: Option<f64>,
-        #[serde(default)]
-        shear_stiffness: Option<f64>,
-    },
+    Coulomb(Coulomb),
     /// A bond with no strength limit until the opening passes `max_opening`
     /// or the shear displacement passes `max_shear`; frictional after.
-    ThresholdBond {
-        friction_angle: f64,
-        max_opening: f64,
-        max_shear: f64,
-        #[serde(default)]
-        normal_stiffness: Option<f64>,
-        #[serde(default)]
-        shear_stiffness: Option<f64>,
-    },
+    ThresholdBond(ThresholdBond),
     /// Cohesion (and friction) falling from peak to residual with
     /// accumulated slip; the residual angle defaults to `friction_angle`.
     DisplacementStrength {
@@ -298,15 +280,7 @@ pub enum JointLaw {
     },
     /// Friction falling from its static to its dynamic value as the slip
     /// rate grows past `characteristic_rate` (m/s).
-    RateFriction {
-        static_friction_angle: f64,
-        dynamic_friction_angle: f64,
-        characteristic_rate: f64,
-        #[serde(default)]
-        normal_stiffness: Option<f64>,
-        #[serde(default)]
-        shear_stiffness: Option<f64>,
-    },
+    RateFriction(RateFriction),
     /// A law built by name through a [`dda_contact::LawRegistry`], like
     /// `Custom(name: "coulomb", params: {"friction_angle": 30.0})`.
     Custom {
@@ -318,13 +292,7 @@ pub enum JointLaw {
 
 impl Default for JointLaw {
     fn default() -> Self {
-        JointLaw::Coulomb {
-            friction_angle: 30.0,
-            cohesion: 0.0,
-            tensile_strength: 0.0,
-            normal_stiffness: None,
-            shear_stiffness: None,
-        }
+        JointLaw::Coulomb(Coulomb::frictional(30.0))
     }
 }
 
@@ -963,8 +931,15 @@ struct DimensionOnly {
     dimension: u32,
 }
 
+/// Laws are written `Coulomb(friction_angle: 30.0)`, not
+/// `Coulomb((friction_angle: 30.0))`, hence unwrapped newtypes.
+fn extensions() -> ron::extensions::Extensions {
+    ron::extensions::Extensions::IMPLICIT_SOME
+        | ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES
+}
+
 fn ron_options() -> ron::Options {
-    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+    ron::Options::default().with_default_extension(extensions())
 }
 
 impl Scene {
@@ -1027,7 +1002,7 @@ impl Scene {
         let config = ron::ser::PrettyConfig::new()
             .struct_names(true)
             .depth_limit(4)
-            .extensions(ron::extensions::Extensions::IMPLICIT_SOME);
+            .extensions(extensions());
         ron::ser::to_string_pretty(self, config).expect("a scene is always serialisable")
     }
 
