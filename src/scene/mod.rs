@@ -77,38 +77,56 @@ struct Source {
     dir: Option<PathBuf>,
 }
 
-/// Analysis settings. `None` means automatic.
+/// Analysis settings: the driver's [`dda_core::Settings`] as a scene writes
+/// them (defaults from there), plus what the scene decides itself. `None`
+/// means automatic.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Analysis {
-    /// Simulated time in seconds (required: 0 is rejected).
+    /// Simulated time, s; required (0 is rejected).
     pub duration: f64,
+    /// Nominal time step, s; default automatic, from the contact frequency.
     pub dt: Option<f64>,
+    /// `Dynamic` (default) carries velocities from step to step, `Static`
+    /// starts each step at rest.
     pub mode: Mode,
-    /// Overrides the mode's velocity carry-over ratio, in [0, 1].
+    /// Fraction of the velocity carried into the next step, in [0, 1];
+    /// default the mode's (1 dynamic, 0 static).
     pub velocity_ratio: Option<f64>,
+    /// Open-close passes before a step is cut to a third; default 6.
     pub open_close_limit: usize,
+    /// Largest step displacement as a fraction of w0 (Shi's g2); default 0.01.
     pub max_displacement_ratio: f64,
+    /// Deepest penetration as a fraction of w0; default 1e-3.
     pub max_penetration_ratio: f64,
+    /// Smallest step as a fraction of `dt`; default 1e-3.
     pub min_dt_ratio: f64,
+    /// Normal contact stiffness per unit contact length (2D) or area (3D),
+    /// N/m³; default automatic (see [`dda_core::Settings::penalty`]).
     pub penalty: Option<f64>,
+    /// Shi's remedy for deep penetration, penalty × 10; default `false`.
     pub raise_penalty: bool,
+    /// w0, m; default half the diagonal of the model's bounding box.
     pub length_scale: Option<f64>,
-    /// (gx, gy) in 2D, (gx, gy, gz) in 3D; left out, (0, −9.81) or
+    /// (gx, gy) in 2D, (gx, gy, gz) in 3D, m/s²; default (0, −9.81) or
     /// (0, 0, −9.81): see [`Scene::gravity`].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gravity: Option<Coords>,
-    /// Plane strain or plane stress: 2D scenes only (an error in 3D).
+    /// Plane strain (default) or plane stress: 2D scenes only (an error in 3D).
     #[serde(with = "PlaneDef", skip_serializing_if = "is_plane_strain")]
     pub plane: Plane,
+    /// `Exact` (default) turns blocks by the exact rotation, `Linear` by
+    /// Shi's first-order update.
     #[serde(with = "RotationUpdateDef")]
     pub rotation_update: RotationUpdate,
+    /// Stiffness of the springs holding fixed points, N/m; default 10 × a
+    /// typical contact's spring.
     pub fixed_penalty: Option<f64>,
-    /// Mass-proportional viscous damping; none when left out.
+    /// Mass-proportional viscous damping; default none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub damping: Option<Damping>,
-    /// Contact damping, a share of critical (0 off, the default; 1
-    /// critical): see [`dda_core::Settings::contact_damping`].
+    /// Contact damping, a share of critical; default 0 (off), 1 critical:
+    /// see [`dda_core::Settings::contact_damping`].
     pub contact_damping: f64,
 }
 
