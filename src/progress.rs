@@ -60,6 +60,9 @@ impl Progress {
 
 impl Observer for Progress {
     fn on_step(&mut self, run: &dyn RunView) {
+        if self.bar.is_hidden() {
+            return;
+        }
         self.bar
             .set_position((run.time() / self.duration * 1000.0).round() as u64);
         self.bar.set_message(format!(
