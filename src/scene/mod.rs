@@ -278,7 +278,6 @@ pub enum JointLaw {
         residual_cohesion: f64,
         #[serde(default)]
         tensile_strength: f64,
-        #[serde(with = "WeakeningDef")]
         weakening: Weakening,
         #[serde(default)]
         normal_stiffness: Option<f64>,
@@ -289,7 +288,6 @@ pub enum JointLaw {
     SlipFriction {
         peak_friction_angle: f64,
         residual_friction_angle: f64,
-        #[serde(with = "WeakeningDef")]
         weakening: Weakening,
         #[serde(default)]
         normal_stiffness: Option<f64>,
@@ -312,16 +310,6 @@ impl Default for JointLaw {
     fn default() -> Self {
         JointLaw::Coulomb(Coulomb::frictional(30.0))
     }
-}
-
-/// The file names of [`Weakening`]: `Step(at: m)`, `Linear(start: m, end: m)`,
-/// `Exponential(length: m)`.
-#[derive(Serialize, Deserialize)]
-#[serde(remote = "Weakening", deny_unknown_fields)]
-enum WeakeningDef {
-    Step { at: f64 },
-    Linear { start: f64, end: f64 },
-    Exponential { length: f64 },
 }
 
 /// A block, or a generator of several (`Arch`, `Column`, `Wall`): shape,
