@@ -46,6 +46,16 @@ pub enum AnyModel {
     Space(Model3),
 }
 
+/// `$body` with `$m` the model of either dimension.
+macro_rules! either {
+    ($model:expr, $m:ident => $body:expr) => {
+        match $model {
+            AnyModel::Plane($m) => $body,
+            AnyModel::Space($m) => $body,
+        }
+    };
+}
+
 impl AnyModel {
     /// 2 or 3.
     pub fn dimension(&self) -> u32 {
@@ -56,49 +66,31 @@ impl AnyModel {
     }
 
     pub fn block_count(&self) -> usize {
-        match self {
-            AnyModel::Plane(m) => m.driver.system.blocks.len(),
-            AnyModel::Space(m) => m.driver.system.blocks.len(),
-        }
+        either!(self, m => m.driver.system.blocks.len())
     }
 
     pub fn duration(&self) -> f64 {
-        match self {
-            AnyModel::Plane(m) => m.duration,
-            AnyModel::Space(m) => m.duration,
-        }
+        either!(self, m => m.duration)
     }
 
     /// The nominal time step.
     pub fn dt(&self) -> f64 {
-        match self {
-            AnyModel::Plane(m) => m.driver.dt(),
-            AnyModel::Space(m) => m.driver.dt(),
-        }
+        either!(self, m => m.driver.dt())
     }
 
     /// Why automatic values were chosen, the driver's and the scene's.
     pub fn notes(&self) -> Vec<String> {
-        match self {
-            AnyModel::Plane(m) => m.all_notes(),
-            AnyModel::Space(m) => m.all_notes(),
-        }
+        either!(self, m => m.all_notes())
     }
 
     /// The time between outputs; `None` writes every step.
     pub fn output_interval(&self) -> Option<f64> {
-        match self {
-            AnyModel::Plane(m) => m.output_interval,
-            AnyModel::Space(m) => m.output_interval,
-        }
+        either!(self, m => m.output_interval)
     }
 
     /// Whether `contacts.csv` is written.
     pub fn write_contacts(&self) -> bool {
-        match self {
-            AnyModel::Plane(m) => m.write_contacts,
-            AnyModel::Space(m) => m.write_contacts,
-        }
+        either!(self, m => m.write_contacts)
     }
 }
 
