@@ -3,7 +3,7 @@
 //! Most joint laws differ only in how strong the joint is: the normal and
 //! shear springs and the open-close rules ([`Springs`]) are the same. Such a
 //! law implements [`StrengthLaw`] and gets its `ContactLaw` from
-//! [`strength_law!`]. (A blanket `impl<L: StrengthLaw> ContactLaw for L`
+//! [`strength_law!`](crate::strength_law). (A blanket `impl<L: StrengthLaw> ContactLaw for L`
 //! would have to live in `dda-core`, beside `ContactLaw`, by the orphan
 //! rule; the macro keeps the springs out of the core.)
 
