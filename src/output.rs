@@ -1,15 +1,15 @@
-//! Output files: `history.csv` and, when the scene asks, `contacts.csv`
-//! (both written as the run goes), and `summary.json`.
+//! Output files written as the run goes, as [`Observer`]s: `history.csv`
+//! and, when the scene asks, `contacts.csv`; and their readers.
 
 use std::fs::File;
-use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::path::Path;
 
 use anyhow::{bail, Context};
 use dda_core::ContactState;
-use serde::Serialize;
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Deserializer, Serialize};
 
-use crate::simulation::Simulation;
+use crate::observe::{Observer, RunView};
 
 /// The header line of a 2D scene's `history.csv`.
 pub const HISTORY_HEADER: &str = "step,time,block,x,y,rotation,vx,vy,omega,sxx,syy,sxy";
@@ -21,7 +21,7 @@ pub const HISTORY_HEADER_3D: &str =
     "step,time,block,x,y,z,rx,ry,rz,vx,vy,vz,wx,wy,wz,sxx,syy,szz,syz,szx,sxy";
 
 /// One row of `history.csv`: a block's state at an output time.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 pub struct HistoryRow {
     pub step: usize,
     pub time: f64,
@@ -61,34 +61,44 @@ pub struct HistoryRow3 {
 /// Writes `history.csv` a time at a time, flushing each so an interrupted
 /// run keeps what it reached.
 pub struct HistoryWriter {
-    out: BufWriter<File>,
+    out: csv::Writer<File>,
+}
+
+/// A CSV file with `header` as its first line.
+fn create(path: &Path, header: &str) -> anyhow::Result<csv::Writer<File>> {
+    let mut out = csv::Writer::from_path(path)
+        .with_context(|| format!("cannot create {}", path.display()))?;
+    out.write_record(header.split(','))?;
+    out.flush()?;
+    Ok(out)
 }
 
 impl HistoryWriter {
     /// A file with `header` as its first line ([`HISTORY_HEADER`] or
     /// [`HISTORY_HEADER_3D`]).
     pub fn create(path: &Path, header: &str) -> anyhow::Result<Self> {
-        let file =
-            File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
-        let mut out = BufWriter::new(file);
-        writeln!(out, "{header}")?;
-        out.flush()?;
-        Ok(Self { out })
+        Ok(Self {
+            out: create(path, header)?,
+        })
     }
 
-    /// One row per block at the driver's current time.
-    pub fn write<S: Simulation>(&mut self, driver: &S) -> anyhow::Result<()> {
-        let step = driver.statistics().steps;
-        let time = round_time(driver.time());
+    /// One row per block at the run's current time.
+    pub fn write(&mut self, driver: &dyn RunView) -> anyhow::Result<()> {
+        let step = driver.statistics().steps.to_string();
+        let time = num(round_time(driver.time()));
         for i in 0..driver.block_count() {
-            write!(self.out, "{step},{},{i}", num(time))?;
-            for value in driver.history_values(i) {
-                write!(self.out, ",{}", num(value))?;
-            }
-            writeln!(self.out)?;
+            let values = driver.history_values(i).into_iter().map(num);
+            let row = [step.clone(), time.clone(), i.to_string()];
+            self.out.write_record(row.into_iter().chain(values))?;
         }
         self.out.flush()?;
         Ok(())
+    }
+}
+
+impl Observer for HistoryWriter {
+    fn on_output(&mut self, run: &dyn RunView) -> anyhow::Result<()> {
+        self.write(run)
     }
 }
 
@@ -96,7 +106,7 @@ impl HistoryWriter {
 pub const CONTACTS_HEADER: &str = "step,time,contact,block_a,block_b,state,fn,fs,slip";
 
 /// One row of `contacts.csv`: a contact at an output time.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 pub struct ContactRow {
     pub step: usize,
     pub time: f64,
@@ -109,11 +119,14 @@ pub struct ContactRow {
     pub block_a: usize,
     /// The block whose edge (or vertex, or face) is touched.
     pub block_b: usize,
+    #[serde(deserialize_with = "state_by_name")]
     pub state: ContactState,
     /// Normal force of the last step, compression positive (force per unit
     /// thickness in 2D); 0 when open.
+    #[serde(rename = "fn")]
     pub normal_force: f64,
     /// Shear force magnitude of the last step.
+    #[serde(rename = "fs")]
     pub shear_force: f64,
     /// Accumulated slip path.
     pub slip: f64,
@@ -123,38 +136,41 @@ pub struct ContactRow {
 /// step considered, open ones included (none at time 0, before the first
 /// contact search).
 pub struct ContactWriter {
-    out: BufWriter<File>,
+    out: csv::Writer<File>,
 }
 
 impl ContactWriter {
     pub fn create(path: &Path) -> anyhow::Result<Self> {
-        let file =
-            File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
-        let mut out = BufWriter::new(file);
-        writeln!(out, "{CONTACTS_HEADER}")?;
-        out.flush()?;
-        Ok(Self { out })
+        Ok(Self {
+            out: create(path, CONTACTS_HEADER)?,
+        })
     }
 
-    /// One row per contact at the driver's current time.
-    pub fn write<S: Simulation>(&mut self, driver: &S) -> anyhow::Result<()> {
-        let step = driver.statistics().steps;
+    /// One row per contact at the run's current time.
+    pub fn write(&mut self, driver: &dyn RunView) -> anyhow::Result<()> {
+        let step = driver.statistics().steps.to_string();
         let time = num(round_time(driver.time()));
         for c in driver.contact_lines() {
-            writeln!(
-                self.out,
-                "{step},{time},{},{},{},{},{},{},{}",
+            self.out.write_record([
+                step.clone(),
+                time.clone(),
                 c.label,
-                c.blocks[0],
-                c.blocks[1],
-                c.state.name(),
+                c.blocks[0].to_string(),
+                c.blocks[1].to_string(),
+                c.state.name().to_string(),
                 num(c.normal_force),
                 num(c.shear_force),
-                num(c.slip)
-            )?;
+                num(c.slip),
+            ])?;
         }
         self.out.flush()?;
         Ok(())
+    }
+}
+
+impl Observer for ContactWriter {
+    fn on_output(&mut self, run: &dyn RunView) -> anyhow::Result<()> {
+        self.write(run)
     }
 }
 
@@ -186,24 +202,47 @@ fn num(v: f64) -> String {
 
 /// Reads a 2D scene's `history.csv` written by [`HistoryWriter`].
 pub fn read_history(path: impl AsRef<Path>) -> anyhow::Result<Vec<HistoryRow>> {
-    read_rows(path.as_ref(), "history", HISTORY_HEADER, parse_row)
+    read_rows(path.as_ref(), "history", HISTORY_HEADER)
 }
 
 /// Reads a 3D scene's `history.csv` written by [`HistoryWriter`].
 pub fn read_history_3d(path: impl AsRef<Path>) -> anyhow::Result<Vec<HistoryRow3>> {
-    read_rows(path.as_ref(), "history", HISTORY_HEADER_3D, parse_row_3d)
+    let rows: Vec<(usize, f64, usize, Vec<f64>)> =
+        read_rows(path.as_ref(), "history", HISTORY_HEADER_3D)?;
+    let three = |v: &[f64]| [v[0], v[1], v[2]];
+    Ok(rows
+        .into_iter()
+        .map(|(step, time, block, v)| HistoryRow3 {
+            step,
+            time,
+            block,
+            position: three(&v[0..]),
+            rotation: three(&v[3..]),
+            velocity: three(&v[6..]),
+            spin: three(&v[9..]),
+            stress: [v[12], v[13], v[14], v[15], v[16], v[17]],
+        })
+        .collect())
 }
 
-fn read_rows<T>(
+/// Reads a `contacts.csv` written by [`ContactWriter`].
+pub fn read_contacts(path: impl AsRef<Path>) -> anyhow::Result<Vec<ContactRow>> {
+    read_rows(path.as_ref(), "contacts", CONTACTS_HEADER)
+}
+
+/// The rows of a CSV file whose header is `expected`, each with as many
+/// fields as the header.
+fn read_rows<T: DeserializeOwned>(
     path: &Path,
     what: &str,
     expected: &str,
-    parse: impl Fn(&str) -> anyhow::Result<T>,
 ) -> anyhow::Result<Vec<T>> {
-    let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
-    let mut lines = BufReader::new(file).lines();
-    let header = lines.next().transpose()?.unwrap_or_default();
-    let header = header.trim_end();
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_path(path)
+        .with_context(|| format!("cannot open {}", path.display()))?;
+    let header: Vec<&str> = reader.headers()?.iter().collect();
+    let header = header.join(",");
     if header != expected {
         let hint = if header == HISTORY_HEADER {
             " (it is a 2D history: read it with read_history)"
@@ -217,105 +256,23 @@ fn read_rows<T>(
             path.display()
         );
     }
-    let mut rows = Vec::new();
-    for (n, line) in lines.enumerate() {
-        let line = line?;
-        if line.trim().is_empty() {
-            continue;
-        }
-        let row = parse(&line)
-            .with_context(|| format!("{}:{}: bad {what} row", path.display(), n + 2))?;
-        rows.push(row);
-    }
-    Ok(rows)
+    reader
+        .deserialize()
+        .map(|row| row.with_context(|| format!("{}: bad {what} row", path.display())))
+        .collect()
 }
 
-fn parse_row_3d(line: &str) -> anyhow::Result<HistoryRow3> {
-    let fields: Vec<&str> = line.trim_end().split(',').collect();
-    if fields.len() != 21 {
-        bail!("expected 21 fields, found {}", fields.len());
-    }
-    let f = |i: usize| -> anyhow::Result<f64> {
-        fields[i]
-            .parse()
-            .with_context(|| format!("field {i} is not a number: {:?}", fields[i]))
-    };
-    let three = |i: usize| -> anyhow::Result<[f64; 3]> { Ok([f(i)?, f(i + 1)?, f(i + 2)?]) };
-    Ok(HistoryRow3 {
-        step: fields[0].parse().context("step is not an integer")?,
-        time: f(1)?,
-        block: fields[2].parse().context("block is not an integer")?,
-        position: three(3)?,
-        rotation: three(6)?,
-        velocity: three(9)?,
-        spin: three(12)?,
-        stress: [f(15)?, f(16)?, f(17)?, f(18)?, f(19)?, f(20)?],
-    })
-}
-
-fn parse_row(line: &str) -> anyhow::Result<HistoryRow> {
-    let fields: Vec<&str> = line.trim_end().split(',').collect();
-    if fields.len() != 12 {
-        bail!("expected 12 fields, found {}", fields.len());
-    }
-    let f = |i: usize| -> anyhow::Result<f64> {
-        fields[i]
-            .parse()
-            .with_context(|| format!("field {i} is not a number: {:?}", fields[i]))
-    };
-    Ok(HistoryRow {
-        step: fields[0].parse().context("step is not an integer")?,
-        time: f(1)?,
-        block: fields[2].parse().context("block is not an integer")?,
-        x: f(3)?,
-        y: f(4)?,
-        rotation: f(5)?,
-        vx: f(6)?,
-        vy: f(7)?,
-        omega: f(8)?,
-        sxx: f(9)?,
-        syy: f(10)?,
-        sxy: f(11)?,
-    })
-}
-
-/// Reads a `contacts.csv` written by [`ContactWriter`].
-pub fn read_contacts(path: impl AsRef<Path>) -> anyhow::Result<Vec<ContactRow>> {
-    read_rows(path.as_ref(), "contacts", CONTACTS_HEADER, parse_contact)
-}
-
-fn parse_contact(line: &str) -> anyhow::Result<ContactRow> {
-    let fields: Vec<&str> = line.trim_end().split(',').collect();
-    if fields.len() != 9 {
-        bail!("expected 9 fields, found {}", fields.len());
-    }
-    let f = |i: usize| -> anyhow::Result<f64> {
-        fields[i]
-            .parse()
-            .with_context(|| format!("field {i} is not a number: {:?}", fields[i]))
-    };
-    let int = |i: usize| -> anyhow::Result<usize> {
-        fields[i]
-            .parse()
-            .with_context(|| format!("field {i} is not an integer: {:?}", fields[i]))
-    };
-    let state = match fields[5] {
-        "open" => ContactState::Open,
-        "locked" => ContactState::Locked,
-        "sliding" => ContactState::Sliding,
-        other => bail!("unknown contact state {other:?}"),
-    };
-    Ok(ContactRow {
-        step: int(0)?,
-        time: f(1)?,
-        contact: fields[2].to_string(),
-        block_a: int(3)?,
-        block_b: int(4)?,
-        state,
-        normal_force: f(6)?,
-        shear_force: f(7)?,
-        slip: f(8)?,
-    })
+/// A contact state by its name in `contacts.csv`.
+fn state_by_name<'de, D: Deserializer<'de>>(d: D) -> Result<ContactState, D::Error> {
+    let name = String::deserialize(d)?;
+    [
+        ContactState::Open,
+        ContactState::Locked,
+        ContactState::Sliding,
+    ]
+    .into_iter()
+    .find(|s| s.name() == name)
+    .ok_or_else(|| serde::de::Error::custom(format!("unknown contact state {name:?}")))
 }
 
 /// Writes pretty JSON to `path`.

@@ -1,22 +1,12 @@
 //! What a run needs of a driver, in either dimension: [`Driver2d`] and
-//! [`Driver3d`] both implement [`Simulation`], so `run`, the outputs and
-//! the progress bar are written once.
+//! [`Driver3d`] both implement [`Simulation`], so `run` is written once;
+//! the outputs see a simulation as a [`RunView`].
 
 use dda_2d::Driver2d;
 use dda_3d::Driver3d;
-use dda_core::{ContactState, DdaError, Statistics};
+use dda_core::{DdaError, Statistics};
 
-/// One contact at an output time, as `contacts.csv` writes it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ContactLine {
-    /// Like `1:v0/0:e2` (2D) or `1:v3/0:f1` (3D).
-    pub label: String,
-    pub blocks: [usize; 2],
-    pub state: ContactState,
-    pub normal_force: f64,
-    pub shear_force: f64,
-    pub slip: f64,
-}
+use crate::observe::{ContactLine, RunView};
 
 /// A driver a scene run can step and record.
 pub trait Simulation {
@@ -35,6 +25,12 @@ pub trait Simulation {
     fn notes(&self) -> &[String];
     fn block_count(&self) -> usize;
     fn advance_to(&mut self, time: f64) -> Result<(), DdaError>;
+    /// [`Simulation::advance_to`], showing each accepted step to `observe`.
+    fn advance_observed(
+        &mut self,
+        time: f64,
+        observe: &mut dyn FnMut(&Self),
+    ) -> Result<(), DdaError>;
     /// One step of at most `dt_limit`.
     fn step(&mut self, dt_limit: f64) -> Result<(), DdaError>;
     /// The values of a block's history row after `step,time,block`.
@@ -67,6 +63,13 @@ macro_rules! delegate {
         }
         fn advance_to(&mut self, time: f64) -> Result<(), DdaError> {
             dda_core::Driver::advance_to(self, time)
+        }
+        fn advance_observed(
+            &mut self,
+            time: f64,
+            observe: &mut dyn FnMut(&Self),
+        ) -> Result<(), DdaError> {
+            dda_core::Driver::advance_observed(self, time, observe)
         }
         fn step(&mut self, dt_limit: f64) -> Result<(), DdaError> {
             dda_core::Driver::step(self, dt_limit)
@@ -139,5 +142,35 @@ impl Simulation for Driver3d {
                 slip: c.record.slip_path,
             })
             .collect()
+    }
+}
+
+impl<S: Simulation> RunView for S {
+    fn time(&self) -> f64 {
+        Simulation::time(self)
+    }
+    fn dt(&self) -> f64 {
+        Simulation::dt(self)
+    }
+    fn penalty(&self) -> f64 {
+        Simulation::penalty(self)
+    }
+    fn statistics(&self) -> &Statistics {
+        Simulation::statistics(self)
+    }
+    fn notes(&self) -> &[String] {
+        Simulation::notes(self)
+    }
+    fn block_count(&self) -> usize {
+        Simulation::block_count(self)
+    }
+    fn history_values(&self, block: usize) -> Vec<f64> {
+        Simulation::history_values(self, block)
+    }
+    fn is_finite(&self, block: usize) -> bool {
+        Simulation::is_finite(self, block)
+    }
+    fn contact_lines(&self) -> Vec<ContactLine> {
+        Simulation::contact_lines(self)
     }
 }

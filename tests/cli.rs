@@ -489,6 +489,31 @@ fn the_custom_law_example_slides_as_its_mobilised_friction_says() {
 }
 
 #[test]
+fn a_binary_that_registers_a_law_runs_scenes_naming_it() {
+    // What the example's `main` does: the `dda` command with its registry.
+    let dir = scratch("custom-law-binary");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("custom_law.ron");
+    let text = std::fs::read_to_string("examples/custom_law.ron").unwrap();
+    std::fs::write(&scene, text.replace("duration: 1.0,", "duration: 0.05,")).unwrap();
+    let out = dir.join("out");
+    let registry = custom_law::registry();
+    let run = |args: &[&str]| {
+        let args = ["dda"].iter().chain(args).map(|a| a.to_string());
+        dda::cli::main_from(args, &registry)
+    };
+    let (scene, out_dir) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    assert_eq!(run(&["check", scene]), std::process::ExitCode::SUCCESS);
+    assert_eq!(
+        run(&["run", scene, "--out", out_dir]),
+        std::process::ExitCode::SUCCESS
+    );
+    let history = read_history(out.join("history.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(history.last().unwrap().time, 0.05);
+}
+
+#[test]
 fn a_recorded_ground_motion_carries_the_base() {
     // tests/data/shaken_base.ron names its record relative to its own folder.
     let out = scratch("shaken-base");

@@ -13,24 +13,34 @@
 //!   contact at the start, and break for good the first time the contact
 //!   opens or slides (Shi's rule).
 
-use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics};
+#[cfg(test)]
+use dda_core::ContactLaw;
+use dda_core::{ContactState, LocalKinematics};
+use serde::{Deserialize, Serialize};
 
-use crate::springs::{mohr_coulomb, Springs};
+use crate::springs::mohr_coulomb;
+use crate::{Strength, StrengthLaw};
 
-/// The penalty Coulomb law.
-#[derive(Debug, Clone, PartialEq)]
+/// The penalty Coulomb law; a scene's `Coulomb(...)` joint.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Coulomb {
-    /// Friction angle φ in degrees (rock joints 25–40°, dry masonry 30–40°).
+    /// Friction angle φ, degrees, in [0, 90); required (rock joints 25–40°,
+    /// dry masonry 30–40°).
     pub friction_angle: f64,
-    /// Cohesion c in stress units (Pa); 0 for dry joints, 0.1–1 MPa for
-    /// mortar or cemented rock joints.
+    /// Cohesion c, Pa; default 0 (dry joints); 0.1–1 MPa for mortar or
+    /// cemented rock joints.
+    #[serde(default)]
     pub cohesion: f64,
-    /// Tensile strength T0 in stress units (Pa); 0 for dry joints.
+    /// Tensile strength T0, Pa; default 0 (dry joints).
+    #[serde(default)]
     pub tensile_strength: f64,
-    /// Normal penalty k_n per unit contact length (2D) or area (3D), N/m³; `None`
-    /// takes the driver's penalty.
+    /// Normal penalty k_n per unit contact length (2D) or area (3D), N/m³;
+    /// default `None`: the driver's penalty.
+    #[serde(default)]
     pub normal_stiffness: Option<f64>,
-    /// Shear penalty k_s; `None` takes k_n / 2.5 (Shi's default).
+    /// Shear penalty k_s, N/m³; default `None`: k_n / 2.5 (Shi's).
+    #[serde(default)]
     pub shear_stiffness: Option<f64>,
 }
 
@@ -45,29 +55,6 @@ impl Coulomb {
             shear_stiffness: None,
         }
     }
-
-    fn springs(&self, kin: &LocalKinematics) -> Springs {
-        Springs::new(self.normal_stiffness, self.shear_stiffness, kin)
-    }
-
-    /// Shear strength and tensile capacity (forces) at the trial gap.
-    fn strengths(
-        &self,
-        springs: &Springs,
-        kin: &LocalKinematics,
-        history: &CoulombHistory,
-    ) -> (f64, f64) {
-        let (c, t0) = if history.bonded {
-            (self.cohesion, self.tensile_strength)
-        } else {
-            (0.0, 0.0)
-        };
-        let normal = springs.normal_force(kin);
-        (
-            mohr_coulomb(self.friction_angle, c, normal, kin),
-            t0 * kin.length,
-        )
-    }
 }
 
 /// Whether the joint's bond (cohesion and tensile strength) still holds.
@@ -76,43 +63,44 @@ pub struct CoulombHistory {
     pub bonded: bool,
 }
 
-impl ContactLaw for Coulomb {
+impl StrengthLaw for Coulomb {
     type History = CoulombHistory;
 
-    fn initial_history(&self, at_start: bool) -> CoulombHistory {
+    fn penalties(&self) -> (Option<f64>, Option<f64>) {
+        (self.normal_stiffness, self.shear_stiffness)
+    }
+
+    fn new_history(&self, at_start: bool) -> CoulombHistory {
         CoulombHistory {
             bonded: at_start && (self.cohesion > 0.0 || self.tensile_strength > 0.0),
         }
     }
 
-    fn response(
-        &self,
-        state: ContactState,
-        kin: &LocalKinematics,
-        history: &CoulombHistory,
-    ) -> ContactResponse {
-        let springs = self.springs(kin);
-        let (strength, _) = self.strengths(&springs, kin, history);
-        springs.response(state, kin, strength)
+    fn strength(&self, normal: f64, kin: &LocalKinematics, history: &CoulombHistory) -> Strength {
+        let (c, t0) = if history.bonded {
+            (self.cohesion, self.tensile_strength)
+        } else {
+            (0.0, 0.0)
+        };
+        Strength {
+            shear: mohr_coulomb(self.friction_angle, c, normal, kin),
+            tension: t0 * kin.length,
+        }
     }
 
-    fn next_state(
+    fn update_history(
         &self,
         state: ContactState,
-        kin: &LocalKinematics,
-        history: &CoulombHistory,
-    ) -> ContactState {
-        let springs = self.springs(kin);
-        let (strength, tension) = self.strengths(&springs, kin, history);
-        springs.next_state(state, kin, strength, tension)
-    }
-
-    fn commit(&self, state: ContactState, _kin: &LocalKinematics, history: &mut CoulombHistory) {
+        _kin: &LocalKinematics,
+        history: &mut CoulombHistory,
+    ) {
         if state != ContactState::Locked {
             history.bonded = false;
         }
     }
 }
+
+crate::strength_law!(Coulomb);
 
 #[cfg(test)]
 mod tests {

@@ -7,20 +7,28 @@
 //! with v the slip rate of the last accepted step, so the open-close passes
 //! of a step all see the same coefficient and do not chatter.
 
-use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics};
+use dda_core::{ContactState, LocalKinematics};
+use serde::{Deserialize, Serialize};
 
-use crate::springs::Springs;
+use crate::{Strength, StrengthLaw};
 
-#[derive(Debug, Clone, PartialEq)]
+/// Rate-dependent friction; a scene's `RateFriction(...)` joint.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RateFriction {
-    /// Friction angle at rest, degrees.
+    /// Friction angle at rest, degrees, in [0, 90); required.
     pub static_friction_angle: f64,
-    /// Friction angle at fast slip, degrees.
+    /// Friction angle at fast slip, degrees, in [0, 90); required.
     pub dynamic_friction_angle: f64,
-    /// Slip rate v_c (m/s) over which μ falls by 1/e of its drop
+    /// Slip rate v_c over which μ falls by 1/e of its drop, m/s; required
     /// (0.01–1 m/s for rock joints).
     pub characteristic_rate: f64,
+    /// Normal penalty per unit contact length (2D) or area (3D), N/m³;
+    /// default `None`: the driver's.
+    #[serde(default)]
     pub normal_stiffness: Option<f64>,
+    /// Shear penalty, N/m³; default `None`: normal / 2.5.
+    #[serde(default)]
     pub shear_stiffness: Option<f64>,
 }
 
@@ -33,38 +41,44 @@ impl RateFriction {
         );
         d + (s - d) * (-rate.abs() / self.characteristic_rate).exp()
     }
-
-    fn strength(&self, springs: &Springs, kin: &LocalKinematics) -> f64 {
-        self.coefficient(kin.slip_rate) * springs.normal_force(kin).max(0.0)
-    }
 }
 
-impl ContactLaw for RateFriction {
+impl StrengthLaw for RateFriction {
     type History = ();
 
-    fn initial_history(&self, _at_start: bool) {}
-
-    fn response(&self, state: ContactState, kin: &LocalKinematics, _: &()) -> ContactResponse {
-        let springs = Springs::new(self.normal_stiffness, self.shear_stiffness, kin);
-        springs.response(state, kin, self.strength(&springs, kin))
+    fn penalties(&self) -> (Option<f64>, Option<f64>) {
+        (self.normal_stiffness, self.shear_stiffness)
     }
 
-    fn next_state(&self, state: ContactState, kin: &LocalKinematics, _: &()) -> ContactState {
-        let springs = Springs::new(self.normal_stiffness, self.shear_stiffness, kin);
-        let next = springs.next_state(state, kin, self.strength(&springs, kin), 0.0);
-        // The coefficient is the last step's, so a sliding contact whose
-        // rate dipped would see a higher strength and lock, then slip fast:
-        // stick-slip of the explicit rate, not of the law. A sliding
-        // contact keeps sliding until its slip reverses.
-        if state == ContactState::Sliding && next == ContactState::Locked && kin.slip >= 0.0 {
-            ContactState::Sliding
-        } else {
-            next
+    fn new_history(&self, _at_start: bool) {}
+
+    fn strength(&self, normal: f64, kin: &LocalKinematics, _: &()) -> Strength {
+        Strength {
+            shear: self.coefficient(kin.slip_rate) * normal.max(0.0),
+            tension: 0.0,
         }
     }
 
-    fn commit(&self, _: ContactState, _: &LocalKinematics, _: &mut ()) {}
+    // The coefficient is the last step's, so a sliding contact whose rate
+    // dipped would see a higher strength and lock, then slip fast:
+    // stick-slip of the explicit rate, not of the law. A sliding contact
+    // keeps sliding until its slip reverses.
+    fn adjust_state(
+        &self,
+        from: ContactState,
+        by_strength: ContactState,
+        kin: &LocalKinematics,
+        _: &(),
+    ) -> ContactState {
+        if from == ContactState::Sliding && by_strength == ContactState::Locked && kin.slip >= 0.0 {
+            ContactState::Sliding
+        } else {
+            by_strength
+        }
+    }
 }
+
+crate::strength_law!(RateFriction);
 
 #[cfg(test)]
 mod tests {

@@ -13,10 +13,13 @@
 //! stretch of the shear spring is not slip). Tensile strength, if any, is
 //! lost for good the first time the joint opens.
 
-use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics};
+#[cfg(test)]
+use dda_core::ContactLaw;
+use dda_core::{ContactState, LocalKinematics};
 
-use crate::springs::{mohr_coulomb, Springs};
+use crate::springs::mohr_coulomb;
 use crate::weakening::Weakening;
+use crate::{Strength, StrengthLaw};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct SlipWeakening {
@@ -50,37 +53,6 @@ impl SlipWeakening {
             shear_stiffness: None,
         }
     }
-
-    fn springs(&self, kin: &LocalKinematics) -> Springs {
-        Springs::new(self.normal_stiffness, self.shear_stiffness, kin)
-    }
-
-    fn strengths(
-        &self,
-        springs: &Springs,
-        kin: &LocalKinematics,
-        history: &SlipHistory,
-    ) -> (f64, f64) {
-        let slip = kin.slip_path;
-        let phi =
-            self.weakening
-                .between(self.peak_friction_angle, self.residual_friction_angle, slip);
-        let cohesion = if history.bonded {
-            self.weakening
-                .between(self.peak_cohesion, self.residual_cohesion, slip)
-        } else {
-            0.0
-        };
-        let tension = if history.intact_in_tension {
-            self.tensile_strength * kin.length
-        } else {
-            0.0
-        };
-        (
-            mohr_coulomb(phi, cohesion, springs.normal_force(kin), kin),
-            tension,
-        )
-    }
 }
 
 /// Whether the joint had a bond at the start and still holds in tension.
@@ -90,39 +62,41 @@ pub struct SlipHistory {
     pub intact_in_tension: bool,
 }
 
-impl ContactLaw for SlipWeakening {
+impl StrengthLaw for SlipWeakening {
     type History = SlipHistory;
 
-    fn initial_history(&self, at_start: bool) -> SlipHistory {
+    fn penalties(&self) -> (Option<f64>, Option<f64>) {
+        (self.normal_stiffness, self.shear_stiffness)
+    }
+
+    fn new_history(&self, at_start: bool) -> SlipHistory {
         SlipHistory {
             bonded: at_start,
             intact_in_tension: at_start,
         }
     }
 
-    fn response(
-        &self,
-        state: ContactState,
-        kin: &LocalKinematics,
-        history: &SlipHistory,
-    ) -> ContactResponse {
-        let springs = self.springs(kin);
-        let (strength, _) = self.strengths(&springs, kin, history);
-        springs.response(state, kin, strength)
+    fn strength(&self, normal: f64, kin: &LocalKinematics, history: &SlipHistory) -> Strength {
+        let slip = kin.slip_path;
+        let w = &self.weakening;
+        let phi = w.between(self.peak_friction_angle, self.residual_friction_angle, slip);
+        let cohesion = if history.bonded {
+            w.between(self.peak_cohesion, self.residual_cohesion, slip)
+        } else {
+            0.0
+        };
+        let tension = if history.intact_in_tension {
+            self.tensile_strength * kin.length
+        } else {
+            0.0
+        };
+        Strength {
+            shear: mohr_coulomb(phi, cohesion, normal, kin),
+            tension,
+        }
     }
 
-    fn next_state(
-        &self,
-        state: ContactState,
-        kin: &LocalKinematics,
-        history: &SlipHistory,
-    ) -> ContactState {
-        let springs = self.springs(kin);
-        let (strength, tension) = self.strengths(&springs, kin, history);
-        springs.next_state(state, kin, strength, tension)
-    }
-
-    fn commit(&self, state: ContactState, _kin: &LocalKinematics, history: &mut SlipHistory) {
+    fn update_history(&self, state: ContactState, _: &LocalKinematics, history: &mut SlipHistory) {
         if state == ContactState::Open {
             // A joint that opens loses its bond for good; slip alone does not.
             history.intact_in_tension = false;
@@ -130,6 +104,8 @@ impl ContactLaw for SlipWeakening {
         }
     }
 }
+
+crate::strength_law!(SlipWeakening);
 
 #[cfg(test)]
 mod tests {

@@ -7,21 +7,31 @@
 //! Peak shear force of a bonded contact: `k_s · max_shear`; peak tension:
 //! `k_n · max_opening`. After the break: Coulomb friction `tan φ · σ`.
 
-use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics};
+#[cfg(test)]
+use dda_core::ContactLaw;
+use dda_core::{ContactState, LocalKinematics};
+use serde::{Deserialize, Serialize};
 
-use crate::springs::{mohr_coulomb, Springs};
+use crate::springs::mohr_coulomb;
+use crate::{Strength, StrengthLaw};
 
-#[derive(Debug, Clone, PartialEq)]
+/// The threshold bond; a scene's `ThresholdBond(...)` joint.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ThresholdBond {
-    /// Friction angle φ after the bond breaks, degrees.
+    /// Friction angle φ after the bond breaks, degrees, in [0, 90); required.
     pub friction_angle: f64,
-    /// Opening (m) at which the bond breaks in tension (typically 1e-5–1e-3 m).
+    /// Opening at which the bond breaks in tension, m; required (typically
+    /// 1e-5–1e-3 m).
     pub max_opening: f64,
-    /// Shear displacement (m) at which the bond breaks in shear.
+    /// Shear displacement at which the bond breaks in shear, m; required.
     pub max_shear: f64,
-    /// Normal penalty per unit contact length (2D) or area (3D), N/m³; `None`: the driver's.
+    /// Normal penalty per unit contact length (2D) or area (3D), N/m³;
+    /// default `None`: the driver's.
+    #[serde(default)]
     pub normal_stiffness: Option<f64>,
-    /// Shear penalty; `None`: normal / 2.5.
+    /// Shear penalty, N/m³; default `None`: normal / 2.5.
+    #[serde(default)]
     pub shear_stiffness: Option<f64>,
 }
 
@@ -31,57 +41,52 @@ pub struct BondHistory {
     pub bonded: bool,
 }
 
-impl ThresholdBond {
-    fn springs(&self, kin: &LocalKinematics) -> Springs {
-        Springs::new(self.normal_stiffness, self.shear_stiffness, kin)
-    }
-}
-
-impl ContactLaw for ThresholdBond {
+impl StrengthLaw for ThresholdBond {
     type History = BondHistory;
 
-    fn initial_history(&self, at_start: bool) -> BondHistory {
+    fn penalties(&self) -> (Option<f64>, Option<f64>) {
+        (self.normal_stiffness, self.shear_stiffness)
+    }
+
+    fn new_history(&self, at_start: bool) -> BondHistory {
         BondHistory { bonded: at_start }
     }
 
-    fn response(
-        &self,
-        state: ContactState,
-        kin: &LocalKinematics,
-        _history: &BondHistory,
-    ) -> ContactResponse {
-        // A sliding contact has lost its bond (it breaks on the first slide).
-        let springs = self.springs(kin);
-        let strength = mohr_coulomb(self.friction_angle, 0.0, springs.normal_force(kin), kin);
-        springs.response(state, kin, strength)
+    /// The strength once the bond is broken (a bonded contact has no limit).
+    fn strength(&self, normal: f64, kin: &LocalKinematics, _: &BondHistory) -> Strength {
+        Strength {
+            shear: mohr_coulomb(self.friction_angle, 0.0, normal, kin),
+            tension: 0.0,
+        }
     }
 
-    fn next_state(
+    /// A bonded, locked contact holds until a threshold is passed.
+    fn adjust_state(
         &self,
-        state: ContactState,
+        from: ContactState,
+        by_strength: ContactState,
         kin: &LocalKinematics,
         history: &BondHistory,
     ) -> ContactState {
-        let springs = self.springs(kin);
-        if history.bonded && state == ContactState::Locked {
-            return if kin.gap > self.max_opening + kin.tolerance {
-                ContactState::Open
-            } else if kin.shear > self.max_shear {
-                ContactState::Sliding
-            } else {
-                ContactState::Locked
-            };
+        if !(history.bonded && from == ContactState::Locked) {
+            by_strength
+        } else if kin.gap > self.max_opening + kin.tolerance {
+            ContactState::Open
+        } else if kin.shear > self.max_shear {
+            ContactState::Sliding
+        } else {
+            ContactState::Locked
         }
-        let strength = mohr_coulomb(self.friction_angle, 0.0, springs.normal_force(kin), kin);
-        springs.next_state(state, kin, strength, 0.0)
     }
 
-    fn commit(&self, state: ContactState, _kin: &LocalKinematics, history: &mut BondHistory) {
+    fn update_history(&self, state: ContactState, _: &LocalKinematics, history: &mut BondHistory) {
         if state != ContactState::Locked {
             history.bonded = false;
         }
     }
 }
+
+crate::strength_law!(ThresholdBond);
 
 #[cfg(test)]
 mod tests {

@@ -1,8 +1,13 @@
 //! How a strength falls from its peak to its residual value as slip
 //! accumulates.
 
-/// The fraction of the peak-minus-residual strength left after a slip δ.
-#[derive(Debug, Clone, Copy, PartialEq)]
+use serde::{Deserialize, Serialize};
+
+/// The fraction of the peak-minus-residual strength left after a slip δ;
+/// a scene writes `Step(at: 0.001)`, `Linear(start: 0.0, end: 0.01)` or
+/// `Exponential(length: 100.0)`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Weakening {
     /// All of it until δ reaches `at` (m), none after: a sharp drop.
     Step { at: f64 },

@@ -273,6 +273,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// Steps until `time` is reached exactly.
     pub fn advance_to(&mut self, time: f64) -> Result<(), DdaError> {
+        self.advance_observed(time, |_| {})
+    }
+
+    /// [`Driver::advance_to`], showing each accepted step to `observe`.
+    pub fn advance_observed(
+        &mut self,
+        time: f64,
+        mut observe: impl FnMut(&Self),
+    ) -> Result<(), DdaError> {
         while time - self.time > 1e-9 * self.dt {
             self.step(time - self.time)?;
             if (time - self.time).abs() <= 1e-9 * self.dt {
@@ -280,6 +289,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 self.time = time;
                 self.time_carry = 0.0;
             }
+            observe(self);
         }
         Ok(())
     }

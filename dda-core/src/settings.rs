@@ -1,55 +1,62 @@
 //! Analysis settings of the driver.
 
+use serde::{Deserialize, Serialize};
+
 use crate::error::DdaError;
 
 /// Settings of one analysis. Lengths are fractions of the model length scale
-/// w0 where noted (Shi's control ratios).
-#[derive(Debug, Clone, PartialEq)]
+/// w0 where noted (Shi's control ratios). Each field's line says its unit and
+/// default; a field left out of a serialised form takes its default.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct Settings {
-    /// Velocity carry-over ratio k_dyn: 1 is fully dynamic, 0 static (each
-    /// step starts at rest), in between bleeds kinetic energy.
+    /// Velocity carry-over ratio k_dyn, in [0, 1]; default 1. 1 is fully
+    /// dynamic, 0 static (each step starts at rest), in between bleeds
+    /// kinetic energy.
     pub velocity_ratio: f64,
-    /// Nominal time step; `None` picks one from the contact frequency.
+    /// Nominal time step, s; default `None`: one picked from the contact
+    /// frequency.
     pub dt: Option<f64>,
-    /// Smallest time step as a fraction of the nominal one: the floor of
-    /// recursive cuts.
+    /// Smallest time step as a fraction of the nominal one, the floor of
+    /// recursive cuts; default 1e-3.
     pub min_dt_ratio: f64,
-    /// Open-close passes before the step is cut to a third.
+    /// Open-close passes before the step is cut to a third; default 6.
     pub open_close_limit: usize,
     /// Largest step displacement of any boundary point, as a fraction of w0
-    /// (Shi's g2). The contact search range is 2.5 times this.
+    /// (Shi's g2); default 0.01. The contact search range is 2.5 times this.
     pub max_displacement_ratio: f64,
-    /// Deepest penetration allowed, as a fraction of w0 (2.5·g3 in Shi).
+    /// Deepest penetration allowed, as a fraction of w0 (2.5·g3 in Shi);
+    /// default 1e-3.
     pub max_penetration_ratio: f64,
     /// Normal contact stiffness per unit contact length (2D, per unit
-    /// thickness) or area (3D), in N/m³; a contact's springs are this times
-    /// the length or area they stand for. `None` takes twice the stiffest
+    /// thickness) or area (3D), N/m³; a contact's springs are this times the
+    /// length or area they stand for. Default `None`: twice the stiffest
     /// block's Young's modulus over the median block size (stiff enough that
     /// penetration under self-weight is a tiny fraction of the block size,
     /// soft enough to keep the system well conditioned).
     pub penalty: Option<f64>,
     /// Multiply the penalty by 10 and redo the step when a step penetrates
-    /// too deep (Shi's remedy). Off by default: a global raise multiplies the
-    /// force of every existing overlap and can throw blocks apart; the step
-    /// is cut to a third instead.
+    /// too deep (Shi's remedy); default `false`: a global raise multiplies
+    /// the force of every existing overlap and can throw blocks apart, so
+    /// the step is cut to a third instead.
     pub raise_penalty: bool,
-    /// Newton-Raphson iterations per open-close pass, at most.
+    /// Newton-Raphson iterations per open-close pass, at most; default 25.
     pub newton_limit: usize,
     /// Newton-Raphson stops when the residual falls below this fraction of
-    /// its first value ...
+    /// its first value (default 1e-10) ...
     pub residual_tolerance: f64,
-    /// ... or the increment below this fraction of w0.
+    /// ... or the increment below this fraction of w0 (default 1e-14).
     pub increment_tolerance: f64,
-    /// Open-close distance tolerance, as a fraction of w0.
+    /// Open-close distance tolerance, as a fraction of w0; default 1e-7.
     pub contact_tolerance: f64,
-    /// Model length scale; `None` takes the system's.
+    /// Model length scale w0, m; default `None`: the system's.
     pub length_scale: Option<f64>,
-    /// Mass-proportional viscous damping coefficient α (1/s): a force −αM·v
-    /// on every block. A damping ratio ξ at angular frequency ω is α = 2ξω.
-    /// Zero (off) by default.
+    /// Mass-proportional viscous damping coefficient α, 1/s; default 0
+    /// (off). A force −αM·v on every block; a damping ratio ξ at angular
+    /// frequency ω is α = 2ξω.
     pub mass_damping: f64,
-    /// Contact damping as a share of critical (0 off, the default; 1
-    /// critical): a dashpot beside each closed contact's normal spring, and
+    /// Contact damping as a share of critical; default 0 (off), 1 is
+    /// critical. A dashpot beside each closed contact's normal spring, and
     /// beside its shear spring while locked, of coefficient 2ζ·sqrt(k·m)
     /// with k the spring and m the contact's effective mass along it. At 1
     /// an impact ends without rebound of the striking point (Housner's

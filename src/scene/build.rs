@@ -2,11 +2,11 @@
 
 use std::collections::HashMap;
 
-use dda_2d::{Block, Driver2d, FixedPoint, Force, PlaneElastic, PointLoad, Polygons};
+use dda_2d::{Block, Driver2d, PlaneElastic, Polygons};
 use dda_3d::{Driver3d, IsotropicElastic, Polyhedra};
-use dda_contact::{Coulomb, LawRegistry, Params, RateFriction, SlipWeakening, ThresholdBond};
-use dda_core::{BlockSystem, ConstitutiveLaw, DynContactLaw, Settings};
-use nalgebra::{Point2, Point3, SVector, Vector2, Vector3, Vector6};
+use dda_contact::{LawRegistry, Params, SlipWeakening};
+use dda_core::{BlockSystem, ConstitutiveLaw, Driver, DynContactLaw, FixedPoint, Force, Settings};
+use nalgebra::{Point3, SVector, Vector2, Vector3, Vector6};
 
 use super::validate::{place_of, polygon_message, to_points, unit_axis, Place, Slot};
 use super::{Coords, JointLaw, Load, Scene, SceneError};
@@ -46,6 +46,16 @@ pub enum AnyModel {
     Space(Model3),
 }
 
+/// `$body` with `$m` the model of either dimension.
+macro_rules! either {
+    ($model:expr, $m:ident => $body:expr) => {
+        match $model {
+            AnyModel::Plane($m) => $body,
+            AnyModel::Space($m) => $body,
+        }
+    };
+}
+
 impl AnyModel {
     /// 2 or 3.
     pub fn dimension(&self) -> u32 {
@@ -56,49 +66,31 @@ impl AnyModel {
     }
 
     pub fn block_count(&self) -> usize {
-        match self {
-            AnyModel::Plane(m) => m.driver.system.blocks.len(),
-            AnyModel::Space(m) => m.driver.system.blocks.len(),
-        }
+        either!(self, m => m.driver.system.blocks.len())
     }
 
     pub fn duration(&self) -> f64 {
-        match self {
-            AnyModel::Plane(m) => m.duration,
-            AnyModel::Space(m) => m.duration,
-        }
+        either!(self, m => m.duration)
     }
 
     /// The nominal time step.
     pub fn dt(&self) -> f64 {
-        match self {
-            AnyModel::Plane(m) => m.driver.dt(),
-            AnyModel::Space(m) => m.driver.dt(),
-        }
+        either!(self, m => m.driver.dt())
     }
 
     /// Why automatic values were chosen, the driver's and the scene's.
     pub fn notes(&self) -> Vec<String> {
-        match self {
-            AnyModel::Plane(m) => m.all_notes(),
-            AnyModel::Space(m) => m.all_notes(),
-        }
+        either!(self, m => m.all_notes())
     }
 
     /// The time between outputs; `None` writes every step.
     pub fn output_interval(&self) -> Option<f64> {
-        match self {
-            AnyModel::Plane(m) => m.output_interval,
-            AnyModel::Space(m) => m.output_interval,
-        }
+        either!(self, m => m.output_interval)
     }
 
     /// Whether `contacts.csv` is written.
     pub fn write_contacts(&self) -> bool {
-        match self {
-            AnyModel::Plane(m) => m.write_contacts,
-            AnyModel::Space(m) => m.write_contacts,
-        }
+        either!(self, m => m.write_contacts)
     }
 }
 
@@ -210,68 +202,20 @@ impl Scene {
         let table = self.law_table();
         system.joint_laws = table.materials.clone();
         system.pair_laws = table.pairs.clone();
-        for load in &self.loads {
-            match load {
-                Load::PointLoad {
-                    block,
-                    point,
-                    force,
-                    history,
-                } => {
-                    let force = match (force, history) {
-                        (Some(f), _) => Force::Constant(vector(f)),
-                        (None, Some(h)) => Force::History(
-                            h.iter()
-                                .map(|s| (s.get(0), Vector2::new(s.get(1), s.get(2))))
-                                .collect(),
-                        ),
-                        (None, None) => Force::Constant(Vector2::zeros()),
-                    };
-                    system.loads.push(PointLoad {
-                        block: *block,
-                        point: Point2::from(vector::<2>(point)),
-                        force,
-                    });
-                }
-            }
-        }
-        for fp in &self.fixed_points {
-            system.fixed.push(FixedPoint {
-                velocity: vector(&fp.velocity),
-                axis: fp.axis.as_ref().and_then(|a| unit_axis(a.as_slice())),
-                ..FixedPoint::at(fp.block, Point2::from(vector::<2>(&fp.point)))
-            });
-        }
+        system.loads = self.point_loads();
+        system.fixed = self.fixed_points();
         for (k, spec) in specs.iter().enumerate() {
             if spec.fixed {
                 system.fix_block(k);
             }
         }
         let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
-        let mut notes = Vec::new();
-        if let Some((driven, motion, note)) = self.ground_motion::<2>(&slots)? {
-            follow_ground(&mut system.fixed, &driven, &motion);
-            notes.extend(note);
-        }
-
-        let settings = self.settings();
-        let laws = self.contact_laws(&table, registry)?;
-        let mut driver = Driver2d::new(system, laws, settings.clone())
-            .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
-        for (k, spec) in specs.iter().enumerate() {
+        let notes = self.shake(&slots, &mut system.fixed)?;
+        let velocities = specs.iter().map(|spec| {
             let [vx, vy, w] = spec.velocity;
-            driver.set_velocity(k, Vector6::new(vx, vy, w, 0.0, 0.0, 0.0));
-        }
-        let (output_interval, note) = self.output_interval(driver.dt());
-        notes.extend(note);
-        Ok(Model {
-            driver,
-            duration: a.duration,
-            output_interval,
-            write_contacts: self.output.contacts,
-            settings,
-            notes,
-        })
+            Vector6::new(vx, vy, w, 0.0, 0.0, 0.0)
+        });
+        self.model(system, &table, registry, velocities, notes)
     }
 
     /// Validates a 3D scene and builds it with `Custom` joint laws built
@@ -322,64 +266,97 @@ impl Scene {
         let table = self.law_table();
         system.joint_laws = table.materials.clone();
         system.pair_laws = table.pairs.clone();
-        for load in &self.loads {
-            match load {
-                Load::PointLoad {
-                    block,
-                    point,
-                    force,
-                    history,
-                } => {
-                    let force = match (force, history) {
-                        (Some(f), _) => dda_3d::Force::Constant(vector(f)),
-                        (None, Some(h)) => dda_3d::Force::History(
-                            h.iter()
-                                .map(|s| (s.get(0), Vector3::new(s.get(1), s.get(2), s.get(3))))
-                                .collect(),
-                        ),
-                        (None, None) => dda_3d::Force::Constant(Vector3::zeros()),
-                    };
-                    system.loads.push(dda_3d::PointLoad {
-                        block: *block,
-                        point: Point3::from(vector::<3>(point)),
-                        force,
-                    });
-                }
-            }
-        }
-        for fp in &self.fixed_points {
-            system.fixed.push(dda_3d::FixedPoint {
-                velocity: vector(&fp.velocity),
-                axis: fp.axis.as_ref().and_then(|a| unit_axis(a.as_slice())),
-                ..dda_3d::FixedPoint::at(fp.block, Point3::from(vector::<3>(&fp.point)))
-            });
-        }
+        system.loads = self.point_loads();
+        system.fixed = self.fixed_points();
         for (k, spec) in specs.iter().enumerate() {
             if spec.fixed {
                 system.fix_block(k);
             }
         }
         let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
-        let mut notes = Vec::new();
-        if let Some((driven, motion, note)) = self.ground_motion::<3>(&slots)? {
-            follow_ground(&mut system.fixed, &driven, &motion);
-            notes.extend(note);
-        }
-
-        let settings = self.settings();
-        let laws = self.contact_laws(&table, registry)?;
-        let mut driver = Driver3d::new(system, laws, settings.clone())
-            .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
-        for (k, spec) in specs.iter().enumerate() {
+        let notes = self.shake(&slots, &mut system.fixed)?;
+        let velocities = specs.iter().map(|spec| {
             let mut v = SVector::<f64, 12>::zeros();
             v.fixed_rows_mut::<6>(0).copy_from_slice(&spec.velocity);
+            v
+        });
+        self.model(system, &table, registry, velocities, notes)
+    }
+
+    /// The scene's point loads, in `D` dimensions.
+    fn point_loads<const D: usize>(&self) -> Vec<dda_core::PointLoad<D>> {
+        let sample = |s: &Coords| (s.get(0), SVector::from_fn(|k, _| s.get(k + 1)));
+        self.loads
+            .iter()
+            .map(|load| match load {
+                Load::PointLoad {
+                    block,
+                    point,
+                    force,
+                    history,
+                } => dda_core::PointLoad {
+                    block: *block,
+                    point: vector::<D>(point).into(),
+                    force: match (force, history) {
+                        (Some(f), _) => Force::Constant(vector(f)),
+                        (None, Some(h)) => Force::History(h.iter().map(sample).collect()),
+                        (None, None) => Force::Constant(SVector::zeros()),
+                    },
+                },
+            })
+            .collect()
+    }
+
+    /// The scene's fixed points, in `D` dimensions.
+    fn fixed_points<const D: usize>(&self) -> Vec<FixedPoint<D>> {
+        self.fixed_points
+            .iter()
+            .map(|fp| FixedPoint {
+                velocity: vector(&fp.velocity),
+                axis: fp.axis.as_ref().and_then(|a| unit_axis(a.as_slice())),
+                ..FixedPoint::at(fp.block, vector::<D>(&fp.point).into())
+            })
+            .collect()
+    }
+
+    /// Makes the fixed points of the ground motion's blocks (those of fixed
+    /// blocks included) follow it; a note on the motion.
+    fn shake<const D: usize>(
+        &self,
+        slots: &[Slot],
+        fixed: &mut [FixedPoint<D>],
+    ) -> Result<Vec<String>, SceneError> {
+        let Some((driven, motion, note)) = self.ground_motion::<D>(slots)? else {
+            return Ok(Vec::new());
+        };
+        for fp in fixed.iter_mut().filter(|f| driven.contains(&f.block)) {
+            fp.ground = Some(motion.clone());
+        }
+        Ok(note.into_iter().collect())
+    }
+
+    /// The driver of `system` with the scene's laws and settings, its
+    /// blocks at their initial velocities, as a model.
+    fn model<S: BlockSystem<N, T>, const N: usize, const T: usize>(
+        &self,
+        system: S,
+        table: &LawTable,
+        registry: &LawRegistry,
+        velocities: impl Iterator<Item = SVector<f64, N>>,
+        mut notes: Vec<String>,
+    ) -> Result<Model<Driver<S, N, T>>, SceneError> {
+        let settings = self.settings();
+        let laws = self.contact_laws(table, registry)?;
+        let mut driver = Driver::new(system, laws, settings.clone())
+            .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
+        for (k, v) in velocities.enumerate() {
             driver.set_velocity(k, v);
         }
         let (output_interval, note) = self.output_interval(driver.dt());
         notes.extend(note);
         Ok(Model {
             driver,
-            duration: a.duration,
+            duration: self.analysis.duration,
             output_interval,
             write_contacts: self.output.contacts,
             settings,
@@ -477,32 +454,8 @@ fn vector<const D: usize>(c: &Coords) -> SVector<f64, D> {
 /// the registry.
 fn contact_law(law: &JointLaw, registry: &LawRegistry) -> Result<Box<dyn DynContactLaw>, String> {
     Ok(match law.clone() {
-        JointLaw::Coulomb {
-            friction_angle,
-            cohesion,
-            tensile_strength,
-            normal_stiffness,
-            shear_stiffness,
-        } => Box::new(Coulomb {
-            friction_angle,
-            cohesion,
-            tensile_strength,
-            normal_stiffness,
-            shear_stiffness,
-        }),
-        JointLaw::ThresholdBond {
-            friction_angle,
-            max_opening,
-            max_shear,
-            normal_stiffness,
-            shear_stiffness,
-        } => Box::new(ThresholdBond {
-            friction_angle,
-            max_opening,
-            max_shear,
-            normal_stiffness,
-            shear_stiffness,
-        }),
+        JointLaw::Coulomb(law) => Box::new(law),
+        JointLaw::ThresholdBond(law) => Box::new(law),
         JointLaw::DisplacementStrength {
             friction_angle,
             residual_friction_angle,
@@ -533,19 +486,7 @@ fn contact_law(law: &JointLaw, registry: &LawRegistry) -> Result<Box<dyn DynCont
             shear_stiffness,
             ..SlipWeakening::friction(peak_friction_angle, residual_friction_angle, weakening)
         }),
-        JointLaw::RateFriction {
-            static_friction_angle,
-            dynamic_friction_angle,
-            characteristic_rate,
-            normal_stiffness,
-            shear_stiffness,
-        } => Box::new(RateFriction {
-            static_friction_angle,
-            dynamic_friction_angle,
-            characteristic_rate,
-            normal_stiffness,
-            shear_stiffness,
-        }),
+        JointLaw::RateFriction(law) => Box::new(law),
         JointLaw::Custom { name, params } => {
             let mut params = Params::from(
                 params
@@ -572,15 +513,4 @@ fn contact_law(law: &JointLaw, registry: &LawRegistry) -> Result<Box<dyn DynCont
             });
         }
     })
-}
-
-/// Makes the fixed points of the `driven` blocks follow the ground.
-fn follow_ground<const D: usize>(
-    fixed: &mut [dda_core::FixedPoint<D>],
-    driven: &[usize],
-    motion: &std::sync::Arc<dda_core::GroundMotion<D>>,
-) {
-    for fp in fixed.iter_mut().filter(|f| driven.contains(&f.block)) {
-        fp.ground = Some(motion.clone());
-    }
 }

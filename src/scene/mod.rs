@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 pub use dda_2d::{Plane, RotationUpdate};
-pub use dda_contact::Weakening;
+pub use dda_contact::{Coulomb, RateFriction, ThresholdBond, Weakening};
 pub use dda_core::{BlockKind, Quantity};
 
 pub use build::{AnyModel, LawTable, Model, Model3};
@@ -77,38 +77,56 @@ struct Source {
     dir: Option<PathBuf>,
 }
 
-/// Analysis settings. `None` means automatic.
+/// Analysis settings: the driver's [`dda_core::Settings`] as a scene writes
+/// them (defaults from there), plus what the scene decides itself. `None`
+/// means automatic.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Analysis {
-    /// Simulated time in seconds (required: 0 is rejected).
+    /// Simulated time, s; required (0 is rejected).
     pub duration: f64,
+    /// Nominal time step, s; default automatic, from the contact frequency.
     pub dt: Option<f64>,
+    /// `Dynamic` (default) carries velocities from step to step, `Static`
+    /// starts each step at rest.
     pub mode: Mode,
-    /// Overrides the mode's velocity carry-over ratio, in [0, 1].
+    /// Fraction of the velocity carried into the next step, in [0, 1];
+    /// default the mode's (1 dynamic, 0 static).
     pub velocity_ratio: Option<f64>,
+    /// Open-close passes before a step is cut to a third; default 6.
     pub open_close_limit: usize,
+    /// Largest step displacement as a fraction of w0 (Shi's g2); default 0.01.
     pub max_displacement_ratio: f64,
+    /// Deepest penetration as a fraction of w0; default 1e-3.
     pub max_penetration_ratio: f64,
+    /// Smallest step as a fraction of `dt`; default 1e-3.
     pub min_dt_ratio: f64,
+    /// Normal contact stiffness per unit contact length (2D) or area (3D),
+    /// N/m³; default automatic (see [`dda_core::Settings::penalty`]).
     pub penalty: Option<f64>,
+    /// Shi's remedy for deep penetration, penalty × 10; default `false`.
     pub raise_penalty: bool,
+    /// w0, m; default half the diagonal of the model's bounding box.
     pub length_scale: Option<f64>,
-    /// (gx, gy) in 2D, (gx, gy, gz) in 3D; left out, (0, −9.81) or
+    /// (gx, gy) in 2D, (gx, gy, gz) in 3D, m/s²; default (0, −9.81) or
     /// (0, 0, −9.81): see [`Scene::gravity`].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gravity: Option<Coords>,
-    /// Plane strain or plane stress: 2D scenes only (an error in 3D).
+    /// Plane strain (default) or plane stress: 2D scenes only (an error in 3D).
     #[serde(with = "PlaneDef", skip_serializing_if = "is_plane_strain")]
     pub plane: Plane,
+    /// `Exact` (default) turns blocks by the exact rotation, `Linear` by
+    /// Shi's first-order update.
     #[serde(with = "RotationUpdateDef")]
     pub rotation_update: RotationUpdate,
+    /// Stiffness of the springs holding fixed points, N/m; default 10 × a
+    /// typical contact's spring.
     pub fixed_penalty: Option<f64>,
-    /// Mass-proportional viscous damping; none when left out.
+    /// Mass-proportional viscous damping; default none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub damping: Option<Damping>,
-    /// Contact damping, a share of critical (0 off, the default; 1
-    /// critical): see [`dda_core::Settings::contact_damping`].
+    /// Contact damping, a share of critical; default 0 (off), 1 critical:
+    /// see [`dda_core::Settings::contact_damping`].
     pub contact_damping: f64,
 }
 
@@ -252,28 +270,10 @@ pub struct Joint {
 pub enum JointLaw {
     /// Penalty Coulomb joint with a bond (cohesion, tensile strength) that
     /// breaks the first time the joint opens or slides.
-    Coulomb {
-        friction_angle: f64,
-        #[serde(default)]
-        cohesion: f64,
-        #[serde(default)]
-        tensile_strength: f64,
-        #[serde(default)]
-        normal_stiffness: Option<f64>,
-        #[serde(default)]
-        shear_stiffness: Option<f64>,
-    },
+    Coulomb(Coulomb),
     /// A bond with no strength limit until the opening passes `max_opening`
     /// or the shear displacement passes `max_shear`; frictional after.
-    ThresholdBond {
-        friction_angle: f64,
-        max_opening: f64,
-        max_shear: f64,
-        #[serde(default)]
-        normal_stiffness: Option<f64>,
-        #[serde(default)]
-        shear_stiffness: Option<f64>,
-    },
+    ThresholdBond(ThresholdBond),
     /// Cohesion (and friction) falling from peak to residual with
     /// accumulated slip; the residual angle defaults to `friction_angle`.
     DisplacementStrength {
@@ -286,7 +286,6 @@ pub enum JointLaw {
         residual_cohesion: f64,
         #[serde(default)]
         tensile_strength: f64,
-        #[serde(with = "WeakeningDef")]
         weakening: Weakening,
         #[serde(default)]
         normal_stiffness: Option<f64>,
@@ -297,7 +296,6 @@ pub enum JointLaw {
     SlipFriction {
         peak_friction_angle: f64,
         residual_friction_angle: f64,
-        #[serde(with = "WeakeningDef")]
         weakening: Weakening,
         #[serde(default)]
         normal_stiffness: Option<f64>,
@@ -306,15 +304,7 @@ pub enum JointLaw {
     },
     /// Friction falling from its static to its dynamic value as the slip
     /// rate grows past `characteristic_rate` (m/s).
-    RateFriction {
-        static_friction_angle: f64,
-        dynamic_friction_angle: f64,
-        characteristic_rate: f64,
-        #[serde(default)]
-        normal_stiffness: Option<f64>,
-        #[serde(default)]
-        shear_stiffness: Option<f64>,
-    },
+    RateFriction(RateFriction),
     /// A law built by name through a [`dda_contact::LawRegistry`], like
     /// `Custom(name: "coulomb", params: {"friction_angle": 30.0})`.
     Custom {
@@ -326,24 +316,8 @@ pub enum JointLaw {
 
 impl Default for JointLaw {
     fn default() -> Self {
-        JointLaw::Coulomb {
-            friction_angle: 30.0,
-            cohesion: 0.0,
-            tensile_strength: 0.0,
-            normal_stiffness: None,
-            shear_stiffness: None,
-        }
+        JointLaw::Coulomb(Coulomb::frictional(30.0))
     }
-}
-
-/// The file names of [`Weakening`]: `Step(at: m)`, `Linear(start: m, end: m)`,
-/// `Exponential(length: m)`.
-#[derive(Serialize, Deserialize)]
-#[serde(remote = "Weakening", deny_unknown_fields)]
-enum WeakeningDef {
-    Step { at: f64 },
-    Linear { start: f64, end: f64 },
-    Exponential { length: f64 },
 }
 
 /// A block, or a generator of several (`Arch`, `Column`, `Wall`): shape,
@@ -1009,8 +983,15 @@ struct DimensionOnly {
     dimension: u32,
 }
 
+/// Laws are written `Coulomb(friction_angle: 30.0)`, not
+/// `Coulomb((friction_angle: 30.0))`, hence unwrapped newtypes.
+fn extensions() -> ron::extensions::Extensions {
+    ron::extensions::Extensions::IMPLICIT_SOME
+        | ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES
+}
+
 fn ron_options() -> ron::Options {
-    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+    ron::Options::default().with_default_extension(extensions())
 }
 
 impl Scene {
@@ -1073,7 +1054,7 @@ impl Scene {
         let config = ron::ser::PrettyConfig::new()
             .struct_names(true)
             .depth_limit(4)
-            .extensions(ron::extensions::Extensions::IMPLICIT_SOME);
+            .extensions(extensions());
         ron::ser::to_string_pretty(self, config).expect("a scene is always serialisable")
     }
 

@@ -410,35 +410,38 @@ impl Scene {
 
     fn check_law(&self, at: &Place, law: &JointLaw) -> Result {
         let (normal_stiffness, shear_stiffness) = match law {
-            JointLaw::Coulomb {
-                friction_angle,
-                cohesion,
-                tensile_strength,
-                normal_stiffness,
-                shear_stiffness,
-            } => {
-                self.angle(at, "friction_angle", "the friction angle", *friction_angle)?;
-                self.strength(at, "cohesion", "the cohesion", *cohesion)?;
+            JointLaw::Coulomb(law) => {
+                self.angle(
+                    at,
+                    "friction_angle",
+                    "the friction angle",
+                    law.friction_angle,
+                )?;
+                self.strength(at, "cohesion", "the cohesion", law.cohesion)?;
                 self.strength(
                     at,
                     "tensile_strength",
                     "the tensile strength",
-                    *tensile_strength,
+                    law.tensile_strength,
                 )?;
-                (normal_stiffness, shear_stiffness)
+                (&law.normal_stiffness, &law.shear_stiffness)
             }
-            JointLaw::ThresholdBond {
-                friction_angle,
-                max_opening,
-                max_shear,
-                normal_stiffness,
-                shear_stiffness,
-            } => {
-                self.angle(at, "friction_angle", "the friction angle", *friction_angle)?;
+            JointLaw::ThresholdBond(law) => {
+                self.angle(
+                    at,
+                    "friction_angle",
+                    "the friction angle",
+                    law.friction_angle,
+                )?;
                 let hint = "it is the displacement (m) at which the bond breaks, like 1e-4";
-                self.positive(&at.field("max_opening"), "max_opening", *max_opening, hint)?;
-                self.positive(&at.field("max_shear"), "max_shear", *max_shear, hint)?;
-                (normal_stiffness, shear_stiffness)
+                self.positive(
+                    &at.field("max_opening"),
+                    "max_opening",
+                    law.max_opening,
+                    hint,
+                )?;
+                self.positive(&at.field("max_shear"), "max_shear", law.max_shear, hint)?;
+                (&law.normal_stiffness, &law.shear_stiffness)
             }
             JointLaw::DisplacementStrength {
                 friction_angle,
@@ -497,32 +500,26 @@ impl Scene {
                 self.check_weakening(&at.field("weakening"), weakening)?;
                 (normal_stiffness, shear_stiffness)
             }
-            JointLaw::RateFriction {
-                static_friction_angle,
-                dynamic_friction_angle,
-                characteristic_rate,
-                normal_stiffness,
-                shear_stiffness,
-            } => {
+            JointLaw::RateFriction(law) => {
                 self.angle(
                     at,
                     "static_friction_angle",
                     "the static friction angle",
-                    *static_friction_angle,
+                    law.static_friction_angle,
                 )?;
                 self.angle(
                     at,
                     "dynamic_friction_angle",
                     "the dynamic friction angle",
-                    *dynamic_friction_angle,
+                    law.dynamic_friction_angle,
                 )?;
                 self.positive(
                     &at.field("characteristic_rate"),
                     "the characteristic rate",
-                    *characteristic_rate,
+                    law.characteristic_rate,
                     "it is the slip rate (m/s) over which friction falls, like 0.1",
                 )?;
-                (normal_stiffness, shear_stiffness)
+                (&law.normal_stiffness, &law.shear_stiffness)
             }
             JointLaw::Custom { name, params } => {
                 if name.trim().is_empty() {

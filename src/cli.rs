@@ -1,0 +1,305 @@
+//! The `dda` command: run, check or extrude scene files.
+//!
+//! [`main_with`] is the whole command with a registry of contact laws, so a
+//! binary of a few lines gives `dda run` and `dda check` laws of its own:
+//!
+//! ```no_run
+//! use dda_contact::{Coulomb, LawRegistry, Params};
+//!
+//! fn main() -> std::process::ExitCode {
+//!     let mut registry = LawRegistry::with_builtin();
+//!     registry.register("sticky", |p: &mut Params| {
+//!         Ok(Coulomb { cohesion: 1e5, ..Coulomb::frictional(p.take("friction_angle")?) })
+//!     });
+//!     dda::cli::main_with(registry)
+//! }
+//! ```
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use anyhow::Context;
+use clap::{Parser, Subcommand};
+use dda_contact::LawRegistry;
+
+use crate::extrude::{extrude_with, Extrusion};
+use crate::run::{bytes_text, default_out_dir, estimate, run_with_registry, RunOptions};
+use crate::scene::MotionSpec;
+use crate::Scene;
+
+#[derive(Parser)]
+#[command(
+    name = "dda",
+    version,
+    about = "Discontinuous Deformation Analysis of block systems"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene, writing DIR/history.csv (and DIR/contacts.csv if asked) as it goes and DIR/summary.json at the end
+    Run {
+        /// The scene file (RON)
+        scene: PathBuf,
+        /// Output directory (created if missing); out/<scene name> under the current folder when left out
+        #[arg(long, short, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Seconds between progress lines on stderr when it is not a terminal (0: one per output time)
+        #[arg(long, value_name = "SECONDS", default_value_t = 5.0)]
+        progress_every: f64,
+    },
+    /// Time steps of running-bond walls of growing size: median milliseconds per step and ratio to the smallest wall
+    Bench {
+        /// Wall sizes (n courses of n bricks), comma separated
+        #[arg(long, value_delimiter = ',', default_values_t = [10usize, 20, 40])]
+        sizes: Vec<usize>,
+        /// Steps timed per run
+        #[arg(long, default_value_t = 20)]
+        steps: usize,
+        /// Runs per size (the median is reported)
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
+        /// Make the bricks rigid (3 DOF each instead of Shi's 6)
+        #[arg(long)]
+        rigid: bool,
+        /// Also write the results as JSON to this file
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+    },
+    /// Load, validate and build a scene without running it
+    Check {
+        /// The scene file (RON)
+        scene: PathBuf,
+    },
+    /// Write a 2D scene's 3D prism model: 2D (x, y) becomes 3D (x, 0, y), z up, each block a prism of DEPTH along y centred on y = 0
+    Extrude {
+        /// The 2D scene file (RON)
+        scene: PathBuf,
+        /// The prisms' length along y, in m
+        #[arg(long, value_name = "DEPTH")]
+        depth: f64,
+        /// The 3D scene file to write
+        #[arg(long, short, value_name = "FILE")]
+        out: PathBuf,
+        /// Hold every free block's corners against motion along y (plane strain)
+        #[arg(long)]
+        plane_strain: bool,
+    },
+}
+
+/// The `dda` command on this process's arguments, with `Custom` joint laws
+/// built through `registry`.
+pub fn main_with(registry: LawRegistry) -> ExitCode {
+    main_from(std::env::args_os(), &registry)
+}
+
+/// [`main_with`] on the given arguments (the first is the program name):
+/// errors are printed on stderr and give exit code 1, as for `dda` itself.
+pub fn main_from<I, A>(args: I, registry: &LawRegistry) -> ExitCode
+where
+    I: IntoIterator<Item = A>,
+    A: Into<std::ffi::OsString> + Clone,
+{
+    let cli = Cli::parse_from(args);
+    match execute(cli.command, registry) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
+    use std::io::IsTerminal;
+    match command {
+        Command::Run {
+            scene,
+            out,
+            progress_every,
+        } => {
+            let out = out.unwrap_or_else(|| default_out_dir(&scene));
+            let every = Duration::try_from_secs_f64(progress_every).map_err(|_| {
+                anyhow::anyhow!(
+                    "--progress-every must be a number of seconds, zero or more, got {progress_every}"
+                )
+            })?;
+            let terminal = std::io::stderr().is_terminal();
+            let options = RunOptions {
+                progress: terminal,
+                notes: true,
+                progress_lines: (!terminal).then_some(every),
+            };
+            let summary = run_with_registry(&scene, &out, options, registry)?;
+            let files: Vec<String> = summary
+                .outputs
+                .iter()
+                .map(|f| out.join(f).display().to_string())
+                .collect();
+            println!("wrote {}", list(&files));
+        }
+        Command::Check { scene: path } => {
+            let scene = Scene::load(&path)?;
+            let model = scene.build_any_with(registry)?;
+            let laws = scene.law_table().laws;
+            let dt = model.dt();
+            let auto = if scene.analysis.dt.is_none() {
+                " (automatic)"
+            } else {
+                ""
+            };
+            let space = if model.dimension() == 3 { "3D, " } else { "" };
+            println!(
+                "{}: ok ({space}{}, {}, {}, duration {} s, dt {dt:.4e} s{auto})",
+                path.display(),
+                count(model.block_count(), "block"),
+                count(scene.materials.len(), "material"),
+                count(laws.len(), "joint law"),
+                model.duration(),
+            );
+            let expected = estimate(&model);
+            let every = if model.output_interval().is_none() {
+                " (every step)".to_string()
+            } else {
+                String::new()
+            };
+            println!(
+                "expects {:.0} steps at dt, {:.0} output times{every}, {:.0} history rows (about {}{})",
+                expected.steps,
+                expected.output_times,
+                expected.rows,
+                bytes_text(expected.bytes),
+                if model.write_contacts() {
+                    ", plus contacts.csv"
+                } else {
+                    ""
+                },
+            );
+            for note in model.notes() {
+                eprintln!("note: {note}");
+            }
+            for warning in &expected.warnings {
+                eprintln!("warning: {warning}");
+            }
+        }
+        Command::Bench {
+            sizes,
+            steps,
+            repeats,
+            rigid,
+            json,
+        } => {
+            let kind = if rigid {
+                crate::scene::BlockKind::Rigid
+            } else {
+                crate::scene::BlockKind::Deformable
+            };
+            let rows = crate::bench::bench(&crate::bench::BenchOptions {
+                sizes,
+                steps,
+                repeats,
+                kind,
+            })?;
+            println!(
+                "walls of n × n {} bricks, {steps} steps timed per run, median of {repeats} runs",
+                if rigid { "rigid" } else { "deformable" }
+            );
+            println!(
+                "{:>4} {:>7} {:>9} {:>8} {:>10} {:>9} {:>7} {:>7}",
+                "n", "blocks", "contacts", "unknowns", "ms/step", "× base", "passes", "factor."
+            );
+            for r in &rows {
+                println!(
+                    "{:>4} {:>7} {:>9} {:>8} {:>10.2} {:>9.2} {:>7.2} {:>7.2}",
+                    r.courses,
+                    r.blocks,
+                    r.contacts,
+                    r.unknowns,
+                    r.median_ms_per_step,
+                    r.ratio_to_baseline,
+                    r.passes_per_step,
+                    r.factorizations_per_step
+                );
+            }
+            if let Some(path) = json {
+                std::fs::write(&path, serde_json::to_string_pretty(&rows)?)
+                    .with_context(|| format!("cannot write {}", path.display()))?;
+            }
+        }
+        Command::Extrude {
+            scene: path,
+            depth,
+            out,
+            plane_strain,
+        } => {
+            let scene = Scene::load(&path)?;
+            let mut solid = extrude_with(
+                &scene,
+                &Extrusion {
+                    depth,
+                    plane_strain,
+                },
+            )?;
+            let header = format!(
+                "// The 3D prism model of {}, made by `dda extrude --depth {depth}{}`:\n\
+                 // 2D (x, y) is 3D (x, 0, y), z up; each block is a prism from\n\
+                 // y = {} to y = {}; loads and fixed points are on y = 0.\n",
+                path.display(),
+                if plane_strain { " --plane-strain" } else { "" },
+                -depth / 2.0,
+                depth / 2.0,
+            );
+            if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir)
+                    .with_context(|| format!("cannot create {}", dir.display()))?;
+            }
+            keep_record_found(&mut solid, &scene, &out);
+            std::fs::write(&out, header + &solid.to_ron() + "\n")
+                .with_context(|| format!("cannot write {}", out.display()))?;
+            println!("wrote {}", out.display());
+        }
+    }
+    Ok(())
+}
+
+/// A ground-motion record named relative to the 2D scene's folder is named
+/// so the 3D scene, written elsewhere, still finds it.
+fn keep_record_found(solid: &mut Scene, scene: &Scene, out: &std::path::Path) {
+    let Some(ground) = &mut solid.ground_motion else {
+        return;
+    };
+    let MotionSpec::Record { path, .. } = &mut ground.motion else {
+        return;
+    };
+    let here = |p: &std::path::Path| {
+        let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
+        std::fs::canonicalize(dir.unwrap_or(std::path::Path::new("."))).ok()
+    };
+    let input = std::path::Path::new(scene.origin());
+    if std::path::Path::new(path.as_str()).is_relative() && here(input) != here(out) {
+        let file = scene.resolve(path.as_str());
+        let file = std::fs::canonicalize(&file).unwrap_or(file);
+        *path = file.display().to_string();
+    }
+}
+
+/// "a", "a and b", "a, b and c".
+fn list(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+    }
+}
+
+fn count(n: usize, what: &str) -> String {
+    if n == 1 {
+        format!("1 {what}")
+    } else {
+        format!("{n} {what}s")
+    }
+}

@@ -1,0 +1,58 @@
+//! What a run shows its outputs: the driver hands each accepted step, each
+//! output time and the end to [`Observer`]s (`history.csv`, `contacts.csv`,
+//! `summary.json`, the progress bar), which see the run through a
+//! [`RunView`] and so never need the driver's type.
+
+use dda_core::{ContactState, Statistics};
+
+/// One contact after a step, as `contacts.csv` writes it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactLine {
+    /// Like `1:v0/0:e2` (2D) or `1:v3/0:f1` (3D).
+    pub label: String,
+    pub blocks: [usize; 2],
+    pub state: ContactState,
+    pub normal_force: f64,
+    pub shear_force: f64,
+    pub slip: f64,
+}
+
+/// A run after an accepted step, in either dimension.
+pub trait RunView {
+    fn time(&self) -> f64;
+    /// The nominal time step.
+    fn dt(&self) -> f64;
+    /// The normal penalty now (after any raises).
+    fn penalty(&self) -> f64;
+    fn statistics(&self) -> &Statistics;
+    /// Why automatic values were chosen.
+    fn notes(&self) -> &[String];
+    fn block_count(&self) -> usize;
+    /// The values of a block's history row after `step,time,block`.
+    fn history_values(&self, block: usize) -> Vec<f64>;
+    /// Whether the block's position and velocity are finite numbers.
+    fn is_finite(&self, block: usize) -> bool;
+    /// The contacts the last step considered, open ones included.
+    fn contact_lines(&self) -> Vec<ContactLine>;
+}
+
+/// Something a run tells about its progress: an output file, the progress
+/// bar, later VTK frames or checkpoints.
+pub trait Observer {
+    /// After each accepted step.
+    fn on_step(&mut self, _run: &dyn RunView) {}
+
+    /// At time 0 and at each output time (each step without an interval).
+    fn on_output(&mut self, _run: &dyn RunView) -> anyhow::Result<()> {
+        Ok(())
+    }
+
+    /// At the end; `error` says why a failed run stopped.
+    fn on_finish(
+        &mut self,
+        _run: &dyn RunView,
+        _error: Option<&anyhow::Error>,
+    ) -> anyhow::Result<()> {
+        Ok(())
+    }
+}

@@ -1,0 +1,354 @@
+//! `summary.json`: what a run did, written at its end by an [`Observer`].
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use crate::observe::{Observer, RunView};
+use crate::output::{round_time, write_json};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    Finished,
+    Failed,
+}
+
+/// What `summary.json` holds.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    pub scene: String,
+    /// 2 or 3.
+    #[serde(default = "two")]
+    pub dimension: u32,
+    pub status: Status,
+    /// Why the run stopped early (failed runs only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    pub blocks: usize,
+    pub steps: usize,
+    /// Simulated time reached, seconds.
+    #[serde(default, skip_serializing_if = "not_finite")]
+    pub time: f64,
+    /// Simulated time asked for, seconds.
+    pub duration: f64,
+    /// Seconds of wall-clock time for the run.
+    pub wall_time: f64,
+    pub open_close_iterations: usize,
+    pub newton_iterations: usize,
+    pub factorizations: usize,
+    pub open_close_cuts: usize,
+    pub displacement_cuts: usize,
+    pub penalty_raises: usize,
+    /// Steps cut because a contact penetrated too deep.
+    #[serde(default)]
+    pub penetration_cuts: usize,
+    /// Steps accepted at the smallest time step without open-close agreement.
+    pub unconverged_steps: usize,
+    /// Steps whose open-close passes cycled between two sets of states,
+    /// settled by keeping each cycling contact sliding or closed.
+    #[serde(default)]
+    pub cycle_breaks: usize,
+    /// The first contacts that cycled: when, which, between which states,
+    /// and the state kept.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cycles: Vec<CycleReport>,
+    /// Open-close passes solved again with friction's coupling to the
+    /// normal force in the tangent after the symmetric iteration failed.
+    #[serde(default)]
+    pub coupled_solves: usize,
+    /// Open-close passes whose Newton iteration kept its best, unconverged iterate.
+    #[serde(default)]
+    pub newton_failures: usize,
+    /// Accepted steps ending with a penetration deeper than the limit, and the deepest (m).
+    #[serde(default)]
+    pub deep_penetration_steps: usize,
+    #[serde(default, skip_serializing_if = "not_finite")]
+    pub deepest_penetration: f64,
+    /// Total energy at the end (J, per unit thickness in 2D) when nothing
+    /// works on the blocks, and how far it rose above its lowest value in
+    /// the steps where it rose beyond a quarter of the energy in play.
+    #[serde(default, skip_serializing_if = "not_finite")]
+    pub energy: f64,
+    #[serde(default)]
+    pub energy_growth_steps: usize,
+    #[serde(default, skip_serializing_if = "not_finite")]
+    pub energy_growth: f64,
+    /// What went wrong in the run that the results depend on; also printed.
+    #[serde(default)]
+    pub warnings: Vec<String>,
+    /// Normal penalty at the end (after any raises).
+    #[serde(default, skip_serializing_if = "not_finite")]
+    pub penalty: f64,
+    /// Nominal time step.
+    pub dt: f64,
+    /// Why automatic values were chosen.
+    pub notes: Vec<String>,
+    /// The files written in the output directory, this one included.
+    #[serde(default)]
+    pub outputs: Vec<String>,
+}
+
+fn two() -> u32 {
+    2
+}
+
+/// Numbers JSON cannot hold are left out rather than written as null.
+fn not_finite(v: &f64) -> bool {
+    !v.is_finite()
+}
+
+/// Writes `summary.json` at the end of a run and keeps what it wrote.
+pub struct SummaryWriter {
+    path: PathBuf,
+    scene: String,
+    dimension: u32,
+    duration: f64,
+    /// The scene's notes, after the driver's.
+    notes: Vec<String>,
+    outputs: Vec<String>,
+    started: Instant,
+    /// The last finite value of each number of the summary that a blown-up
+    /// run can lose, as of the last output time.
+    known: Known,
+    /// What was written, once the run has finished.
+    pub summary: Option<Summary>,
+}
+
+impl SummaryWriter {
+    /// A summary of a run starting now; `outputs` lists the files written,
+    /// `summary.json` last.
+    pub fn new(
+        path: PathBuf,
+        scene: String,
+        dimension: u32,
+        duration: f64,
+        notes: Vec<String>,
+        outputs: Vec<String>,
+    ) -> Self {
+        Self {
+            path,
+            scene,
+            dimension,
+            duration,
+            notes,
+            outputs,
+            started: Instant::now(),
+            known: Known::default(),
+            summary: None,
+        }
+    }
+}
+
+impl Observer for SummaryWriter {
+    fn on_output(&mut self, run: &dyn RunView) -> anyhow::Result<()> {
+        self.known.update(run);
+        Ok(())
+    }
+
+    fn on_finish(
+        &mut self,
+        run: &dyn RunView,
+        error: Option<&anyhow::Error>,
+    ) -> anyhow::Result<()> {
+        let driver = run;
+        let mut stats = driver.statistics().clone();
+        let (mut time, mut penalty) = (driver.time(), driver.penalty());
+        let mut warnings = warnings(&stats);
+        // A run that blew up may leave numbers JSON cannot hold (they would be
+        // null); their last finite values stand in, said so.
+        let known = &self.known;
+        let mut replaced = Vec::new();
+        let mut keep = |name: &str, value: &mut f64, good: Option<f64>| {
+            if !value.is_finite() {
+                match good {
+                    Some(good) => {
+                        replaced.push(format!("{name} ({value}; {good} given)"));
+                        *value = good;
+                    }
+                    None => replaced.push(format!("{name} ({value}; left out)")),
+                }
+            }
+        };
+        keep("time", &mut time, known.time);
+        keep("penalty", &mut penalty, known.penalty);
+        keep("energy", &mut stats.energy, known.energy);
+        keep(
+            "energy_growth",
+            &mut stats.energy_growth,
+            known.energy_growth,
+        );
+        keep(
+            "deepest_penetration",
+            &mut stats.deepest_penetration,
+            known.deepest_penetration,
+        );
+        if !replaced.is_empty() {
+            warnings.push(format!(
+                "not finite when the run stopped: {}; the values given are the last finite ones written, at an output time",
+                replaced.join(", ")
+            ));
+        }
+        let summary = Summary {
+            scene: self.scene.clone(),
+            dimension: self.dimension,
+            status: if error.is_none() {
+                Status::Finished
+            } else {
+                Status::Failed
+            },
+            error: error.map(|e| format!("{e:#}")),
+            blocks: driver.block_count(),
+            steps: stats.steps,
+            time: round_time(time),
+            duration: self.duration,
+            wall_time: self.started.elapsed().as_secs_f64(),
+            open_close_iterations: stats.open_close_iterations,
+            newton_iterations: stats.newton_iterations,
+            factorizations: stats.factorizations,
+            open_close_cuts: stats.open_close_cuts,
+            displacement_cuts: stats.displacement_cuts,
+            penalty_raises: stats.penalty_raises,
+            penetration_cuts: stats.penetration_cuts,
+            unconverged_steps: stats.unconverged_steps,
+            cycle_breaks: stats.cycle_breaks,
+            cycles: stats.cycles.iter().map(CycleReport::from).collect(),
+            coupled_solves: stats.coupled_solves,
+            newton_failures: stats.newton_failures,
+            deep_penetration_steps: stats.deep_penetration_steps,
+            deepest_penetration: stats.deepest_penetration,
+            energy: stats.energy,
+            energy_growth_steps: stats.energy_growth_steps,
+            energy_growth: stats.energy_growth,
+            warnings,
+            penalty,
+            dt: driver.dt(),
+            notes: driver.notes().iter().chain(&self.notes).cloned().collect(),
+            outputs: self.outputs.clone(),
+        };
+        write_json(&self.path, &summary)?;
+        for warning in &summary.warnings {
+            eprintln!("warning: {warning}");
+        }
+        self.summary = Some(summary);
+        Ok(())
+    }
+}
+
+/// A contact whose open-close state cycled in a step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CycleReport {
+    /// End of the step (s).
+    pub time: f64,
+    /// The entering block and the block it touches.
+    pub blocks: [u32; 2],
+    /// The entering vertex and the feature (edge, face or vertex) entered.
+    pub features: [u32; 2],
+    /// The two states the passes alternated between, and the one kept.
+    pub between: [String; 2],
+    pub kept: String,
+}
+
+impl From<&dda_core::Cycle> for CycleReport {
+    fn from(c: &dda_core::Cycle) -> Self {
+        let name = |s: dda_core::ContactState| format!("{s:?}").to_lowercase();
+        Self {
+            time: round_time(c.time),
+            blocks: [c.key.block_a, c.key.block_b],
+            features: [c.key.feature_a, c.key.feature_b],
+            between: [name(c.between[0]), name(c.between[1])],
+            kept: name(c.kept),
+        }
+    }
+}
+
+/// The driver's reports of steps it could not do well.
+fn warnings(stats: &dda_core::Statistics) -> Vec<String> {
+    let mut out = Vec::new();
+    if stats.unconverged_steps > 0 {
+        out.push(format!(
+            "{} steps could not converge even at the smallest time step and were accepted without \
+             open-close agreement; their contact states may be wrong (try a smaller dt, a softer penalty \
+             or a larger open_close_limit)",
+            stats.unconverged_steps
+        ));
+    }
+    if stats.deep_penetration_steps > 0 {
+        out.push(format!(
+            "{} steps ended with a contact penetrating beyond the allowed bound (deepest {:.3e} m); \
+             blocks overlap more than the penalty method allows (try a stiffer penalty or a smaller dt)",
+            stats.deep_penetration_steps, stats.deepest_penetration
+        ));
+    }
+    if let Some(first) = stats.cycles.first() {
+        let c = CycleReport::from(first);
+        out.push(format!(
+            "in {} steps some contacts' open-close passes alternated between two states; each was \
+             settled by keeping the state that stores less work (sliding over locked, closed over open). \
+             The first: at t = {} s, the contact of block {} on block {}, {} and {}, kept {} \
+             (summary.json lists up to 20 under \"cycles\")",
+            stats.cycle_breaks, c.time, c.blocks[0], c.blocks[1], c.between[0], c.between[1], c.kept
+        ));
+    }
+    if stats.energy_growth_steps > 0 {
+        // The advice follows what the run saw: friction itself never adds
+        // energy, so a rise comes from raised penalties, unsolved passes or
+        // steps accepted without agreement.
+        let mut causes = Vec::new();
+        if stats.penalty_raises > 0 {
+            causes.push(format!(
+                "the penalty was raised {} times, which multiplies the force of every existing overlap: leave raise_penalty off",
+                stats.penalty_raises
+            ));
+        }
+        if stats.newton_failures > 0 {
+            causes.push(format!(
+                "{} passes kept an unconverged Newton-Raphson iterate: a softer penalty or a smaller dt makes the springs less stiff against the blocks' inertia",
+                stats.newton_failures
+            ));
+        }
+        if stats.unconverged_steps > 0 {
+            causes.push("steps were accepted without open-close agreement (see above)".into());
+        }
+        let advice = if causes.is_empty() {
+            "no cut, raise or unconverged pass explains it; please report the scene".to_string()
+        } else {
+            causes.join("; ")
+        };
+        out.push(format!(
+            "the total energy rose by up to {:.3e} J in {} steps although nothing did work on the blocks; \
+             the method added energy and the results are suspect ({advice})",
+            stats.energy_growth, stats.energy_growth_steps
+        ));
+    }
+    out
+}
+
+/// The last finite values, at an output time, of the summary's numbers.
+#[derive(Debug, Clone, Default)]
+struct Known {
+    time: Option<f64>,
+    penalty: Option<f64>,
+    energy: Option<f64>,
+    energy_growth: Option<f64>,
+    deepest_penetration: Option<f64>,
+}
+
+impl Known {
+    fn update(&mut self, driver: &dyn RunView) {
+        let stats = driver.statistics();
+        let pairs = [
+            (&mut self.time, driver.time()),
+            (&mut self.penalty, driver.penalty()),
+            (&mut self.energy, stats.energy),
+            (&mut self.energy_growth, stats.energy_growth),
+            (&mut self.deepest_penetration, stats.deepest_penetration),
+        ];
+        for (slot, value) in pairs {
+            if value.is_finite() {
+                *slot = Some(value);
+            }
+        }
+    }
+}
