@@ -5,8 +5,11 @@ use std::collections::HashMap;
 use dda_2d::{Block, Driver2d, PlaneElastic, Polygons};
 use dda_3d::{Driver3d, IsotropicElastic, Polyhedra};
 use dda_contact::{LawRegistry, Params, SlipWeakening};
-use dda_core::{BlockSystem, ConstitutiveLaw, Driver, DynContactLaw, FixedPoint, Force, Settings};
-use nalgebra::{Point3, SVector, Vector2, Vector3, Vector6};
+use dda_core::{
+    BlockSet, BlockSystem, ConstitutiveLaw, Driver, DynContactLaw, Element, FixedPoint, Force,
+    Settings,
+};
+use nalgebra::{Point3, SVector, Vector3, Vector6};
 
 use super::validate::{place_of, polygon_message, to_points, unit_axis, Place, Slot};
 use super::{Coords, JointLaw, Load, Scene, SceneError};
@@ -189,28 +192,9 @@ impl Scene {
         }
 
         let mut system = Polygons::new(blocks, materials);
-        let a = &self.analysis;
-        system.gravity = Vector2::from_column_slice(&self.gravity());
-        system.rotation_update = a.rotation_update;
-        system.length_scale = a.length_scale;
-        // Fixed points are ten times stiffer than a typical contact, whose
-        // springs stand for half a block's side (A3.6), so a held base does
-        // not sag into its supports.
-        let contact =
-            a.penalty.unwrap_or_else(|| system.automatic_penalty()) * system.block_size() / 2.0;
-        system.fixed_penalty = a.fixed_penalty.unwrap_or(10.0 * contact);
-        let table = self.law_table();
-        system.joint_laws = table.materials.clone();
-        system.pair_laws = table.pairs.clone();
-        system.loads = self.point_loads();
-        system.fixed = self.fixed_points();
-        for (k, spec) in specs.iter().enumerate() {
-            if spec.fixed {
-                system.fix_block(k);
-            }
-        }
         let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
-        let notes = self.shake(&slots, &mut system.fixed)?;
+        let table = self.law_table();
+        let notes = self.equip(&mut system, &table, specs.iter().map(|s| s.fixed), &slots)?;
         let velocities = specs.iter().map(|spec| {
             let [vx, vy, w] = spec.velocity;
             Vector6::new(vx, vy, w, 0.0, 0.0, 0.0)
@@ -252,35 +236,51 @@ impl Scene {
         }
 
         let mut system = Polyhedra::new(blocks, materials);
-        let a = &self.analysis;
-        system.gravity = Vector3::from_column_slice(&self.gravity());
-        system.rotation_update = match a.rotation_update {
-            super::RotationUpdate::Exact => dda_3d::RotationUpdate::Exact,
-            super::RotationUpdate::Linear => dda_3d::RotationUpdate::Linear,
-        };
-        system.length_scale = a.length_scale;
-        // As in 2D, with a typical contact standing for a quarter of a face.
-        let contact = a.penalty.unwrap_or_else(|| system.automatic_penalty())
-            * (system.block_size() / 2.0).powi(2);
-        system.fixed_penalty = a.fixed_penalty.unwrap_or(10.0 * contact);
-        let table = self.law_table();
-        system.joint_laws = table.materials.clone();
-        system.pair_laws = table.pairs.clone();
-        system.loads = self.point_loads();
-        system.fixed = self.fixed_points();
-        for (k, spec) in specs.iter().enumerate() {
-            if spec.fixed {
-                system.fix_block(k);
-            }
-        }
         let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
-        let notes = self.shake(&slots, &mut system.fixed)?;
+        let table = self.law_table();
+        let notes = self.equip(&mut system, &table, specs.iter().map(|s| s.fixed), &slots)?;
         let velocities = specs.iter().map(|spec| {
             let mut v = SVector::<f64, 12>::zeros();
             v.fixed_rows_mut::<6>(0).copy_from_slice(&spec.velocity);
             v
         });
         self.model(system, &table, registry, velocities, notes)
+    }
+
+    /// What a block set takes from the scene alike in 2D and 3D: gravity,
+    /// rotation update, length scale, the fixed points' springs, joint
+    /// laws, loads, fixed and driven points; returns the ground motion's
+    /// notes.
+    fn equip<B, const D: usize, const N: usize, const T: usize, const S: usize>(
+        &self,
+        system: &mut BlockSet<B, D, N, T, S>,
+        table: &LawTable,
+        fixed_blocks: impl Iterator<Item = bool>,
+        slots: &[Slot],
+    ) -> Result<Vec<String>, SceneError>
+    where
+        B: Element<D, N, T, S>,
+    {
+        let a = &self.analysis;
+        system.gravity = SVector::<f64, D>::from_column_slice(&self.gravity());
+        system.rotation_update = a.rotation_update;
+        system.length_scale = a.length_scale;
+        // Fixed points are ten times stiffer than a typical contact, whose
+        // springs stand for half a block's side in 2D and a quarter of a
+        // face in 3D (A3.6), so a held base does not sag into its supports.
+        let contact = a.penalty.unwrap_or_else(|| system.automatic_penalty())
+            * (system.block_size() / 2.0).powi(D as i32 - 1);
+        system.fixed_penalty = a.fixed_penalty.unwrap_or(10.0 * contact);
+        system.joint_laws = table.materials.clone();
+        system.pair_laws = table.pairs.clone();
+        system.loads = self.point_loads();
+        system.fixed = self.fixed_points();
+        for (k, fixed) in fixed_blocks.enumerate() {
+            if fixed {
+                system.fix_block(k);
+            }
+        }
+        self.shake(slots, &mut system.fixed)
     }
 
     /// The scene's point loads, in `D` dimensions.
