@@ -789,6 +789,14 @@ fn custom_laws_are_checked_by_the_registry_at_their_place() {
         r#"Custom(name: "slip_friction", params: {"peak_friction_angle": 25.0, "residual_friction_angle": 15.0, "weakening_start": 0.1, "weakening_end": 0.0})"#,
     );
     assert_error(&text, "Custom(", "joints[0].law", "0 <= start < end");
+    // A law built by name checks its values as the typed law does.
+    let text = custom(r#"Custom(name: "coulomb", params: {"friction_angle": 95.0})"#);
+    assert_error(
+        &text,
+        "Custom(",
+        "joints[0].law",
+        "friction_angle: the friction angle must lie in [0, 90) degrees, got 95",
+    );
     // Values are checked before any builder sees them.
     let text = custom(r#"Custom(name: "coulomb", params: {"friction_angle": NaN})"#);
     assert_error(

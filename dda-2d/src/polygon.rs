@@ -17,18 +17,18 @@ const DUPLICATE_EPS: f64 = 1.0e-12;
 /// An area below this fraction of size² is zero.
 const AREA_EPS: f64 = 1.0e-14;
 
-/// Why a polygon was rejected.
+/// Why a polygon was rejected, with what to do about it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PolygonError {
-    #[error("a polygon needs at least 3 vertices, this one has {0}")]
+    #[error("a polygon needs at least 3 vertices, this one has {0}; add vertices")]
     TooFewVertices(usize),
-    #[error("vertex {index} is not a finite number")]
+    #[error("vertex {index} is not a finite number; write finite coordinates")]
     NotFinite { index: usize },
-    #[error("vertices {a} and {b} coincide")]
+    #[error("vertices {a} and {b} coincide; remove one of them")]
     DuplicateVertex { a: usize, b: usize },
-    #[error("edges {a} and {b} cross each other: the polygon is self-intersecting")]
+    #[error("the polygon is self-intersecting (edges {a} and {b} cross each other); reorder its vertices so the boundary does not cross itself")]
     SelfIntersecting { a: usize, b: usize },
-    #[error("the polygon has zero area")]
+    #[error("the polygon has zero area (its vertices lie on one line); give vertices that enclose an area")]
     ZeroArea,
 }
 

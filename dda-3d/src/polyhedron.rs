@@ -32,53 +32,95 @@ const VOLUME_EPS: f64 = 1e-12;
 /// Vertices of an edge closer than this fraction of the size coincide.
 const LENGTH_EPS: f64 = 1e-12;
 
-/// Why a polyhedron was rejected. Indices are those of the input.
+/// Why a polyhedron was rejected, with what to do about it. Indices are
+/// those of the input; [`PolyhedronError::place`] says which one is at fault.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PolyhedronError {
-    #[error("a polyhedron needs at least 4 vertices, this one has {0}")]
+    #[error("a polyhedron needs at least 4 corners, this one has {0}; add corners")]
     TooFewVertices(usize),
-    #[error("a closed polyhedron needs at least 4 faces, this one has {0}")]
+    #[error("a closed polyhedron needs at least 4 faces, this one has {0}; add the missing faces")]
     TooFewFaces(usize),
-    #[error("vertex {vertex} is not a finite point")]
+    #[error("vertex {vertex} is not a finite point; write finite coordinates")]
     NotFinite { vertex: usize },
-    #[error("face {face} has {count} vertices; a face needs at least 3")]
+    #[error("face {face} has {count} corners; a face needs at least 3")]
     FaceTooSmall { face: usize, count: usize },
-    #[error("face {face} refers to vertex {index}, but there are only {count} vertices")]
+    #[error("face {face} refers to vertex {index}, but there are only {count} vertices (numbered 0 to {}); correct the index", count.saturating_sub(1))]
     IndexOutOfRange {
         face: usize,
         index: usize,
         count: usize,
     },
-    #[error("face {face} visits vertex {vertex} twice")]
+    #[error("face {face} visits vertex {vertex} twice; list each corner once")]
     RepeatedVertex { face: usize, vertex: usize },
-    #[error("faces {first} and {second} have the same vertices")]
+    #[error("faces {first} and {second} have the same corners; remove one of them")]
     DuplicateFace { first: usize, second: usize },
-    #[error("the surface is open: edge {a}-{b} of face {face} belongs to no other face")]
+    #[error("face {face}: the surface is open: its edge {a}-{b} belongs to no other face; add the missing faces so every edge is shared by exactly two")]
     OpenEdge { face: usize, a: usize, b: usize },
-    #[error("the surface is not manifold: edge {a}-{b} belongs to {count} faces, not 2")]
+    #[error("the surface is not manifold: edge {a}-{b} belongs to {count} faces, not 2; make blocks that touch along an edge separate blocks")]
     NonManifoldEdge { a: usize, b: usize, count: usize },
-    #[error("face {face} is oriented against its neighbours: list its vertices counter-clockwise seen from outside")]
+    #[error("face {face} is oriented against its neighbours: list its corners counter-clockwise seen from outside (reverse their order)")]
     InconsistentOrientation { face: usize },
-    #[error("the surface is in several pieces: face {face} is not connected to face 0")]
+    #[error("face {face}: the surface is in several pieces (this face is not connected to face 0); give each piece as a block of its own")]
     Disconnected { face: usize },
-    #[error("vertex {vertex} is not used by any face")]
+    #[error("vertex {vertex} is used by no face; remove it or add it to its faces")]
     UnusedVertex { vertex: usize },
-    #[error("the surface is not manifold at vertex {vertex}: its faces do not form one fan")]
+    #[error("vertex {vertex}: the surface is not manifold there (its faces do not form one fan); make blocks that touch at a corner separate blocks")]
     NonManifoldVertex { vertex: usize },
-    #[error("face {face} has zero area")]
+    #[error(
+        "face {face} has zero area (its corners lie on one line); remove it or correct its corners"
+    )]
     DegenerateFace { face: usize },
-    #[error("vertices {a} and {b} of face {face} coincide")]
+    #[error("face {face}: vertices {a} and {b} coincide; merge them into one")]
     CoincidentVertices { face: usize, a: usize, b: usize },
-    #[error("face {face} is not planar: vertex {vertex} is {distance:.3e} off its plane")]
+    #[error("face {face} is not planar: vertex {vertex} is {distance:.3e} off its plane; move the corner onto the plane or split the face into triangles")]
     NonPlanarFace {
         face: usize,
         vertex: usize,
         distance: f64,
     },
-    #[error("face {face} is not a simple polygon: two of its edges cross")]
+    #[error("face {face} is not a simple polygon (two of its edges cross); reorder its corners around the face")]
     SelfIntersectingFace { face: usize },
-    #[error("the polyhedron has zero volume")]
+    #[error("the polyhedron has zero volume (its corners lie in one plane); give corners that enclose a volume")]
     ZeroVolume,
+}
+
+/// The part of a polyhedron's input an error is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fault {
+    /// The vertex list as a whole.
+    Vertices,
+    /// The face list as a whole.
+    Faces,
+    Vertex(usize),
+    Face(usize),
+    /// The whole block.
+    Block,
+}
+
+impl PolyhedronError {
+    /// Which part of the input is at fault, so a caller can point at it.
+    pub fn place(&self) -> Fault {
+        use PolyhedronError as E;
+        match *self {
+            E::TooFewVertices(_) => Fault::Vertices,
+            E::TooFewFaces(_) | E::NonManifoldEdge { .. } => Fault::Faces,
+            E::NotFinite { vertex }
+            | E::UnusedVertex { vertex }
+            | E::NonManifoldVertex { vertex } => Fault::Vertex(vertex),
+            E::DuplicateFace { second: face, .. }
+            | E::FaceTooSmall { face, .. }
+            | E::IndexOutOfRange { face, .. }
+            | E::RepeatedVertex { face, .. }
+            | E::OpenEdge { face, .. }
+            | E::InconsistentOrientation { face }
+            | E::Disconnected { face }
+            | E::DegenerateFace { face }
+            | E::CoincidentVertices { face, .. }
+            | E::NonPlanarFace { face, .. }
+            | E::SelfIntersectingFace { face } => Fault::Face(face),
+            E::ZeroVolume => Fault::Block,
+        }
+    }
 }
 
 /// An edge between two vertices and the two faces that share it: `faces[0]`
@@ -1194,7 +1236,7 @@ mod tests {
                 distance: 1e-3
             }
             .to_string(),
-            "face 2 is not planar: vertex 6 is 1.000e-3 off its plane"
+            "face 2 is not planar: vertex 6 is 1.000e-3 off its plane; move the corner onto the plane or split the face into triangles"
         );
     }
 

@@ -13,8 +13,10 @@
 //!   contact at the start, and break for good the first time the contact
 //!   opens or slides (Shi's rule).
 
+use crate::strength::{angle, stiffnesses, strength};
 #[cfg(test)]
 use dda_core::ContactLaw;
+use dda_core::DdaError;
 use dda_core::{ContactState, LocalKinematics};
 use serde::{Deserialize, Serialize};
 
@@ -65,6 +67,17 @@ pub struct CoulombHistory {
 
 impl StrengthLaw for Coulomb {
     type History = CoulombHistory;
+
+    fn check(&self) -> Result<(), DdaError> {
+        angle("friction_angle", "the friction angle", self.friction_angle)?;
+        strength("cohesion", "the cohesion", self.cohesion)?;
+        strength(
+            "tensile_strength",
+            "the tensile strength",
+            self.tensile_strength,
+        )?;
+        stiffnesses(self.normal_stiffness, self.shear_stiffness)
+    }
 
     fn penalties(&self) -> (Option<f64>, Option<f64>) {
         (self.normal_stiffness, self.shear_stiffness)

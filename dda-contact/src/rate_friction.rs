@@ -7,6 +7,9 @@
 //! with v the slip rate of the last accepted step, so the open-close passes
 //! of a step all see the same coefficient and do not chatter.
 
+use crate::strength::{angle, stiffnesses};
+use dda_core::settings::positive;
+use dda_core::DdaError;
 use dda_core::{ContactState, LocalKinematics};
 use serde::{Deserialize, Serialize};
 
@@ -45,6 +48,20 @@ impl RateFriction {
 
 impl StrengthLaw for RateFriction {
     type History = ();
+
+    fn check(&self) -> Result<(), DdaError> {
+        let (fast, slow) = (self.static_friction_angle, self.dynamic_friction_angle);
+        angle("static_friction_angle", "the static friction angle", fast)?;
+        angle("dynamic_friction_angle", "the dynamic friction angle", slow)?;
+        let hint = "it is the slip rate (m/s) over which friction falls, like 0.1";
+        positive(
+            "characteristic_rate",
+            "the characteristic rate",
+            self.characteristic_rate,
+            hint,
+        )?;
+        stiffnesses(self.normal_stiffness, self.shear_stiffness)
+    }
 
     fn penalties(&self) -> (Option<f64>, Option<f64>) {
         (self.normal_stiffness, self.shear_stiffness)

@@ -156,7 +156,7 @@ impl LawRegistry {
         })?;
         let law = builder(params)?;
         match params.leftover().as_slice() {
-            [] => Ok(law),
+            [] => law.check().map(|_| law).map_err(|e| e.to_string()),
             unused => Err(format!(
                 "the law `{name}` has no parameter {}",
                 unused.join(", ")
@@ -186,6 +186,6 @@ fn weakening(p: &mut Params) -> Result<Weakening, String> {
             return Err("give one weakening: `weakening_step`, or `weakening_start` and `weakening_end`, or `weakening_length`".into())
         }
     };
-    w.check()?;
+    w.check().map_err(|e| e.to_string())?;
     Ok(w)
 }

@@ -13,8 +13,10 @@
 //! stretch of the shear spring is not slip). Tensile strength, if any, is
 //! lost for good the first time the joint opens.
 
+use crate::strength::{angle, stiffnesses, strength};
 #[cfg(test)]
 use dda_core::ContactLaw;
+use dda_core::DdaError;
 use dda_core::{ContactState, LocalKinematics};
 
 use crate::springs::mohr_coulomb;
@@ -64,6 +66,29 @@ pub struct SlipHistory {
 
 impl StrengthLaw for SlipWeakening {
     type History = SlipHistory;
+
+    fn check(&self) -> Result<(), DdaError> {
+        let (peak, residual) = (self.peak_friction_angle, self.residual_friction_angle);
+        angle("peak_friction_angle", "the peak friction angle", peak)?;
+        angle(
+            "residual_friction_angle",
+            "the residual friction angle",
+            residual,
+        )?;
+        strength("peak_cohesion", "the cohesion", self.peak_cohesion)?;
+        strength(
+            "residual_cohesion",
+            "the residual cohesion",
+            self.residual_cohesion,
+        )?;
+        strength(
+            "tensile_strength",
+            "the tensile strength",
+            self.tensile_strength,
+        )?;
+        self.weakening.check()?;
+        stiffnesses(self.normal_stiffness, self.shear_stiffness)
+    }
 
     fn penalties(&self) -> (Option<f64>, Option<f64>) {
         (self.normal_stiffness, self.shear_stiffness)

@@ -7,7 +7,8 @@
 //! would have to live in `dda-core`, beside `ContactLaw`, by the orphan
 //! rule; the macro keeps the springs out of the core.)
 
-use dda_core::{ContactResponse, ContactState, LocalKinematics};
+use dda_core::settings::{finite, non_negative, positive};
+use dda_core::{ContactResponse, ContactState, DdaError, LocalKinematics};
 
 use crate::springs::Springs;
 
@@ -62,6 +63,11 @@ pub trait StrengthLaw: Send + Sync + 'static {
         by_strength
     }
 
+    /// Whether the parameters make sense (see [`angle`], [`stiffnesses`]).
+    fn check(&self) -> Result<(), DdaError> {
+        Ok(())
+    }
+
     /// Changes the history at the end of an accepted step.
     fn update_history(
         &self,
@@ -70,6 +76,36 @@ pub trait StrengthLaw: Send + Sync + 'static {
         _history: &mut Self::History,
     ) {
     }
+}
+
+/// A friction angle in [0, 90) degrees.
+pub fn angle(field: &'static str, what: &str, phi: f64) -> Result<(), DdaError> {
+    finite(field, what, phi)?;
+    if (0.0..90.0).contains(&phi) {
+        Ok(())
+    } else {
+        Err(DdaError::Setting {
+            field,
+            message: format!("{what} must lie in [0, 90) degrees, got {phi}"),
+        })
+    }
+}
+
+/// A cohesion or tensile strength, Pa: zero or positive.
+pub fn strength(field: &'static str, what: &str, value: f64) -> Result<(), DdaError> {
+    non_negative(field, what, value, "use 0 for none")
+}
+
+/// A law's own penalties, when it gives them: positive.
+pub fn stiffnesses(normal: Option<f64>, shear: Option<f64>) -> Result<(), DdaError> {
+    let auto = "give a positive stiffness or leave it out for an automatic one";
+    if let Some(k) = normal {
+        positive("normal_stiffness", "the normal stiffness", k, auto)?;
+    }
+    if let Some(k) = shear {
+        positive("shear_stiffness", "the shear stiffness", k, auto)?;
+    }
+    Ok(())
 }
 
 fn springs<L: StrengthLaw>(law: &L, kin: &LocalKinematics) -> Springs {
@@ -139,6 +175,10 @@ macro_rules! strength_law {
                 history: &mut Self::History,
             ) {
                 $crate::StrengthLaw::update_history(self, state, kin, history)
+            }
+
+            fn check(&self) -> Result<(), $crate::core::DdaError> {
+                $crate::StrengthLaw::check(self)
             }
         }
     )+};

@@ -7,8 +7,11 @@
 //! Peak shear force of a bonded contact: `k_s · max_shear`; peak tension:
 //! `k_n · max_opening`. After the break: Coulomb friction `tan φ · σ`.
 
+use crate::strength::{angle, stiffnesses};
+use dda_core::settings::positive;
 #[cfg(test)]
 use dda_core::ContactLaw;
+use dda_core::DdaError;
 use dda_core::{ContactState, LocalKinematics};
 use serde::{Deserialize, Serialize};
 
@@ -43,6 +46,14 @@ pub struct BondHistory {
 
 impl StrengthLaw for ThresholdBond {
     type History = BondHistory;
+
+    fn check(&self) -> Result<(), DdaError> {
+        angle("friction_angle", "the friction angle", self.friction_angle)?;
+        let hint = "it is the displacement (m) at which the bond breaks, like 1e-4";
+        positive("max_opening", "max_opening", self.max_opening, hint)?;
+        positive("max_shear", "max_shear", self.max_shear, hint)?;
+        stiffnesses(self.normal_stiffness, self.shear_stiffness)
+    }
 
     fn penalties(&self) -> (Option<f64>, Option<f64>) {
         (self.normal_stiffness, self.shear_stiffness)

@@ -1,6 +1,8 @@
 //! How a strength falls from its peak to its residual value as slip
 //! accumulates.
 
+use dda_core::settings::finite;
+use dda_core::DdaError;
 use serde::{Deserialize, Serialize};
 
 /// The fraction of the peak-minus-residual strength left after a slip δ;
@@ -46,24 +48,34 @@ impl Weakening {
         residual + (peak - residual) * self.remaining(slip)
     }
 
-    /// Whether the parameters make sense, with the reason if not.
-    pub fn check(&self) -> Result<(), String> {
-        match *self {
-            Weakening::Step { at } if !(at >= 0.0 && at.is_finite()) => Err(format!(
-                "the step slip `at` must be zero or positive, got {at}"
-            )),
-            Weakening::Linear { start, end }
-                if !(start >= 0.0 && end > start && end.is_finite()) =>
-            {
-                Err(format!(
-                    "a linear weakening needs 0 <= start < end, got start {start} and end {end}"
-                ))
-            }
-            Weakening::Exponential { length } if !(length > 0.0 && length.is_finite()) => Err(
-                format!("the exponential weakening length must be positive, got {length}"),
-            ),
-            _ => Ok(()),
+    /// Whether the parameters make sense; the error names `weakening`.
+    pub fn check(&self) -> Result<(), DdaError> {
+        let slips: &[f64] = match self {
+            Weakening::Step { at } => &[*at],
+            Weakening::Linear { start, end } => &[*start, *end],
+            Weakening::Exponential { length } => &[*length],
+        };
+        for slip in slips {
+            finite("weakening", "the weakening slip", *slip)?;
         }
+        let reason = match *self {
+            Weakening::Step { at } if at < 0.0 => {
+                format!("the step slip `at` must be zero or positive, got {at}")
+            }
+            Weakening::Linear { start, end } if !(start >= 0.0 && end > start) => format!(
+                "a linear weakening needs 0 <= start < end, got start {start} and end {end}"
+            ),
+            Weakening::Exponential { length } if length <= 0.0 => {
+                format!("the exponential weakening length must be positive, got {length}")
+            }
+            _ => return Ok(()),
+        };
+        Err(DdaError::Setting {
+            field: "weakening",
+            message: format!(
+                "{reason}; slips are in m, like Step(at: 0.001) or Linear(start: 0.0, end: 0.01)"
+            ),
+        })
     }
 }
 

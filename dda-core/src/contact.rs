@@ -139,6 +139,12 @@ pub trait ContactLaw: Send + Sync + 'static {
 
     /// Updates the history at the end of an accepted step.
     fn commit(&self, state: ContactState, kin: &LocalKinematics, history: &mut Self::History);
+
+    /// Whether the parameters make sense: the first bad one is a
+    /// [`DdaError::Setting`](crate::DdaError::Setting) naming its field.
+    fn check(&self) -> Result<(), crate::DdaError> {
+        Ok(())
+    }
 }
 
 /// Type-erased contact history, stored per contact by the driver.
@@ -151,6 +157,7 @@ pub trait DynContactLaw: Send + Sync {
     fn response(&self, state: ContactState, kin: &LocalKinematics, h: &History) -> ContactResponse;
     fn next_state(&self, state: ContactState, kin: &LocalKinematics, h: &History) -> ContactState;
     fn commit(&self, state: ContactState, kin: &LocalKinematics, h: &mut History);
+    fn check(&self) -> Result<(), crate::DdaError>;
 }
 
 impl<L: ContactLaw> DynContactLaw for L {
@@ -171,6 +178,10 @@ impl<L: ContactLaw> DynContactLaw for L {
             .downcast_mut::<L::History>()
             .expect("contact history belongs to another law");
         ContactLaw::commit(self, state, kin, h)
+    }
+
+    fn check(&self) -> Result<(), crate::DdaError> {
+        ContactLaw::check(self)
     }
 }
 

@@ -8,6 +8,13 @@ pub enum DdaError {
     Factorization(String),
     #[error("a step produced a non-finite displacement at time {time}: the model is unstable (try a smaller time step or penalty)")]
     NotFinite { time: f64 },
+    /// A value outside its range: `field` names it (like `dt`, or
+    /// `friction_angle` for a law's parameter), `message` says what to write.
+    #[error("{field}: {message}")]
+    Setting {
+        field: &'static str,
+        message: String,
+    },
     #[error("invalid analysis setting: {0}")]
     Settings(String),
 }

@@ -90,55 +90,151 @@ impl Default for Settings {
 }
 
 impl Settings {
-    /// Checks every value, naming the first bad one.
+    /// Checks every value; the first bad one is named by its field, with
+    /// what to write instead.
     pub fn validate(&self) -> Result<(), DdaError> {
-        let positive = |name: &str, v: f64| {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(DdaError::Settings(format!(
-                    "{name} must be a positive number, got {v}"
-                )))
-            }
-        };
-        if !(0.0..=1.0).contains(&self.velocity_ratio) {
-            return Err(DdaError::Settings(format!(
-                "velocity_ratio must lie in [0, 1] (1 dynamic, 0 static), got {}",
-                self.velocity_ratio
-            )));
-        }
+        let auto = "give a value or leave it out for an automatic one";
+        let ratio = "it is a fraction of the model size, like 0.01";
+        let tolerance = "it is a small fraction, like the default";
         if let Some(dt) = self.dt {
-            positive("dt", dt)?;
+            positive(
+                "dt",
+                "the time step dt",
+                dt,
+                "give a time step in seconds or leave dt out for an automatic one",
+            )?;
         }
-        if let Some(p) = self.penalty {
-            positive("penalty", p)?;
-        }
-        if let Some(w) = self.length_scale {
-            positive("length_scale", w)?;
-        }
-        positive("min_dt_ratio", self.min_dt_ratio)?;
-        positive("max_displacement_ratio", self.max_displacement_ratio)?;
-        positive("max_penetration_ratio", self.max_penetration_ratio)?;
-        positive("residual_tolerance", self.residual_tolerance)?;
-        positive("increment_tolerance", self.increment_tolerance)?;
-        positive("contact_tolerance", self.contact_tolerance)?;
-        if !(self.mass_damping.is_finite() && self.mass_damping >= 0.0) {
-            return Err(DdaError::Settings(format!(
-                "mass_damping must be zero or positive, got {}",
-                self.mass_damping
-            )));
-        }
-        if !(self.contact_damping.is_finite() && self.contact_damping >= 0.0) {
-            return Err(DdaError::Settings(format!(
-                "contact_damping must be zero or positive (1 is critical), got {}",
-                self.contact_damping
-            )));
-        }
-        if self.open_close_limit == 0 || self.newton_limit == 0 {
-            return Err(DdaError::Settings(
-                "open_close_limit and newton_limit must be at least 1".into(),
+        finite("velocity_ratio", "velocity_ratio", self.velocity_ratio)?;
+        if !(0.0..=1.0).contains(&self.velocity_ratio) {
+            return Err(invalid(
+                "velocity_ratio",
+                format!(
+                    "velocity_ratio must lie in [0, 1] (1 dynamic, 0 static), got {}",
+                    self.velocity_ratio
+                ),
             ));
         }
+        if self.open_close_limit == 0 {
+            return Err(invalid(
+                "open_close_limit",
+                "open_close_limit must be at least 1 (6 is usual)".into(),
+            ));
+        }
+        if self.newton_limit == 0 {
+            return Err(invalid(
+                "newton_limit",
+                "newton_limit must be at least 1 (25 is usual)".into(),
+            ));
+        }
+        positive(
+            "max_displacement_ratio",
+            "max_displacement_ratio",
+            self.max_displacement_ratio,
+            ratio,
+        )?;
+        positive(
+            "max_penetration_ratio",
+            "max_penetration_ratio",
+            self.max_penetration_ratio,
+            ratio,
+        )?;
+        positive(
+            "min_dt_ratio",
+            "min_dt_ratio",
+            self.min_dt_ratio,
+            "it is a fraction of dt, like 0.001",
+        )?;
+        if self.min_dt_ratio > 1.0 {
+            return Err(invalid(
+                "min_dt_ratio",
+                format!(
+                    "min_dt_ratio is a fraction of dt and must not exceed 1, got {}",
+                    self.min_dt_ratio
+                ),
+            ));
+        }
+        non_negative(
+            "contact_damping",
+            "contact_damping",
+            self.contact_damping,
+            "it is a share of critical damping: 0 off, 1 critical",
+        )?;
+        non_negative(
+            "mass_damping",
+            "mass_damping",
+            self.mass_damping,
+            "it is a coefficient in 1/s: 0 off",
+        )?;
+        if let Some(p) = self.penalty {
+            positive("penalty", "the penalty", p, auto)?;
+        }
+        if let Some(w) = self.length_scale {
+            positive("length_scale", "the length scale", w, auto)?;
+        }
+        positive(
+            "residual_tolerance",
+            "residual_tolerance",
+            self.residual_tolerance,
+            tolerance,
+        )?;
+        positive(
+            "increment_tolerance",
+            "increment_tolerance",
+            self.increment_tolerance,
+            tolerance,
+        )?;
+        positive(
+            "contact_tolerance",
+            "contact_tolerance",
+            self.contact_tolerance,
+            tolerance,
+        )
+    }
+}
+
+fn invalid(field: &'static str, message: String) -> DdaError {
+    DdaError::Setting { field, message }
+}
+
+/// `value` is a finite number.
+pub fn finite(field: &'static str, what: &str, value: f64) -> Result<(), DdaError> {
+    if value.is_finite() {
         Ok(())
+    } else {
+        Err(invalid(
+            field,
+            format!("{what} is {value}, not a finite number; write a finite value"),
+        ))
+    }
+}
+
+/// `value` is finite and above zero; `hint` says what to write.
+pub fn positive(field: &'static str, what: &str, value: f64, hint: &str) -> Result<(), DdaError> {
+    finite(field, what, value)?;
+    if value > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(
+            field,
+            format!("{what} must be positive, got {value}; {hint}"),
+        ))
+    }
+}
+
+/// `value` is finite and zero or above; `hint` says what to write.
+pub fn non_negative(
+    field: &'static str,
+    what: &str,
+    value: f64,
+    hint: &str,
+) -> Result<(), DdaError> {
+    finite(field, what, value)?;
+    if value >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(
+            field,
+            format!("{what} must not be negative, got {value}; {hint}"),
+        ))
     }
 }

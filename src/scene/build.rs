@@ -11,7 +11,7 @@ use dda_core::{
 };
 use nalgebra::{Point3, SVector, Vector3, Vector6};
 
-use super::validate::{place_of, polygon_message, to_points, unit_axis, Place, Slot};
+use super::validate::{place_of, to_points, unit_axis, Place, Slot};
 use super::{Coords, JointLaw, Load, Scene, SceneError};
 
 /// A scene ready to run: a 2D one by default ([`Driver2d`]), a 3D one as
@@ -185,7 +185,7 @@ impl Scene {
                 })?;
             let density = self.materials[material].1.density;
             let mut block = Block::new(&to_points(&spec.vertices), material, density)
-                .map_err(|e| self.error(&at, polygon_message(&e)))?;
+                .map_err(|e| self.error(&at, e.to_string()))?;
             block.stress = Vector3::from(spec.stress);
             block.kind = self.kind_of(&self.blocks[spec.entry]);
             blocks.push(block);
@@ -365,7 +365,7 @@ impl Scene {
     }
 
     /// The driver settings the analysis asks for.
-    fn settings(&self) -> Settings {
+    pub(super) fn settings(&self) -> Settings {
         let a = &self.analysis;
         Settings {
             velocity_ratio: a.velocity_ratio.unwrap_or(a.mode.velocity_ratio()),
@@ -452,7 +452,10 @@ fn vector<const D: usize>(c: &Coords) -> SVector<f64, D> {
 
 /// The law a scene names; typed laws are built directly, `Custom` ones by
 /// the registry.
-fn contact_law(law: &JointLaw, registry: &LawRegistry) -> Result<Box<dyn DynContactLaw>, String> {
+pub(super) fn contact_law(
+    law: &JointLaw,
+    registry: &LawRegistry,
+) -> Result<Box<dyn DynContactLaw>, String> {
     Ok(match law.clone() {
         JointLaw::Coulomb(law) => Box::new(law),
         JointLaw::ThresholdBond(law) => Box::new(law),

@@ -4,8 +4,8 @@
 use std::fmt;
 use std::sync::Arc;
 
-use dda_2d::polygon::{self, PolygonError};
-use dda_3d::polyhedron::{self as polyhedra, Polyhedron, PolyhedronError};
+use dda_2d::polygon;
+use dda_3d::polyhedron::{self as polyhedra, Fault, Polyhedron, PolyhedronError};
 use dda_core::{BlockKind, GroundMotion, Quantity, Record};
 use nalgebra::{Point2, Point3, SVector};
 
@@ -14,7 +14,7 @@ use super::locate::{locate_exact, Seg};
 use super::motion::{read_record, Layout};
 use super::{
     BlockSpec, Coords, GroundMotionSpec, JointLaw, Load, MotionSpec, Scene, SceneBlock,
-    SceneBlock3, SceneError, Weakening,
+    SceneBlock3, SceneError,
 };
 
 /// A path into the scene, like `blocks[2].vertices[1]`.
@@ -285,70 +285,7 @@ impl Scene {
             a.duration,
             "set analysis.duration to the simulated time in seconds (it is required)",
         )?;
-        if let Some(dt) = a.dt {
-            self.positive(
-                &at("dt"),
-                "the time step dt",
-                dt,
-                "give a time step in seconds or leave dt out for an automatic one",
-            )?;
-        }
-        if let Some(k) = a.velocity_ratio {
-            self.finite(&at("velocity_ratio"), "velocity_ratio", k)?;
-            if !(0.0..=1.0).contains(&k) {
-                return Err(self.error(
-                    &at("velocity_ratio"),
-                    format!("velocity_ratio must lie in [0, 1] (1 dynamic, 0 static), got {k}"),
-                ));
-            }
-        }
-        if a.open_close_limit == 0 {
-            return Err(self.error(
-                &at("open_close_limit"),
-                "open_close_limit must be at least 1 (6 is usual)",
-            ));
-        }
-        let ratio_hint = "it is a fraction of the model size, like 0.01";
-        self.positive(
-            &at("max_displacement_ratio"),
-            "max_displacement_ratio",
-            a.max_displacement_ratio,
-            ratio_hint,
-        )?;
-        self.positive(
-            &at("max_penetration_ratio"),
-            "max_penetration_ratio",
-            a.max_penetration_ratio,
-            ratio_hint,
-        )?;
-        self.positive(
-            &at("min_dt_ratio"),
-            "min_dt_ratio",
-            a.min_dt_ratio,
-            "it is a fraction of dt, like 0.001",
-        )?;
-        if a.min_dt_ratio > 1.0 {
-            return Err(self.error(
-                &at("min_dt_ratio"),
-                format!(
-                    "min_dt_ratio is a fraction of dt and must not exceed 1, got {}",
-                    a.min_dt_ratio
-                ),
-            ));
-        }
-        self.non_negative(
-            &at("contact_damping"),
-            "contact_damping",
-            a.contact_damping,
-            "it is a share of critical damping: 0 off, 1 critical",
-        )?;
         let auto = "give a value or leave it out for an automatic one";
-        if let Some(p) = a.penalty {
-            self.positive(&at("penalty"), "the penalty", p, auto)?;
-        }
-        if let Some(w) = a.length_scale {
-            self.positive(&at("length_scale"), "the length scale", w, auto)?;
-        }
         if let Some(p) = a.fixed_penalty {
             self.positive(&at("fixed_penalty"), "the fixed-point penalty", p, auto)?;
         }
@@ -375,6 +312,10 @@ impl Scene {
                 d.frequency,
                 "give the frequency (Hz) at which the ratio holds, like the structure's first mode",
             )?;
+        }
+        // The driver checks its own settings; the scene names the place.
+        if let Err(dda_core::DdaError::Setting { field, message }) = self.settings().validate() {
+            return Err(self.error(&at(field), message));
         }
         Ok(())
     }
@@ -408,189 +349,37 @@ impl Scene {
         Ok(())
     }
 
+    /// A law's parameters are checked by the law itself; the scene names the
+    /// place (a `Custom` law's by its registry, when the scene is built).
     fn check_law(&self, at: &Place, law: &JointLaw) -> Result {
-        let (normal_stiffness, shear_stiffness) = match law {
-            JointLaw::Coulomb(law) => {
-                self.angle(
-                    at,
-                    "friction_angle",
-                    "the friction angle",
-                    law.friction_angle,
-                )?;
-                self.strength(at, "cohesion", "the cohesion", law.cohesion)?;
-                self.strength(
-                    at,
-                    "tensile_strength",
-                    "the tensile strength",
-                    law.tensile_strength,
-                )?;
-                (&law.normal_stiffness, &law.shear_stiffness)
+        if let JointLaw::Custom { name, params } = law {
+            if name.trim().is_empty() {
+                return Err(self.error(
+                    &at.field("name"),
+                    "the law's name is empty; give the name it is registered under",
+                ));
             }
-            JointLaw::ThresholdBond(law) => {
-                self.angle(
-                    at,
-                    "friction_angle",
-                    "the friction angle",
-                    law.friction_angle,
-                )?;
-                let hint = "it is the displacement (m) at which the bond breaks, like 1e-4";
-                self.positive(
-                    &at.field("max_opening"),
-                    "max_opening",
-                    law.max_opening,
-                    hint,
-                )?;
-                self.positive(&at.field("max_shear"), "max_shear", law.max_shear, hint)?;
-                (&law.normal_stiffness, &law.shear_stiffness)
+            for (key, value) in params {
+                let what = format!("the parameter {key:?}");
+                self.finite(&at.field("params").key(key), &what, *value)?;
             }
-            JointLaw::DisplacementStrength {
-                friction_angle,
-                residual_friction_angle,
-                cohesion,
-                residual_cohesion,
-                tensile_strength,
-                weakening,
-                normal_stiffness,
-                shear_stiffness,
-            } => {
-                self.angle(at, "friction_angle", "the friction angle", *friction_angle)?;
-                if let Some(phi) = residual_friction_angle {
-                    self.angle(
-                        at,
-                        "residual_friction_angle",
-                        "the residual friction angle",
-                        *phi,
-                    )?;
-                }
-                self.strength(at, "cohesion", "the cohesion", *cohesion)?;
-                self.strength(
-                    at,
-                    "residual_cohesion",
-                    "the residual cohesion",
-                    *residual_cohesion,
-                )?;
-                self.strength(
-                    at,
-                    "tensile_strength",
-                    "the tensile strength",
-                    *tensile_strength,
-                )?;
-                self.check_weakening(&at.field("weakening"), weakening)?;
-                (normal_stiffness, shear_stiffness)
-            }
-            JointLaw::SlipFriction {
-                peak_friction_angle,
-                residual_friction_angle,
-                weakening,
-                normal_stiffness,
-                shear_stiffness,
-            } => {
-                self.angle(
-                    at,
-                    "peak_friction_angle",
-                    "the peak friction angle",
-                    *peak_friction_angle,
-                )?;
-                self.angle(
-                    at,
-                    "residual_friction_angle",
-                    "the residual friction angle",
-                    *residual_friction_angle,
-                )?;
-                self.check_weakening(&at.field("weakening"), weakening)?;
-                (normal_stiffness, shear_stiffness)
-            }
-            JointLaw::RateFriction(law) => {
-                self.angle(
-                    at,
-                    "static_friction_angle",
-                    "the static friction angle",
-                    law.static_friction_angle,
-                )?;
-                self.angle(
-                    at,
-                    "dynamic_friction_angle",
-                    "the dynamic friction angle",
-                    law.dynamic_friction_angle,
-                )?;
-                self.positive(
-                    &at.field("characteristic_rate"),
-                    "the characteristic rate",
-                    law.characteristic_rate,
-                    "it is the slip rate (m/s) over which friction falls, like 0.1",
-                )?;
-                (&law.normal_stiffness, &law.shear_stiffness)
-            }
-            JointLaw::Custom { name, params } => {
-                if name.trim().is_empty() {
-                    return Err(self.error(
-                        &at.field("name"),
-                        "the law's name is empty; give the name it is registered under",
-                    ));
-                }
-                for (key, value) in params {
-                    self.finite(
-                        &at.field("params").key(key),
-                        &format!("the parameter {key:?}"),
-                        *value,
-                    )?;
-                }
-                // The registry checks the rest when the scene is built.
-                return Ok(());
-            }
-        };
-        let auto = "give a positive stiffness or leave it out for an automatic one";
-        if let Some(k) = normal_stiffness {
-            self.positive(
-                &at.field("normal_stiffness"),
-                "the normal stiffness",
-                *k,
-                auto,
-            )?;
+            return Ok(());
         }
-        if let Some(k) = shear_stiffness {
-            self.positive(
-                &at.field("shear_stiffness"),
-                "the shear stiffness",
-                *k,
-                auto,
-            )?;
+        let built = super::build::contact_law(law, &dda_contact::LawRegistry::new());
+        match built.map(|law| law.check()) {
+            Ok(Err(dda_core::DdaError::Setting { field, message })) => {
+                // A displacement-strength law names its peaks plainly.
+                let field = match (law, field) {
+                    (JointLaw::DisplacementStrength { .. }, "peak_friction_angle") => {
+                        "friction_angle"
+                    }
+                    (JointLaw::DisplacementStrength { .. }, "peak_cohesion") => "cohesion",
+                    _ => field,
+                };
+                Err(self.error(&at.field(field), message))
+            }
+            _ => Ok(()),
         }
-        Ok(())
-    }
-
-    /// A friction angle in [0, 90) degrees.
-    fn angle(&self, law: &Place, field: &str, what: &str, phi: f64) -> Result {
-        let at = law.field(field);
-        self.finite(&at, what, phi)?;
-        if (0.0..90.0).contains(&phi) {
-            Ok(())
-        } else {
-            Err(self.error(
-                &at,
-                format!("{what} must lie in [0, 90) degrees, got {phi}"),
-            ))
-        }
-    }
-
-    /// A cohesion or tensile strength: zero or positive.
-    fn strength(&self, law: &Place, field: &str, what: &str, v: f64) -> Result {
-        self.non_negative(&law.field(field), what, v, "use 0 for none")
-    }
-
-    fn check_weakening(&self, at: &Place, w: &Weakening) -> Result {
-        let values: &[f64] = match w {
-            Weakening::Step { at } => &[*at],
-            Weakening::Linear { start, end } => &[*start, *end],
-            Weakening::Exponential { length } => &[*length],
-        };
-        self.finite_all(at, "the weakening slip", values)?;
-        w.check().map_err(|reason| {
-            self.error(
-                at,
-                format!("{reason}; slips are in m, like Step(at: 0.001) or Linear(start: 0.0, end: 0.01)"),
-            )
-        })
     }
 
     fn check_joints(&self, blocks: &[Slot]) -> Result {
@@ -727,7 +516,7 @@ impl Scene {
             for block in spec.expand(k) {
                 let points = to_points(&block.vertices);
                 polygon::validate(&points).map_err(|e| {
-                    let message = polygon_message(&e);
+                    let message = e.to_string();
                     let message = match block.part {
                         // "Remove a vertex" is no help with generated blocks.
                         Some(_) => format!(
@@ -873,7 +662,7 @@ impl Scene {
                 }
                 let points = to_points(outline);
                 polygon::validate(&points)
-                    .map_err(|e| self.error(&at.field("outline"), polygon_message(&e)))?;
+                    .map_err(|e| self.error(&at.field("outline"), e.to_string()))?;
                 self.finite(&at.field("z0"), "z0", *z0)?;
                 self.finite(&at.field("z1"), "z1", *z1)?;
                 if z1 <= z0 {
@@ -896,10 +685,8 @@ impl Scene {
     /// Validates a 3D block's surface; errors name the face or corner.
     fn check_polyhedron(&self, at: &Place, block: &SceneBlock3) -> Result<Polyhedron> {
         let points: Vec<Point3<f64>> = block.vertices.iter().map(|v| Point3::from(*v)).collect();
-        let shape = polyhedra::validate(&points, &block.faces).map_err(|e| {
-            let (place, message) = polyhedron_message(at, &e);
-            self.error(&place, message)
-        })?;
+        let shape = polyhedra::validate(&points, &block.faces)
+            .map_err(|e| self.error(&polyhedron_place(at, &e), e.to_string()))?;
         // The checks accept a surface listed inside out; a scene does not,
         // so a face order mistake is caught here rather than silently fixed.
         if signed_volume(&points, &block.faces) < 0.0 {
@@ -1519,108 +1306,15 @@ fn signed_volume(points: &[Point3<f64>], faces: &[Vec<usize>]) -> f64 {
     six / 6.0
 }
 
-/// Where a polyhedron's error is (the face or corner, for the line and
-/// column) and what it says, with what to do about it.
-fn polyhedron_message(at: &Place, e: &PolyhedronError) -> (Place, String) {
-    use PolyhedronError as E;
-    let face = |f: usize| at.pointing_at("faces", f);
-    let vertex = |v: usize| at.pointing_at("vertices", v);
-    match e {
-        E::TooFewVertices(n) => (
-            at.field("vertices"),
-            format!("a polyhedron needs at least 4 corners, this one has {n}; add corners"),
-        ),
-        E::TooFewFaces(n) => (
-            at.field("faces"),
-            format!("a closed polyhedron needs at least 4 faces, this one has {n}; add the missing faces"),
-        ),
-        E::NotFinite { vertex: v } => (
-            vertex(*v),
-            format!("vertex {v} is not a finite point; write finite coordinates"),
-        ),
-        E::FaceTooSmall { face: f, count } => (
-            face(*f),
-            format!("face {f} has {count} corners; a face needs at least 3"),
-        ),
-        E::IndexOutOfRange {
-            face: f,
-            index,
-            count,
-        } => (
-            face(*f),
-            format!(
-                "face {f} refers to vertex {index}, but there are only {count} vertices (numbered 0 to {}); correct the index",
-                count.saturating_sub(1)
-            ),
-        ),
-        E::RepeatedVertex { face: f, vertex: v } => (
-            face(*f),
-            format!("face {f} visits vertex {v} twice; list each corner once"),
-        ),
-        E::DuplicateFace { first, second } => (
-            face(*second),
-            format!("faces {first} and {second} have the same corners; remove one of them"),
-        ),
-        E::OpenEdge { face: f, a, b } => (
-            face(*f),
-            format!(
-                "face {f}: the surface is open: its edge {a}-{b} belongs to no other face; add the missing faces so every edge is shared by exactly two"
-            ),
-        ),
-        E::NonManifoldEdge { a, b, count } => (
-            at.field("faces"),
-            format!(
-                "the surface is not manifold: edge {a}-{b} belongs to {count} faces, not 2; make blocks that touch along an edge separate blocks"
-            ),
-        ),
-        E::InconsistentOrientation { face: f } => (
-            face(*f),
-            format!(
-                "face {f} is oriented against its neighbours: list its corners counter-clockwise seen from outside (reverse their order)"
-            ),
-        ),
-        E::Disconnected { face: f } => (
-            face(*f),
-            format!(
-                "face {f}: the surface is in several pieces (this face is not connected to face 0); give each piece as a block of its own"
-            ),
-        ),
-        E::UnusedVertex { vertex: v } => (
-            vertex(*v),
-            format!("vertex {v} is used by no face; remove it or add it to its faces"),
-        ),
-        E::NonManifoldVertex { vertex: v } => (
-            vertex(*v),
-            format!(
-                "vertex {v}: the surface is not manifold there (its faces do not form one fan); make blocks that touch at a corner separate blocks"
-            ),
-        ),
-        E::DegenerateFace { face: f } => (
-            face(*f),
-            format!("face {f} has zero area (its corners lie on one line); remove it or correct its corners"),
-        ),
-        E::CoincidentVertices { face: f, a, b } => (
-            face(*f),
-            format!("face {f}: vertices {a} and {b} coincide; merge them into one"),
-        ),
-        E::NonPlanarFace {
-            face: f,
-            vertex: v,
-            distance,
-        } => (
-            face(*f),
-            format!(
-                "face {f} is not planar: vertex {v} is {distance:.3e} off its plane; move the corner onto the plane or split the face into triangles"
-            ),
-        ),
-        E::SelfIntersectingFace { face: f } => (
-            face(*f),
-            format!("face {f} is not a simple polygon (two of its edges cross); reorder its corners around the face"),
-        ),
-        E::ZeroVolume => (
-            at.clone(),
-            "the polyhedron has zero volume (its corners lie in one plane); give corners that enclose a volume".to_string(),
-        ),
+/// Where in the entry a polyhedron's error points (the face or corner, for
+/// the line and column).
+fn polyhedron_place(at: &Place, e: &PolyhedronError) -> Place {
+    match e.place() {
+        Fault::Vertices => at.field("vertices"),
+        Fault::Faces => at.field("faces"),
+        Fault::Vertex(v) => at.pointing_at("vertices", v),
+        Fault::Face(f) => at.pointing_at("faces", f),
+        Fault::Block => at.clone(),
     }
 }
 
@@ -1632,25 +1326,4 @@ fn bounds(points: &[Point2<f64>]) -> (Point2<f64>, Point2<f64>) {
     points
         .iter()
         .fold((points[0], points[0]), |(lo, hi), p| (lo.inf(p), hi.sup(p)))
-}
-
-/// The polygon error with what to do about it.
-pub(super) fn polygon_message(e: &PolygonError) -> String {
-    match e {
-        PolygonError::TooFewVertices(n) => {
-            format!("a polygon needs at least 3 vertices, this one has {n}; add vertices")
-        }
-        PolygonError::NotFinite { index } => {
-            format!("vertex {index} is not a finite number; write finite coordinates")
-        }
-        PolygonError::DuplicateVertex { a, b } => {
-            format!("vertices {a} and {b} coincide; remove one of them")
-        }
-        PolygonError::SelfIntersecting { a, b } => format!(
-            "the polygon is self-intersecting (edges {a} and {b} cross each other); reorder its vertices so the boundary does not cross itself"
-        ),
-        PolygonError::ZeroArea => {
-            "the polygon has zero area (its vertices lie on one line); give vertices that enclose an area".to_string()
-        }
-    }
 }
