@@ -565,73 +565,44 @@ pub struct SceneBlock3 {
     pub stress: [f64; 6],
 }
 
+/// The same field of every entry, whatever its shape.
+macro_rules! common {
+    ($self:ident, $field:ident => $value:expr) => {
+        match $self {
+            BlockSpec::Polygon { $field, .. }
+            | BlockSpec::Rectangle { $field, .. }
+            | BlockSpec::Arch { $field, .. }
+            | BlockSpec::Column { $field, .. }
+            | BlockSpec::Wall { $field, .. } => $value,
+            BlockSpec::Polyhedron { $field, .. }
+            | BlockSpec::Box { $field, .. }
+            | BlockSpec::Prism { $field, .. } => $value,
+        }
+    };
+}
+
 impl BlockSpec {
     pub fn material(&self) -> Option<&str> {
-        match self {
-            BlockSpec::Polygon { material, .. }
-            | BlockSpec::Rectangle { material, .. }
-            | BlockSpec::Arch { material, .. }
-            | BlockSpec::Column { material, .. }
-            | BlockSpec::Wall { material, .. }
-            | BlockSpec::Polyhedron { material, .. }
-            | BlockSpec::Box { material, .. }
-            | BlockSpec::Prism { material, .. } => material.as_deref(),
-        }
+        common!(self, material => material.as_deref())
     }
 
     /// The block's own kind, if it gives one.
     pub fn block_kind(&self) -> Option<BlockKind> {
-        match self {
-            BlockSpec::Polygon { kind, .. }
-            | BlockSpec::Rectangle { kind, .. }
-            | BlockSpec::Arch { kind, .. }
-            | BlockSpec::Column { kind, .. }
-            | BlockSpec::Wall { kind, .. }
-            | BlockSpec::Polyhedron { kind, .. }
-            | BlockSpec::Box { kind, .. }
-            | BlockSpec::Prism { kind, .. } => *kind,
-        }
+        common!(self, kind => *kind)
     }
 
     pub fn fixed(&self) -> bool {
-        match self {
-            BlockSpec::Polygon { fixed, .. }
-            | BlockSpec::Rectangle { fixed, .. }
-            | BlockSpec::Arch { fixed, .. }
-            | BlockSpec::Column { fixed, .. }
-            | BlockSpec::Wall { fixed, .. }
-            | BlockSpec::Polyhedron { fixed, .. }
-            | BlockSpec::Box { fixed, .. }
-            | BlockSpec::Prism { fixed, .. } => *fixed,
-        }
+        common!(self, fixed => *fixed)
     }
 
     /// (vx, vy, ω) for 2D entries, (vx, vy, vz, ωx, ωy, ωz) for 3D ones.
     pub fn velocity(&self) -> &[f64] {
-        match self {
-            BlockSpec::Polygon { velocity, .. }
-            | BlockSpec::Rectangle { velocity, .. }
-            | BlockSpec::Arch { velocity, .. }
-            | BlockSpec::Column { velocity, .. }
-            | BlockSpec::Wall { velocity, .. } => velocity,
-            BlockSpec::Polyhedron { velocity, .. }
-            | BlockSpec::Box { velocity, .. }
-            | BlockSpec::Prism { velocity, .. } => velocity,
-        }
+        common!(self, velocity => velocity)
     }
 
     /// (σx, σy, τxy) for 2D entries, (σx, σy, σz, τyz, τzx, τxy) for 3D ones.
     pub fn stress(&self) -> &[f64] {
-        match self {
-            BlockSpec::Polygon { stress, .. }
-            | BlockSpec::Rectangle { stress, .. }
-            | BlockSpec::Arch { stress, .. }
-            | BlockSpec::Column { stress, .. }
-            | BlockSpec::Wall { stress, .. } => stress,
-            BlockSpec::Polyhedron { stress, .. }
-            | BlockSpec::Box { stress, .. }
-            | BlockSpec::Prism { stress, .. } => stress,
-        }
+        common!(self, stress => stress)
     }
 
     /// The entry's name in the file, like "Rectangle".

@@ -531,7 +531,14 @@ impl Scene {
                 blocks.push(block);
             }
         }
-        self.check_overlaps(&blocks, &outlines)?;
+        let places: Vec<Place> = blocks.iter().map(|b| self.block_place(b)).collect();
+        let bounds = |o: &Vec<Point2<f64>>| {
+            let (lo, hi) = bounds(o);
+            ([lo.x, lo.y], [hi.x, hi.y])
+        };
+        self.check_overlaps(&places, &outlines, bounds, |a, b, tol| {
+            polygon::overlap(a, b, tol)
+        })?;
         Ok(blocks)
     }
 
@@ -612,7 +619,15 @@ impl Scene {
                 blocks.push(block);
             }
         }
-        self.check_overlaps_3d(&blocks, &shapes)?;
+        let places: Vec<Place> = blocks
+            .iter()
+            .map(|b| place_of(b.entry, b.part.as_deref()))
+            .collect();
+        let bounds = |s: &Polyhedron| {
+            let (lo, hi) = s.bounds();
+            (lo.coords.into(), hi.coords.into())
+        };
+        self.check_overlaps(&places, &shapes, bounds, polyhedra::overlap)?;
         Ok(blocks)
     }
 
@@ -696,35 +711,6 @@ impl Scene {
             ));
         }
         Ok(shape)
-    }
-
-    /// Blocks may touch at the start but not overlap (beyond 1e-6 of the model size).
-    fn check_overlaps_3d(&self, blocks: &[SceneBlock3], shapes: &[Polyhedron]) -> Result {
-        let bounds: Vec<(Point3<f64>, Point3<f64>)> = shapes.iter().map(|s| s.bounds()).collect();
-        let lo = bounds.iter().fold(bounds[0].0, |a, b| a.inf(&b.0));
-        let hi = bounds.iter().fold(bounds[0].1, |a, b| a.sup(&b.1));
-        let tol = 1e-6 * (hi - lo).norm();
-        let mut order: Vec<usize> = (0..shapes.len()).collect();
-        order.sort_by(|&a, &b| bounds[a].0.x.total_cmp(&bounds[b].0.x));
-        for (n, &i) in order.iter().enumerate() {
-            for &j in &order[n + 1..] {
-                if bounds[j].0.x > bounds[i].1.x + tol {
-                    break;
-                }
-                if polyhedra::overlap(&shapes[i], &shapes[j], tol) {
-                    let (a, b) = (i.min(j), i.max(j));
-                    let place = |k: usize| place_of(blocks[k].entry, blocks[k].part.as_deref());
-                    return Err(self.error(
-                        &place(b),
-                        format!(
-                            "the block overlaps {} at the start; move or resize one of them so they touch at most",
-                            place(a)
-                        ),
-                    ));
-                }
-            }
-        }
-        Ok(())
     }
 
     /// The entry's own values: material, sizes, counts, initial state.
@@ -928,27 +914,67 @@ impl Scene {
         Ok(())
     }
 
-    /// Blocks may touch at the start but not overlap (beyond 1e-6 of the model size).
-    fn check_overlaps(&self, blocks: &[SceneBlock], outlines: &[Vec<Point2<f64>>]) -> Result {
-        let bounds: Vec<(Point2<f64>, Point2<f64>)> = outlines.iter().map(|o| bounds(o)).collect();
-        let lo = bounds.iter().fold(bounds[0].0, |a, b| a.inf(&b.0));
-        let hi = bounds.iter().fold(bounds[0].1, |a, b| a.sup(&b.1));
-        let tol = 1e-6 * (hi - lo).norm();
-        // Sweep along x so large scenes are not quadratic.
-        let mut order: Vec<usize> = (0..outlines.len()).collect();
-        order.sort_by(|&a, &b| bounds[a].0.x.total_cmp(&bounds[b].0.x));
-        for (n, &i) in order.iter().enumerate() {
-            for &j in &order[n + 1..] {
-                if bounds[j].0.x > bounds[i].1.x + tol {
+    /// Blocks may touch at the start but not overlap (beyond 1e-6 of the
+    /// model size). Candidates share a cell of a grid of about the median
+    /// block's size, so the check is near linear in the number of blocks.
+    fn check_overlaps<S, const D: usize>(
+        &self,
+        places: &[Place],
+        shapes: &[S],
+        bounds: impl Fn(&S) -> ([f64; D], [f64; D]),
+        overlap: impl Fn(&S, &S, f64) -> bool,
+    ) -> Result {
+        let boxes: Vec<([f64; D], [f64; D])> = shapes.iter().map(bounds).collect();
+        let (mut lo, mut hi) = boxes[0];
+        for (l, h) in &boxes {
+            for k in 0..D {
+                lo[k] = lo[k].min(l[k]);
+                hi[k] = hi[k].max(h[k]);
+            }
+        }
+        let tol = 1e-6 * (0..D).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+        let mut sizes: Vec<f64> = boxes.iter().map(|(l, h)| h[0] - l[0]).collect();
+        sizes.sort_by(f64::total_cmp);
+        let cell = sizes[sizes.len() / 2].max(tol).max(f64::MIN_POSITIVE);
+        let index = |x: f64, k: usize| ((x - lo[k]) / cell).floor().clamp(0.0, 1e9) as i64;
+        let mut grid: std::collections::HashMap<[i64; D], Vec<usize>> = Default::default();
+        // Blocks spanning many cells (a long base) are checked against all.
+        let mut large: Vec<usize> = Vec::new();
+        for (i, (l, h)) in boxes.iter().enumerate() {
+            let first: [i64; D] = std::array::from_fn(|k| index(l[k] - tol, k));
+            let last: [i64; D] = std::array::from_fn(|k| index(h[k] + tol, k));
+            let spanned: i64 = (0..D).map(|k| last[k] - first[k] + 1).product();
+            let mut candidates: Vec<usize> = large.clone();
+            if spanned > 64 {
+                candidates.extend(0..i);
+                candidates.sort_unstable();
+                candidates.dedup();
+                large.push(i);
+            } else {
+                let mut at = first;
+                'cells: loop {
+                    let list = grid.entry(at).or_default();
+                    candidates.extend(list.iter().copied());
+                    list.push(i);
+                    for k in 0..D {
+                        if at[k] < last[k] {
+                            at[k] += 1;
+                            continue 'cells;
+                        }
+                        at[k] = first[k];
+                    }
                     break;
                 }
-                if polygon::overlap(&outlines[i], &outlines[j], tol) {
-                    let (a, b) = (i.min(j), i.max(j));
+            }
+            for j in candidates {
+                let apart =
+                    (0..D).any(|k| boxes[j].0[k] > h[k] + tol || l[k] > boxes[j].1[k] + tol);
+                if !apart && overlap(&shapes[j], &shapes[i], tol) {
                     return Err(self.error(
-                        &self.block_place(&blocks[b]),
+                        &places[i],
                         format!(
                             "the block overlaps {} at the start; move or resize one of them so they touch at most",
-                            self.block_place(&blocks[a])
+                            places[j]
                         ),
                     ));
                 }
