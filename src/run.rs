@@ -102,6 +102,33 @@ pub fn estimate(model: &AnyModel) -> Estimate {
     }
 }
 
+/// More steps than this is refused by [`run_scene`]: weeks of computing,
+/// almost always a slip of the duration or dt.
+pub const MAX_STEPS: f64 = 1e9;
+/// A `history.csv` larger than this (bytes) is refused by [`run_scene`].
+pub const MAX_BYTES: f64 = 1e11;
+
+/// A run whose step count or output size is absurd is an error before it
+/// starts, with the estimate and what to change.
+fn refuse_absurd(scene: &Scene, e: &Estimate) -> anyhow::Result<()> {
+    let origin = scene.origin();
+    if !(e.steps <= MAX_STEPS) {
+        bail!(
+            "{origin}: the run would take {:.3e} steps (analysis.duration / dt), more than the {MAX_STEPS:.0e} a run may take; check analysis.duration and analysis.dt",
+            e.steps
+        );
+    }
+    if !(e.bytes <= MAX_BYTES) {
+        bail!(
+            "{origin}: history.csv would be about {} ({:.3e} rows), more than {}; give a larger output.interval",
+            bytes_text(e.bytes),
+            e.rows,
+            bytes_text(MAX_BYTES)
+        );
+    }
+    Ok(())
+}
+
 /// "12 kB", "3.4 MB", "1.2 GB".
 pub fn bytes_text(bytes: f64) -> String {
     let units = [("GB", 1e9), ("MB", 1e6), ("kB", 1e3)];
@@ -153,7 +180,9 @@ pub fn run_scene(
     options: RunOptions,
     registry: &LawRegistry,
 ) -> anyhow::Result<Summary> {
-    match scene.build_any_with(registry)? {
+    let model = scene.build_any_with(registry)?;
+    refuse_absurd(scene, &estimate(&model))?;
+    match model {
         AnyModel::Plane(model) => run_model(scene, model, out_dir, options),
         AnyModel::Space(model) => run_model(scene, model, out_dir, options),
     }

@@ -1073,6 +1073,12 @@ impl Scene {
     /// every step), and a note when it was chosen automatically.
     pub fn output_interval(&self, dt: f64) -> (Option<f64>, Option<String>) {
         match self.output.interval {
+            Some(interval) if interval > 0.0 && interval < dt => (
+                None,
+                Some(format!(
+                    "output interval {interval:.4e} s is shorter than the time step {dt:.4e} s, so every step is written (as with output.interval: 0)"
+                )),
+            ),
             Some(interval) => ((interval > 0.0).then_some(interval), None),
             None => {
                 let duration = self.analysis.duration;

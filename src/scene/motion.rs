@@ -52,6 +52,9 @@ pub(crate) fn read_record(path: &Path, layout: &Layout) -> Result<Vec<Sample>, S
     let text = std::fs::read_to_string(path).map_err(|e| {
         format!("cannot read the record file {file}: {e}; check the path (relative to the scene file's folder)")
     })?;
+    // Spreadsheets often start a CSV with a byte-order mark, which would
+    // make the first row look like a header and drop it.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let mut samples: Vec<Sample> = Vec::new();
     let mut first = true;
     for (i, raw) in text.lines().enumerate() {
@@ -168,6 +171,15 @@ mod tests {
         assert_eq!(samples, [(1, 0.0, vec![1.0, 2.0])]);
         let e = read_as("xz4", "0.0, 1.0, 2.0, 0.0\n", &Layout::of("xz")).unwrap_err();
         assert!(e.contains("a row is `time, ax, az`"), "{e}");
+    }
+
+    /// A record saved with a byte-order mark keeps its first row.
+    #[test]
+    fn a_byte_order_mark_does_not_eat_the_first_row() {
+        let rows = "0.0, 0.5, 0.0\n0.01, 0.25, 0.0\n0.02, 0.0, 0.0\n";
+        let with_mark = read("bom", &format!("\u{feff}{rows}")).unwrap();
+        assert_eq!(with_mark.len(), 3);
+        assert_eq!(with_mark, read("plain", rows).unwrap());
     }
 
     #[test]
