@@ -1520,3 +1520,12 @@ fn a_hundred_thousand_generated_blocks_are_checked() {
     let message = Scene::from_str(&overlapping, "column.ron").unwrap_err().to_string();
     assert!(message.contains("overlaps blocks[0]"), "{message}");
 }
+
+/// A modulus of 1e-300 Pa once ran without a word.
+#[test]
+fn a_meaningless_modulus_is_an_error() {
+    let text = with("young: 1e10", "young: 1e-300");
+    let message = error_of(&text);
+    assert!(message.contains(".young: "), "{message}");
+    assert!(message.contains("Young's modulus 1e-300 Pa is below 1 Pa"), "{message}");
+}

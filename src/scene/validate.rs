@@ -335,6 +335,17 @@ impl Scene {
                 m.young,
                 "give the elastic modulus (Pa)",
             )?;
+            // Below 1 Pa a block's springs and the automatic penalty and
+            // dt lose meaning (1e-300 once ran without a word).
+            if m.young < 1.0 {
+                return Err(self.error(
+                    &at("young"),
+                    format!(
+                        "Young's modulus {:e} Pa is below 1 Pa, softer than any solid; give it in Pa (granite about 5e10, brick about 1e10)",
+                        m.young
+                    ),
+                ));
+            }
             self.finite(&at("poisson"), "Poisson's ratio", m.poisson)?;
             if !(0.0..0.5).contains(&m.poisson) {
                 return Err(self.error(
