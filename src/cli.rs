@@ -51,6 +51,9 @@ enum Command {
         /// Seconds between progress lines on stderr when it is not a terminal (0: one per output time)
         #[arg(long, value_name = "SECONDS", default_value_t = 5.0)]
         progress_every: f64,
+        /// Also write VTK frames for ParaView (DIR/blocks.pvd, DIR/contacts.pvd, DIR/vtk/), as the scene's output.vtk does
+        #[arg(long)]
+        vtk: bool,
     },
     /// Time steps of running-bond walls of growing size: median milliseconds per step and ratio to the smallest wall
     Bench {
@@ -121,6 +124,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             scene,
             out,
             progress_every,
+            vtk,
         } => {
             let out = out.unwrap_or_else(|| default_out_dir(&scene));
             let every = Duration::try_from_secs_f64(progress_every).map_err(|_| {
@@ -133,6 +137,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 progress: terminal,
                 notes: true,
                 progress_lines: (!terminal).then_some(every),
+                vtk,
             };
             let summary = run_with_registry(&scene, &out, options, registry)?;
             let files: Vec<String> = summary
