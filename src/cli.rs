@@ -24,6 +24,8 @@ use clap::{Parser, Subcommand};
 use dda_contact::LawRegistry;
 
 use crate::extrude::{extrude_with, Extrusion};
+use crate::pictures::plot::{plot, PlotOptions};
+use crate::pictures::render::{render, ColorField, RenderOptions};
 use crate::run::{bytes_text, default_out_dir, estimate, run_with_registry, RunOptions};
 use crate::scene::MotionSpec;
 use crate::Scene;
@@ -72,6 +74,40 @@ enum Command {
         /// Also write the results as JSON to this file
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
+    },
+    /// Charts of a run (DIR/history.csv, DIR/contacts.csv): displacement, speed and rotation of chosen blocks, contact forces; SVG and PNG into DIR/plots
+    Plot {
+        /// The run's folder (what `dda run --out` was given)
+        dir: PathBuf,
+        /// Blocks to draw, comma separated; default: all up to 6, else the 6 that moved farthest
+        #[arg(long, value_delimiter = ',')]
+        blocks: Vec<usize>,
+        /// Where the charts go (default DIR/plots)
+        #[arg(long, short, value_name = "FOLDER")]
+        out: Option<PathBuf>,
+    },
+    /// An animation of a run (DIR/render/animation.gif) and a still (still.svg, still.png): the scene's blocks moved rigidly by the history, contacts as force lines
+    Render {
+        /// The run's folder (what `dda run --out` was given)
+        dir: PathBuf,
+        /// What colours the blocks
+        #[arg(long, value_enum, default_value_t = ColorField::Displacement)]
+        color: ColorField,
+        /// Frames of the animation, evenly spaced over the output times (default: every output time, at most 200)
+        #[arg(long)]
+        frames: Option<usize>,
+        /// The scene file (default: the one DIR/summary.json names)
+        #[arg(long, value_name = "SCENE")]
+        scene: Option<PathBuf>,
+        /// Time of the still, in s (default: the last output time)
+        #[arg(long, value_name = "SECONDS")]
+        still: Option<f64>,
+        /// Picture size in pixels, WIDTHxHEIGHT
+        #[arg(long, default_value = "800x600", value_parser = parse_size)]
+        size: (u32, u32),
+        /// Where the pictures go (default DIR/render)
+        #[arg(long, short, value_name = "FOLDER")]
+        out: Option<PathBuf>,
     },
     /// Load, validate and build a scene without running it
     Check {
@@ -146,6 +182,33 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 .map(|f| out.join(f).display().to_string())
                 .collect();
             println!("wrote {}", list(&files));
+        }
+        Command::Plot { dir, blocks, out } => {
+            let files = plot(&dir, &PlotOptions { blocks, out })?;
+            let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+            println!("wrote {}", list(&names));
+        }
+        Command::Render {
+            dir,
+            color,
+            frames,
+            scene,
+            still,
+            size,
+            out,
+        } => {
+            let options = RenderOptions {
+                color,
+                frames,
+                scene,
+                out,
+                still,
+                size,
+                progress: std::io::stderr().is_terminal(),
+            };
+            let rendered = render(&dir, &options, registry)?;
+            let names: Vec<String> = rendered.files.iter().map(|f| f.display().to_string()).collect();
+            println!("wrote {} ({} frames)", list(&names), rendered.frames);
         }
         Command::Check { scene: path } => {
             let scene = Scene::load(&path)?;
@@ -290,6 +353,17 @@ fn keep_record_found(solid: &mut Scene, scene: &Scene, out: &std::path::Path) {
         let file = std::fs::canonicalize(&file).unwrap_or(file);
         *path = file.display().to_string();
     }
+}
+
+/// `800x600` as (800, 600).
+fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("{text:?} is not WIDTHxHEIGHT in pixels, like 800x600");
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?);
+    if !(64..=4096).contains(&w) || !(64..=4096).contains(&h) {
+        return Err(format!("{text}: width and height must be 64 to 4096 pixels"));
+    }
+    Ok((w, h))
 }
 
 /// "a", "a and b", "a, b and c".

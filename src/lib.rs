@@ -47,6 +47,7 @@ pub mod extrude;
 pub mod features;
 pub mod observe;
 pub mod output;
+pub mod pictures;
 pub mod progress;
 pub mod run;
 pub mod scene;
