@@ -99,9 +99,12 @@ enum Command {
         /// The scene file (default: the one DIR/summary.json names)
         #[arg(long, value_name = "SCENE")]
         scene: Option<PathBuf>,
-        /// Time of the still, in s (default: the last output time)
+        /// Time of the still, in s (default: the last output time drawn)
         #[arg(long, value_name = "SECONDS")]
         still: Option<f64>,
+        /// Draw the run up to this time only, in s (default: to its end)
+        #[arg(long, value_name = "SECONDS")]
+        until: Option<f64>,
         /// Picture size in pixels, WIDTHxHEIGHT
         #[arg(long, default_value = "800x600", value_parser = parse_size)]
         size: (u32, u32),
@@ -194,6 +197,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             frames,
             scene,
             still,
+            until,
             size,
             out,
         } => {
@@ -203,11 +207,16 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 scene,
                 out,
                 still,
+                until,
                 size,
                 progress: std::io::stderr().is_terminal(),
             };
             let rendered = render(&dir, &options, registry)?;
-            let names: Vec<String> = rendered.files.iter().map(|f| f.display().to_string()).collect();
+            let names: Vec<String> = rendered
+                .files
+                .iter()
+                .map(|f| f.display().to_string())
+                .collect();
             println!("wrote {} ({} frames)", list(&names), rendered.frames);
         }
         Command::Check { scene: path } => {
@@ -359,9 +368,14 @@ fn keep_record_found(solid: &mut Scene, scene: &Scene, out: &std::path::Path) {
 fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let bad = || format!("{text:?} is not WIDTHxHEIGHT in pixels, like 800x600");
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
-    let (w, h): (u32, u32) = (w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?);
+    let (w, h): (u32, u32) = (
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    );
     if !(64..=4096).contains(&w) || !(64..=4096).contains(&h) {
-        return Err(format!("{text}: width and height must be 64 to 4096 pixels"));
+        return Err(format!(
+            "{text}: width and height must be 64 to 4096 pixels"
+        ));
     }
     Ok((w, h))
 }

@@ -45,7 +45,10 @@ pub fn contact_2d(label: &str, blocks: &[Vec<Point2<f64>>]) -> Option<(Point2<f6
         let l = x.hypot(y);
         (l > 0.0).then(|| [x / l, y / l])
     };
-    let centroid = |v: &[Point2<f64>]| v.iter().fold(Point2::origin(), |s, q| s + q.coords / v.len() as f64);
+    let centroid = |v: &[Point2<f64>]| {
+        v.iter()
+            .fold(Point2::origin(), |s, q| s + q.coords / v.len() as f64)
+    };
     let n = match fb {
         Feature::Edge(e) => {
             let (s, t) = (pb.get(e)?, pb[(e + 1) % pb.len()]);
@@ -126,10 +129,18 @@ fn nearest_points(
     let mut t = if e > 0.0 { (b * s + f) / e } else { 0.0 };
     if t < 0.0 {
         t = 0.0;
-        s = if a > 0.0 { (-c / a).clamp(0.0, 1.0) } else { 0.0 };
+        s = if a > 0.0 {
+            (-c / a).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
     } else if t > 1.0 {
         t = 1.0;
-        s = if a > 0.0 { ((b - c) / a).clamp(0.0, 1.0) } else { 0.0 };
+        s = if a > 0.0 {
+            ((b - c) / a).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
     }
     (p0 + d1 * s, q0 + d2 * t)
 }

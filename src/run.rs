@@ -13,8 +13,8 @@ use crate::progress::Progress;
 use crate::scene::{AnyModel, Model, Scene};
 use crate::simulation::Simulation;
 use crate::summary::SummaryWriter;
-use crate::vtk::VtkWriter;
 pub use crate::summary::{Status, Summary};
+use crate::vtk::VtkWriter;
 
 /// What a run prints on stderr besides errors.
 #[derive(Debug, Clone, Copy, Default)]

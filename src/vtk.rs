@@ -68,7 +68,10 @@ impl VtkWriter {
         }
         let blocks = blocks_vtu(run, &values, &self.start, layout);
         save(&self.dir.join(frame_name("blocks", frame)), &blocks)?;
-        save(&self.dir.join(frame_name("contacts", frame)), &contacts_vtu(run))?;
+        save(
+            &self.dir.join(frame_name("contacts", frame)),
+            &contacts_vtu(run),
+        )?;
         self.frames.push((round_time(run.time()), frame));
         for what in ["blocks", "contacts"] {
             let pvd = collection(what, &self.frames);
@@ -152,7 +155,12 @@ fn blocks_vtu(run: &dyn RunView, values: &[Vec<f64>], start: &[[f64; 3]], l: Lay
     int_array(&mut x, "Int32", "block", &ints(&|i| i));
     int_array(&mut x, "Int32", "material", &ints(&|i| shapes[i].material));
     // 0 deformable, 1 rigid.
-    int_array(&mut x, "Int32", "rigid", &ints(&|i| shapes[i].rigid as usize));
+    int_array(
+        &mut x,
+        "Int32",
+        "rigid",
+        &ints(&|i| shapes[i].rigid as usize),
+    );
     let displacement: Vec<[f64; 3]> = values
         .iter()
         .zip(start)
@@ -163,14 +171,29 @@ fn blocks_vtu(run: &dyn RunView, values: &[Vec<f64>], start: &[[f64; 3]], l: Lay
         .collect();
     float_array(&mut x, "displacement", 3, displacement.iter().flatten());
     let each = |f: fn(&Layout, &[f64]) -> [f64; 3]| values.iter().map(move |v| f(&l, v));
-    float_array(&mut x, "velocity", 3, each(Layout::velocity).flatten().collect::<Vec<_>>().iter());
-    float_array(&mut x, "rotation", 3, each(Layout::rotation).flatten().collect::<Vec<_>>().iter());
+    float_array(
+        &mut x,
+        "velocity",
+        3,
+        each(Layout::velocity).flatten().collect::<Vec<_>>().iter(),
+    );
+    float_array(
+        &mut x,
+        "rotation",
+        3,
+        each(Layout::rotation).flatten().collect::<Vec<_>>().iter(),
+    );
     let spin: Vec<f64> = each(Layout::angular_velocity).flatten().collect();
     float_array(&mut x, "angular_velocity", 3, spin.iter());
     let stress: Vec<f64> = values.iter().flat_map(|v| l.stress(v)).collect();
     float_array(&mut x, "stress", 6, stress.iter());
     x.push_str("</CellData>\n<Points>\n");
-    float_array(&mut x, "Points", 3, shapes.iter().flat_map(|s| s.vertices.iter().flatten()));
+    float_array(
+        &mut x,
+        "Points",
+        3,
+        shapes.iter().flat_map(|s| s.vertices.iter().flatten()),
+    );
     x.push_str("</Points>\n<Cells>\n");
 
     let mut connectivity = Vec::with_capacity(points);
@@ -193,7 +216,11 @@ fn blocks_vtu(run: &dyn RunView, values: &[Vec<f64>], start: &[[f64; 3]], l: Lay
     }
     int_array(&mut x, "Int64", "connectivity", &connectivity);
     int_array(&mut x, "Int64", "offsets", &offsets);
-    let cell = if l.dimension == 3 { POLYHEDRON } else { POLYGON };
+    let cell = if l.dimension == 3 {
+        POLYHEDRON
+    } else {
+        POLYGON
+    };
     int_array(&mut x, "UInt8", "types", &vec![cell as usize; shapes.len()]);
     if l.dimension == 3 {
         int_array(&mut x, "Int64", "faces", &faces);
@@ -228,9 +255,24 @@ fn contacts_vtu(run: &dyn RunView) -> String {
         })
         .collect();
     int_array(&mut x, "Int32", "state", &state);
-    int_array(&mut x, "Int32", "block_a", &contacts.iter().map(|c| c.blocks[0]).collect::<Vec<_>>());
-    int_array(&mut x, "Int32", "block_b", &contacts.iter().map(|c| c.blocks[1]).collect::<Vec<_>>());
-    float_array(&mut x, "normal", 3, contacts.iter().flat_map(|c| c.normal.iter()));
+    int_array(
+        &mut x,
+        "Int32",
+        "block_a",
+        &contacts.iter().map(|c| c.blocks[0]).collect::<Vec<_>>(),
+    );
+    int_array(
+        &mut x,
+        "Int32",
+        "block_b",
+        &contacts.iter().map(|c| c.blocks[1]).collect::<Vec<_>>(),
+    );
+    float_array(
+        &mut x,
+        "normal",
+        3,
+        contacts.iter().flat_map(|c| c.normal.iter()),
+    );
     // The normal force on block a as a vector, for glyphs.
     let force: Vec<f64> = contacts
         .iter()
@@ -238,7 +280,12 @@ fn contacts_vtu(run: &dyn RunView) -> String {
         .collect();
     float_array(&mut x, "force", 3, force.iter());
     x.push_str("</PointData>\n<Points>\n");
-    float_array(&mut x, "Points", 3, contacts.iter().flat_map(|c| c.point.iter()));
+    float_array(
+        &mut x,
+        "Points",
+        3,
+        contacts.iter().flat_map(|c| c.point.iter()),
+    );
     x.push_str("</Points>\n<Cells>\n");
     let ids: Vec<usize> = (0..n).collect();
     int_array(&mut x, "Int64", "connectivity", &ids);
@@ -258,7 +305,10 @@ fn header(x: &mut String, points: usize, cells: usize, time: f64) {
         "<FieldData>\n<DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{}</DataArray>\n</FieldData>",
         num(round_time(time))
     );
-    let _ = writeln!(x, "<Piece NumberOfPoints=\"{points}\" NumberOfCells=\"{cells}\">");
+    let _ = writeln!(
+        x,
+        "<Piece NumberOfPoints=\"{points}\" NumberOfCells=\"{cells}\">"
+    );
 }
 
 fn footer(x: &mut String) {
@@ -266,7 +316,10 @@ fn footer(x: &mut String) {
 }
 
 fn int_array(x: &mut String, kind: &str, name: &str, values: &[usize]) {
-    let _ = writeln!(x, "<DataArray type=\"{kind}\" Name=\"{name}\" format=\"ascii\">");
+    let _ = writeln!(
+        x,
+        "<DataArray type=\"{kind}\" Name=\"{name}\" format=\"ascii\">"
+    );
     let text: Vec<String> = values.iter().map(|v| v.to_string()).collect();
     for line in text.chunks(20) {
         x.push_str(&line.join(" "));
@@ -318,6 +371,5 @@ fn save(path: &Path, text: &str) -> anyhow::Result<()> {
 fn save_atomically(path: &Path, text: &str) -> anyhow::Result<()> {
     let partial = path.with_extension("pvd.partial");
     save(&partial, text)?;
-    std::fs::rename(&partial, path)
-        .with_context(|| format!("cannot replace {}", path.display()))
+    std::fs::rename(&partial, path).with_context(|| format!("cannot replace {}", path.display()))
 }

@@ -20,14 +20,20 @@ fn scratch(name: &str) -> PathBuf {
 /// Runs a shipped example cut to `duration` s, with contacts.csv; returns
 /// the run's folder and its number of output times.
 fn run(name: &str, duration: f64, dir: &Path) -> usize {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples")
+        .join(name);
     let mut scene = Scene::load(&path).unwrap();
     scene.analysis.duration = duration;
     scene.output.contacts = true;
     let registry = LawRegistry::with_builtin();
     run_scene(&scene, dir, RunOptions::default(), &registry).unwrap();
     let history = std::fs::read_to_string(dir.join("history.csv")).unwrap();
-    let mut times: Vec<&str> = history.lines().skip(1).map(|l| l.split(',').nth(1).unwrap()).collect();
+    let mut times: Vec<&str> = history
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap())
+        .collect();
     times.dedup();
     times.len()
 }
@@ -35,7 +41,12 @@ fn run(name: &str, duration: f64, dir: &Path) -> usize {
 /// Width and height from a PNG's header.
 fn png_size(path: &Path) -> (u32, u32) {
     let bytes = std::fs::read(path).unwrap();
-    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{} is not a PNG", path.display());
+    assert_eq!(
+        &bytes[..8],
+        b"\x89PNG\r\n\x1a\n",
+        "{} is not a PNG",
+        path.display()
+    );
     assert_eq!(&bytes[12..16], b"IHDR");
     let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
     (be(&bytes[16..20]), be(&bytes[20..24]))
@@ -95,16 +106,41 @@ fn a_2d_run_gives_charts_an_animation_and_a_still() {
     };
     render(&dir, &options, &LawRegistry::with_builtin()).unwrap();
     assert_eq!(gif_frames(&dir.join("small/animation.gif")), (320, 240, 4));
+
+    // Up to 0.2 s: the output times 0, 0.05, ..., 0.2.
+    let options = RenderOptions {
+        until: Some(0.2),
+        out: Some(dir.join("early")),
+        ..RenderOptions::default()
+    };
+    let rendered = render(&dir, &options, &LawRegistry::with_builtin()).unwrap();
+    assert_eq!(rendered.frames, 5);
+    assert_eq!(gif_frames(&dir.join("early/animation.gif")).2, 5);
 }
 
 #[test]
 fn a_3d_run_is_drawn_in_an_oblique_view() {
     let dir = scratch("wedge");
     let times = run("wedge_3d.ron", 0.05, &dir);
-    plot(&dir, &PlotOptions { blocks: vec![1], out: None }).unwrap();
+    plot(
+        &dir,
+        &PlotOptions {
+            blocks: vec![1],
+            out: None,
+        },
+    )
+    .unwrap();
     assert_eq!(png_size(&dir.join("plots/rotation.png")), (900, 540));
-    let rendered = render(&dir, &RenderOptions::default(), &LawRegistry::with_builtin()).unwrap();
-    assert_eq!(gif_frames(&dir.join("render/animation.gif")), (800, 600, times));
+    let rendered = render(
+        &dir,
+        &RenderOptions::default(),
+        &LawRegistry::with_builtin(),
+    )
+    .unwrap();
+    assert_eq!(
+        gif_frames(&dir.join("render/animation.gif")),
+        (800, 600, times)
+    );
     assert_eq!(rendered.frames, times);
 }
 
@@ -116,16 +152,29 @@ fn error_of(result: anyhow::Result<impl std::fmt::Debug>) -> String {
 fn bad_input_names_the_file_and_the_fix() {
     let missing = scratch("missing");
     let e = error_of(plot(&missing, &PlotOptions::default()));
-    assert!(e.contains("is not a folder") && e.contains("dda run"), "{e}");
+    assert!(
+        e.contains("is not a folder") && e.contains("dda run"),
+        "{e}"
+    );
 
     let empty = scratch("empty");
     std::fs::create_dir_all(&empty).unwrap();
-    let e = error_of(render(&empty, &RenderOptions::default(), &LawRegistry::with_builtin()));
+    let e = error_of(render(
+        &empty,
+        &RenderOptions::default(),
+        &LawRegistry::with_builtin(),
+    ));
     assert!(e.contains("history.csv not found"), "{e}");
 
     let dir = scratch("bad");
     run("sliding_block_2d.ron", 0.02, &dir);
-    let e = error_of(plot(&dir, &PlotOptions { blocks: vec![0, 7], out: None }));
+    let e = error_of(plot(
+        &dir,
+        &PlotOptions {
+            blocks: vec![0, 7],
+            out: None,
+        },
+    ));
     assert!(e.contains("block 7") && e.contains("2 blocks"), "{e}");
     let options = RenderOptions {
         frames: Some(1000),
@@ -147,5 +196,8 @@ fn bad_input_names_the_file_and_the_fix() {
         .unwrap();
     assert!(!out.status.success());
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("displacement") && stderr.contains("stress"), "{stderr}");
+    assert!(
+        stderr.contains("displacement") && stderr.contains("stress"),
+        "{stderr}"
+    );
 }

@@ -17,7 +17,9 @@ fn scratch(name: &str) -> PathBuf {
 
 /// A shipped example cut to `duration` seconds, writing contacts too.
 fn example(name: &str, duration: f64, vtk_in_scene: bool) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples")
+        .join(name);
     let mut scene = Scene::load(&path).unwrap();
     scene.analysis.duration = duration;
     scene.output.contacts = true;
@@ -41,7 +43,12 @@ fn collection(path: &Path) -> Vec<(f64, String)> {
     assert!(text.trim_end().ends_with("</Collection>\n</VTKFile>"));
     text.lines()
         .filter(|l| l.starts_with("<DataSet"))
-        .map(|l| (attribute(l, "timestep").parse().unwrap(), attribute(l, "file")))
+        .map(|l| {
+            (
+                attribute(l, "timestep").parse().unwrap(),
+                attribute(l, "file"),
+            )
+        })
         .collect()
 }
 
@@ -56,7 +63,9 @@ fn array(text: &str, name: &str) -> Vec<f64> {
     let start = text.find(&format!("Name=\"{name}\"")).unwrap();
     let body = &text[start..];
     let body = &body[body.find('>').unwrap() + 1..body.find("</DataArray>").unwrap()];
-    body.split_whitespace().map(|v| v.parse().unwrap()).collect()
+    body.split_whitespace()
+        .map(|v| v.parse().unwrap())
+        .collect()
 }
 
 fn piece(text: &str) -> (usize, usize) {
@@ -70,11 +79,19 @@ fn piece(text: &str) -> (usize, usize) {
 #[test]
 fn a_2d_run_has_a_polygon_per_block_at_each_output_time() {
     let dir = scratch("2d");
-    run(&example("arch_heyman_collapse_2d.ron", 0.1, false), &dir, true);
+    run(
+        &example("arch_heyman_collapse_2d.ron", 0.1, false),
+        &dir,
+        true,
+    );
     let history = read_history(dir.join("history.csv")).unwrap();
     let contacts = read_contacts(dir.join("contacts.csv")).unwrap();
     let frames = collection(&dir.join("blocks.pvd"));
-    let times: Vec<f64> = history.iter().filter(|r| r.block == 0).map(|r| r.time).collect();
+    let times: Vec<f64> = history
+        .iter()
+        .filter(|r| r.block == 0)
+        .map(|r| r.time)
+        .collect();
     assert_eq!(frames.iter().map(|f| f.0).collect::<Vec<_>>(), times);
     assert_eq!(collection(&dir.join("contacts.pvd")).len(), times.len());
     assert!(!dir.join("blocks.pvd.partial").exists());

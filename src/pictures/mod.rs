@@ -120,7 +120,10 @@ impl RunData {
         };
         let (times, blocks) = by_time(rows);
         if times.is_empty() {
-            bail!("{} has no rows: the run wrote nothing to draw", history.display());
+            bail!(
+                "{} has no rows: the run wrote nothing to draw",
+                history.display()
+            );
         }
         let contacts_path = dir.join("contacts.csv");
         let contacts = if contacts_path.is_file() {
@@ -203,7 +206,11 @@ pub fn viridis(t: f64) -> (u8, u8, u8) {
         (94.0, 201.0, 98.0),
         (253.0, 231.0, 37.0),
     ];
-    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let x = t * 4.0;
     let k = (x.floor() as usize).min(3);
     let f = x - k as f64;

@@ -46,7 +46,9 @@ pub fn plot(dir: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
         blocks
             .iter()
             .map(|&i| {
-                let points = (0..run.times.len()).map(|k| (run.times[k], f(k, i))).collect();
+                let points = (0..run.times.len())
+                    .map(|k| (run.times[k], f(k, i)))
+                    .collect();
                 (format!("block {i}"), points)
             })
             .collect()
@@ -82,7 +84,9 @@ pub fn plot(dir: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
     ];
     if let Some(contacts) = &run.contacts {
         let unit = if run.dimension == 2 { "N/m" } else { "N" };
-        let total = contacts.iter().map(|c| c.iter().map(|c| c.normal_force).sum());
+        let total = contacts
+            .iter()
+            .map(|c| c.iter().map(|c| c.normal_force).sum());
         let largest = contacts
             .iter()
             .map(|c| c.iter().map(|c| c.normal_force).fold(0.0, f64::max));
@@ -126,7 +130,10 @@ fn choose_blocks(run: &RunData, chosen: &[usize]) -> anyhow::Result<Vec<usize>> 
     }
     let last = run.times.len() - 1;
     let mut by_move: Vec<usize> = (0..n).collect();
-    by_move.sort_by(|&a, &b| run.displacement(last, b).total_cmp(&run.displacement(last, a)));
+    by_move.sort_by(|&a, &b| {
+        run.displacement(last, b)
+            .total_cmp(&run.displacement(last, a))
+    });
     by_move.truncate(DEFAULT_BLOCKS);
     by_move.sort_unstable();
     Ok(by_move)
@@ -136,15 +143,20 @@ fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &Chart) -> anyh
 where
     DB::ErrorType: 'static,
 {
-    let fail = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("cannot draw {}: {e:?}", chart.name);
+    let fail =
+        |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("cannot draw {}: {e:?}", chart.name);
     root.fill(&WHITE).map_err(fail)?;
     let points = chart.lines.iter().flat_map(|(_, p)| p.iter());
     let (t0, t1) = points
         .clone()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.0), b.max(p.0)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.0), b.max(p.0))
+        });
     let (y0, y1) = points
         .filter(|p| p.1.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.1), b.max(p.1)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.1), b.max(p.1))
+        });
     let t1 = if t1 > t0 { t1 } else { t0 + 1.0 };
     let (y0, y1) = padded(y0, y1);
 
@@ -168,10 +180,13 @@ where
     for (i, (name, points)) in chart.lines.iter().enumerate() {
         let (r, g, b) = palette(i);
         let colour = RGBColor(r, g, b);
-        c.draw_series(LineSeries::new(points.iter().copied(), colour.stroke_width(2)))
-            .map_err(fail)?
-            .label(name.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+        c.draw_series(LineSeries::new(
+            points.iter().copied(),
+            colour.stroke_width(2),
+        ))
+        .map_err(fail)?
+        .label(name.as_str())
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
     }
     c.configure_series_labels()
         .background_style(WHITE.mix(0.85))

@@ -65,8 +65,10 @@ pub struct RenderOptions {
     pub scene: Option<PathBuf>,
     /// Where the pictures go; `None`: `DIR/render`.
     pub out: Option<PathBuf>,
-    /// Time of the still, s; `None`: the last output time.
+    /// Time of the still, s; `None`: the last output time drawn.
     pub still: Option<f64>,
+    /// Draw output times up to this one only, s; `None`: to the end.
+    pub until: Option<f64>,
     /// Image width and height in pixels.
     pub size: (u32, u32),
     /// A progress bar on stderr.
@@ -81,6 +83,7 @@ impl Default for RenderOptions {
             scene: None,
             out: None,
             still: None,
+            until: None,
             size: (800, 600),
             progress: false,
         }
@@ -130,7 +133,21 @@ pub fn render(
     options: &RenderOptions,
     registry: &LawRegistry,
 ) -> anyhow::Result<Rendered> {
-    let run = RunData::load(dir)?;
+    let mut run = RunData::load(dir)?;
+    if let Some(until) = options.until {
+        let kept = run.times.iter().take_while(|&&t| t <= until).count();
+        if kept == 0 {
+            bail!(
+                "--until {until}: the run's first output time is {} s",
+                run.times[0]
+            );
+        }
+        run.times.truncate(kept);
+        run.blocks.truncate(kept);
+        if let Some(c) = &mut run.contacts {
+            c.truncate(kept);
+        }
+    }
     let shapes = initial_shapes(&run, options.scene.as_deref(), registry)?;
     let frames = choose_frames(run.times.len(), options.frames)?;
     let still = match options.still {
@@ -141,7 +158,9 @@ pub fn render(
     create_dir(&out)?;
     register_font();
 
-    let view = View::new(&run, &shapes, &frames, options.size);
+    let mut fitted = frames.clone();
+    fitted.push(still);
+    let view = View::new(&run, &shapes, &fitted, options.size);
     let scale = field_scale(&run, options.color);
     let force_scale = typical_force(&run);
     let draw_frame = |k: usize| -> (Vec<Patch>, Vec<ForceLine>) {
@@ -228,12 +247,22 @@ fn initial_shapes(
     }
     let scene = Scene::load(&path)?;
     let shapes = match scene.build_any_with(registry)? {
-        AnyModel::Plane(m) => {
-            Shapes::Plane(m.driver.system.blocks.iter().map(|b| b.vertices().to_vec()).collect())
-        }
-        AnyModel::Space(m) => {
-            Shapes::Space(m.driver.system.blocks.iter().map(|b| b.shape().clone()).collect())
-        }
+        AnyModel::Plane(m) => Shapes::Plane(
+            m.driver
+                .system
+                .blocks
+                .iter()
+                .map(|b| b.vertices().to_vec())
+                .collect(),
+        ),
+        AnyModel::Space(m) => Shapes::Space(
+            m.driver
+                .system
+                .blocks
+                .iter()
+                .map(|b| b.shape().clone())
+                .collect(),
+        ),
     };
     let (count, dimension) = match &shapes {
         Shapes::Plane(b) => (b.len(), 2),
@@ -287,7 +316,10 @@ fn pose(shapes: &Shapes, run: &RunData, k: usize) -> Posed {
                     let turn = Rotation2::new(now[i].rotation[2] - start[i].rotation[2]);
                     let (c0, c) = (start[i].position, now[i].position);
                     let (c0, c) = (Vector2::new(c0[0], c0[1]), Vector2::new(c[0], c[1]));
-                    corners.iter().map(|p| Point2::from(c + turn * (p.coords - c0))).collect()
+                    corners
+                        .iter()
+                        .map(|p| Point2::from(c + turn * (p.coords - c0)))
+                        .collect()
                 })
                 .collect(),
         ),
@@ -298,7 +330,10 @@ fn pose(shapes: &Shapes, run: &RunData, k: usize) -> Posed {
                 .map(|(i, shape)| {
                     let r = |v: [f64; 3]| Rotation3::from_scaled_axis(Vector3::from(v));
                     let turn = r(now[i].rotation) * r(start[i].rotation).inverse();
-                    let (c0, c) = (Vector3::from(start[i].position), Vector3::from(now[i].position));
+                    let (c0, c) = (
+                        Vector3::from(start[i].position),
+                        Vector3::from(now[i].position),
+                    );
                     shape.moved(|p| Point3::from(c + turn * (p.coords - c0)))
                 })
                 .collect(),
@@ -447,7 +482,14 @@ impl View {
         }
     }
 
-    fn patches(&self, posed: &Posed, run: &RunData, k: usize, field: ColorField, scale: f64) -> Vec<Patch> {
+    fn patches(
+        &self,
+        posed: &Posed,
+        run: &RunData,
+        k: usize,
+        field: ColorField,
+        scale: f64,
+    ) -> Vec<Patch> {
         let mut patches = Vec::new();
         match posed {
             Posed::Plane(blocks) => {
@@ -456,7 +498,10 @@ impl View {
                         depth: i as f64,
                         plane: None,
                         corners: Vec::new(),
-                        points: corners.iter().map(|p| self.screen([p.x, p.y, 0.0])).collect(),
+                        points: corners
+                            .iter()
+                            .map(|p| self.screen([p.x, p.y, 0.0]))
+                            .collect(),
                         colour: block_colour(run, k, i, field, scale),
                     });
                 }
@@ -512,7 +557,10 @@ impl View {
             Posed::Plane(_) => Vec::new(),
         };
         let mut lines = Vec::new();
-        for c in contacts.iter().filter(|c| c.state != ContactState::Open && c.normal_force > 0.0) {
+        for c in contacts
+            .iter()
+            .filter(|c| c.state != ContactState::Open && c.normal_force > 0.0)
+        {
             let placed = match posed {
                 Posed::Plane(blocks) => contact_2d(&c.contact, blocks)
                     .map(|(p, n)| ([p.x, p.y, 0.0], [n[0], n[1], 0.0])),
@@ -559,9 +607,15 @@ fn order_by_planes(patches: &mut Vec<Patch>) {
     };
     let overlap = |a: &Patch, b: &Patch| {
         let bounds = |p: &Patch| {
-            p.points.iter().fold([f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY], |b, q| {
-                [b[0].min(q.0), b[1].min(q.1), b[2].max(q.0), b[3].max(q.1)]
-            })
+            p.points.iter().fold(
+                [
+                    f64::INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::NEG_INFINITY,
+                ],
+                |b, q| [b[0].min(q.0), b[1].min(q.1), b[2].max(q.0), b[3].max(q.1)],
+            )
         };
         let (a, b) = (bounds(a), bounds(b));
         a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
@@ -607,8 +661,11 @@ where
             .map_err(fail)?;
         let mut outline = points;
         outline.push(outline[0]);
-        root.draw(&PathElement::new(outline, RGBColor(40, 40, 40).stroke_width(1)))
-            .map_err(fail)?;
+        root.draw(&PathElement::new(
+            outline,
+            RGBColor(40, 40, 40).stroke_width(1),
+        ))
+        .map_err(fail)?;
     }
     for line in lines {
         let colour = if line.sliding {
@@ -616,8 +673,11 @@ where
         } else {
             RGBColor(0, 0, 0)
         };
-        root.draw(&PathElement::new(vec![px(&line.from), px(&line.to)], colour.stroke_width(2)))
-            .map_err(fail)?;
+        root.draw(&PathElement::new(
+            vec![px(&line.from), px(&line.to)],
+            colour.stroke_width(2),
+        ))
+        .map_err(fail)?;
     }
     let font = |size: f64| (FAMILY, size).into_font().color(&BLACK);
     let (w, h) = root.dim_in_pixel();
@@ -632,8 +692,12 @@ where
     // The colour bar: 0 at the bottom, the run's largest value at the top.
     let (x0, x1) = (w as i32 - RIGHT as i32 + 15, w as i32 - RIGHT as i32 + 35);
     let (y0, y1) = (TOP as i32 + 20, h as i32 - MARGIN as i32 - 20);
-    root.draw(&Text::new(field.label(), (x0 - 10, TOP as i32 - 2), font(13.0)))
-        .map_err(fail)?;
+    root.draw(&Text::new(
+        field.label(),
+        (x0 - 10, TOP as i32 - 2),
+        font(13.0),
+    ))
+    .map_err(fail)?;
     if field == ColorField::Block {
         return root.present().map_err(fail);
     }
@@ -643,8 +707,11 @@ where
         let ya = y1 - ((y1 - y0) as f64 * (j + 1) as f64 / steps as f64).round() as i32;
         let yb = y1 - ((y1 - y0) as f64 * t).round() as i32;
         let (r, g, b) = viridis(t + 0.5 / steps as f64);
-        root.draw(&Rectangle::new([(x0, ya), (x1, yb)], RGBColor(r, g, b).filled()))
-            .map_err(fail)?;
+        root.draw(&Rectangle::new(
+            [(x0, ya), (x1, yb)],
+            RGBColor(r, g, b).filled(),
+        ))
+        .map_err(fail)?;
     }
     root.draw(&Rectangle::new([(x0, y0), (x1, y1)], BLACK.stroke_width(1)))
         .map_err(fail)?;
