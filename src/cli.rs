@@ -24,6 +24,8 @@ use clap::{Parser, Subcommand};
 use dda_contact::LawRegistry;
 
 use crate::extrude::{extrude_with, Extrusion};
+use crate::pictures::plot::{plot, PlotOptions};
+use crate::pictures::render::{render, ColorField, RenderOptions};
 use crate::run::{bytes_text, default_out_dir, estimate, run_with_registry, RunOptions};
 use crate::scene::MotionSpec;
 use crate::Scene;
@@ -51,6 +53,9 @@ enum Command {
         /// Seconds between progress lines on stderr when it is not a terminal (0: one per output time)
         #[arg(long, value_name = "SECONDS", default_value_t = 5.0)]
         progress_every: f64,
+        /// Also write VTK frames for ParaView (DIR/blocks.pvd, DIR/contacts.pvd, DIR/vtk/), as the scene's output.vtk does
+        #[arg(long)]
+        vtk: bool,
     },
     /// Time steps of running-bond walls of growing size: median milliseconds per step and ratio to the smallest wall
     Bench {
@@ -69,6 +74,43 @@ enum Command {
         /// Also write the results as JSON to this file
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
+    },
+    /// Charts of a run (DIR/history.csv, DIR/contacts.csv): displacement, speed and rotation of chosen blocks, contact forces; SVG and PNG into DIR/plots
+    Plot {
+        /// The run's folder (what `dda run --out` was given)
+        dir: PathBuf,
+        /// Blocks to draw, comma separated; default: all up to 6, else the 6 that moved farthest
+        #[arg(long, value_delimiter = ',')]
+        blocks: Vec<usize>,
+        /// Where the charts go (default DIR/plots)
+        #[arg(long, short, value_name = "FOLDER")]
+        out: Option<PathBuf>,
+    },
+    /// An animation of a run (DIR/render/animation.gif) and a still (still.svg, still.png): the scene's blocks moved rigidly by the history, contacts as force lines
+    Render {
+        /// The run's folder (what `dda run --out` was given)
+        dir: PathBuf,
+        /// What colours the blocks
+        #[arg(long, value_enum, default_value_t = ColorField::Displacement)]
+        color: ColorField,
+        /// Frames of the animation, evenly spaced over the output times (default: every output time, at most 200)
+        #[arg(long)]
+        frames: Option<usize>,
+        /// The scene file (default: the one DIR/summary.json names)
+        #[arg(long, value_name = "SCENE")]
+        scene: Option<PathBuf>,
+        /// Time of the still, in s (default: the last output time drawn)
+        #[arg(long, value_name = "SECONDS")]
+        still: Option<f64>,
+        /// Draw the run up to this time only, in s (default: to its end)
+        #[arg(long, value_name = "SECONDS")]
+        until: Option<f64>,
+        /// Picture size in pixels, WIDTHxHEIGHT
+        #[arg(long, default_value = "800x600", value_parser = parse_size)]
+        size: (u32, u32),
+        /// Where the pictures go (default DIR/render)
+        #[arg(long, short, value_name = "FOLDER")]
+        out: Option<PathBuf>,
     },
     /// Load, validate and build a scene without running it
     Check {
@@ -121,6 +163,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             scene,
             out,
             progress_every,
+            vtk,
         } => {
             let out = out.unwrap_or_else(|| default_out_dir(&scene));
             let every = Duration::try_from_secs_f64(progress_every).map_err(|_| {
@@ -133,6 +176,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 progress: terminal,
                 notes: true,
                 progress_lines: (!terminal).then_some(every),
+                vtk,
             };
             let summary = run_with_registry(&scene, &out, options, registry)?;
             let files: Vec<String> = summary
@@ -141,6 +185,39 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 .map(|f| out.join(f).display().to_string())
                 .collect();
             println!("wrote {}", list(&files));
+        }
+        Command::Plot { dir, blocks, out } => {
+            let files = plot(&dir, &PlotOptions { blocks, out })?;
+            let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+            println!("wrote {}", list(&names));
+        }
+        Command::Render {
+            dir,
+            color,
+            frames,
+            scene,
+            still,
+            until,
+            size,
+            out,
+        } => {
+            let options = RenderOptions {
+                color,
+                frames,
+                scene,
+                out,
+                still,
+                until,
+                size,
+                progress: std::io::stderr().is_terminal(),
+            };
+            let rendered = render(&dir, &options, registry)?;
+            let names: Vec<String> = rendered
+                .files
+                .iter()
+                .map(|f| f.display().to_string())
+                .collect();
+            println!("wrote {} ({} frames)", list(&names), rendered.frames);
         }
         Command::Check { scene: path } => {
             let scene = Scene::load(&path)?;
@@ -285,6 +362,22 @@ fn keep_record_found(solid: &mut Scene, scene: &Scene, out: &std::path::Path) {
         let file = std::fs::canonicalize(&file).unwrap_or(file);
         *path = file.display().to_string();
     }
+}
+
+/// `800x600` as (800, 600).
+fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("{text:?} is not WIDTHxHEIGHT in pixels, like 800x600");
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    );
+    if !(64..=4096).contains(&w) || !(64..=4096).contains(&h) {
+        return Err(format!(
+            "{text}: width and height must be 64 to 4096 pixels"
+        ));
+    }
+    Ok((w, h))
 }
 
 /// "a", "a and b", "a, b and c".

@@ -44,15 +44,18 @@
 pub mod bench;
 pub mod cli;
 pub mod extrude;
+pub mod features;
 pub mod observe;
 pub mod output;
+pub mod pictures;
 pub mod progress;
 pub mod run;
 pub mod scene;
 pub mod simulation;
 pub mod summary;
+pub mod vtk;
 
-pub use observe::{Observer, RunView};
+pub use observe::{BlockShape, Observer, RunView};
 pub use output::{
     read_contacts, read_history, read_history_3d, ContactRow, HistoryRow, HistoryRow3,
 };

@@ -14,7 +14,27 @@ pub struct ContactLine {
     pub state: ContactState,
     pub normal_force: f64,
     pub shear_force: f64,
+    /// Accumulated slip path.
     pub slip: f64,
+    /// Where it acts: the entering vertex, or for crossing edges (3D) the
+    /// midpoint of their nearest points; z = 0 in 2D.
+    pub point: [f64; 3],
+    /// Unit normal from block_b towards block_a, along which the normal
+    /// force pushes block_a; zero if the contact has no entrance.
+    pub normal: [f64; 3],
+}
+
+/// A block's boundary now, as the VTK frames and pictures draw it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BlockShape {
+    /// Corners, z = 0 in 2D.
+    pub vertices: Vec<[f64; 3]>,
+    /// Faces as loops of vertex indices, outward normals by the right-hand
+    /// rule; in 2D one loop, counter-clockwise.
+    pub faces: Vec<Vec<usize>>,
+    /// Index into the scene's materials.
+    pub material: usize,
+    pub rigid: bool,
 }
 
 /// A run after an accepted step, in either dimension.
@@ -28,6 +48,10 @@ pub trait RunView {
     /// Why automatic values were chosen.
     fn notes(&self) -> &[String];
     fn block_count(&self) -> usize;
+    /// 2 or 3.
+    fn dimension(&self) -> u32;
+    /// Block `block`'s boundary now.
+    fn block_shape(&self, block: usize) -> BlockShape;
     /// The values of a block's history row after `step,time,block`.
     fn history_values(&self, block: usize) -> Vec<f64>;
     /// Whether the block's position and velocity are finite numbers.

@@ -191,7 +191,7 @@ pub fn round_time(t: f64) -> f64 {
 
 /// Shortest text that reads back to the same number; exponent form for very
 /// large or small magnitudes so rows stay short.
-fn num(v: f64) -> String {
+pub(crate) fn num(v: f64) -> String {
     let a = v.abs();
     if v == 0.0 || (1e-4..1e15).contains(&a) || !v.is_finite() {
         format!("{v}")

@@ -84,7 +84,7 @@ impl Observer for Progress {
     }
 }
 
-fn progress_bar(show: bool) -> ProgressBar {
+pub(crate) fn progress_bar(show: bool) -> ProgressBar {
     if !show {
         return ProgressBar::hidden();
     }

@@ -14,6 +14,7 @@ use crate::scene::{AnyModel, Model, Scene};
 use crate::simulation::Simulation;
 use crate::summary::SummaryWriter;
 pub use crate::summary::{Status, Summary};
+use crate::vtk::VtkWriter;
 
 /// What a run prints on stderr besides errors.
 #[derive(Debug, Clone, Copy, Default)]
@@ -26,6 +27,8 @@ pub struct RunOptions {
     /// much wall-clock time, and again each time as much has passed (so a
     /// short run prints none). `None`: no lines.
     pub progress_lines: Option<Duration>,
+    /// VTK frames for ParaView whatever the scene's `output.vtk` says.
+    pub vtk: bool,
 }
 
 /// How often a run without a terminal reports its progress by default.
@@ -151,6 +154,7 @@ pub fn run(scene_path: &Path, out_dir: &Path) -> anyhow::Result<Summary> {
             progress: terminal,
             notes: terminal,
             progress_lines: None,
+            vtk: false,
         },
     )
 }
@@ -205,6 +209,11 @@ pub fn run_model<S: Simulation>(
         contacts = Some(ContactWriter::create(&out_dir.join("contacts.csv"))?);
         outputs.push("contacts.csv".to_string());
     }
+    let mut vtk = None;
+    if options.vtk || scene.output.vtk {
+        vtk = Some(VtkWriter::create(out_dir)?);
+        outputs.extend(VtkWriter::outputs().map(String::from));
+    }
     outputs.push("summary.json".to_string());
     if options.notes {
         for note in model.all_notes() {
@@ -224,6 +233,9 @@ pub fn run_model<S: Simulation>(
     let mut observers: Vec<&mut dyn Observer> = vec![&mut progress, &mut history];
     if let Some(contacts) = &mut contacts {
         observers.push(contacts);
+    }
+    if let Some(vtk) = &mut vtk {
+        observers.push(vtk);
     }
     observers.push(&mut summary);
 

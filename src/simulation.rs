@@ -6,7 +6,7 @@ use dda_2d::Driver2d;
 use dda_3d::Driver3d;
 use dda_core::{DdaError, Statistics};
 
-use crate::observe::{ContactLine, RunView};
+use crate::observe::{BlockShape, ContactLine, RunView};
 
 /// A driver a scene run can step and record.
 pub trait Simulation {
@@ -35,6 +35,8 @@ pub trait Simulation {
     fn step(&mut self, dt_limit: f64) -> Result<(), DdaError>;
     /// The values of a block's history row after `step,time,block`.
     fn history_values(&self, block: usize) -> Vec<f64>;
+    /// Block `block`'s boundary now.
+    fn block_shape(&self, block: usize) -> BlockShape;
     /// Whether the block's position and velocity are finite numbers.
     fn is_finite(&self, block: usize) -> bool;
     /// The contacts the last step considered, open ones included.
@@ -96,16 +98,32 @@ impl Simulation for Driver2d {
         vec![c.x, c.y, b.rotation, v[0], v[1], v[2], s.x, s.y, s.z]
     }
 
+    fn block_shape(&self, block: usize) -> BlockShape {
+        let b = &self.system.blocks[block];
+        let vertices: Vec<[f64; 3]> = b.vertices().iter().map(|p| [p.x, p.y, 0.0]).collect();
+        BlockShape {
+            faces: vec![(0..vertices.len()).collect()],
+            vertices,
+            material: b.material,
+            rigid: b.kind == dda_core::BlockKind::Rigid,
+        }
+    }
+
     fn contact_lines(&self) -> Vec<ContactLine> {
         self.contacts()
             .iter()
-            .map(|c| ContactLine {
-                label: dda_2d::contact::contact_label(&c.key),
-                blocks: c.blocks,
-                state: c.record.state,
-                normal_force: c.record.normal_force,
-                shear_force: c.record.shear_force,
-                slip: c.record.slip_path,
+            .map(|c| {
+                let p = self.system.blocks[c.blocks[0]].vertices()[c.key.feature_a as usize];
+                ContactLine {
+                    label: dda_2d::contact::contact_label(&c.key),
+                    blocks: c.blocks,
+                    state: c.record.state,
+                    normal_force: c.record.normal_force,
+                    shear_force: c.record.shear_force,
+                    slip: c.record.slip_path,
+                    point: [p.x, p.y, 0.0],
+                    normal: entrance_normal(&c.entrances, c.record.entrance, 2),
+                }
             })
             .collect()
     }
@@ -130,19 +148,58 @@ impl Simulation for Driver3d {
         row
     }
 
+    fn block_shape(&self, block: usize) -> BlockShape {
+        let b = &self.system.blocks[block];
+        BlockShape {
+            vertices: b.vertices().iter().map(|p| [p.x, p.y, p.z]).collect(),
+            faces: b.faces().to_vec(),
+            material: b.material,
+            rigid: b.kind == dda_core::BlockKind::Rigid,
+        }
+    }
+
     fn contact_lines(&self) -> Vec<ContactLine> {
+        let shapes: Vec<_> = self.system.blocks.iter().map(|b| b.shape()).collect();
         self.contacts()
             .iter()
-            .map(|c| ContactLine {
-                label: dda_3d::contact_label(&c.key),
-                blocks: c.blocks,
-                state: c.record.state,
-                normal_force: c.record.normal_force,
-                shear_force: c.record.shear_force,
-                slip: c.record.slip_path,
+            .map(|c| {
+                let label = dda_3d::contact_label(&c.key);
+                let point = crate::features::contact_point_3d(&label, &shapes)
+                    .map(|p| [p.x, p.y, p.z])
+                    .unwrap_or([f64::NAN; 3]);
+                ContactLine {
+                    label,
+                    blocks: c.blocks,
+                    state: c.record.state,
+                    normal_force: c.record.normal_force,
+                    shear_force: c.record.shear_force,
+                    slip: c.record.slip_path,
+                    point,
+                    normal: entrance_normal(&c.entrances, c.record.entrance, 3),
+                }
             })
             .collect()
     }
+}
+
+/// The contact normal of the entrance in use: the translation rows of
+/// block a's normal row are the normal itself (the T-matrix starts with the
+/// identity), pointing from block b towards block a.
+fn entrance_normal<const N: usize, const T: usize>(
+    entrances: &[dda_core::Entrance<N, T>],
+    used: usize,
+    dimension: usize,
+) -> [f64; 3] {
+    let Some(e) = entrances.get(used).or(entrances.first()) else {
+        return [0.0; 3];
+    };
+    let mut n = [0.0; 3];
+    n[..dimension].copy_from_slice(&e.normal[0].as_slice()[..dimension]);
+    let length = n.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if length > 0.0 {
+        n.iter_mut().for_each(|x| *x /= length);
+    }
+    n
 }
 
 impl<S: Simulation> RunView for S {
@@ -163,6 +220,12 @@ impl<S: Simulation> RunView for S {
     }
     fn block_count(&self) -> usize {
         Simulation::block_count(self)
+    }
+    fn dimension(&self) -> u32 {
+        S::DIMENSION
+    }
+    fn block_shape(&self, block: usize) -> BlockShape {
+        Simulation::block_shape(self, block)
     }
     fn history_values(&self, block: usize) -> Vec<f64> {
         Simulation::history_values(self, block)

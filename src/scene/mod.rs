@@ -223,6 +223,10 @@ pub struct Output {
     pub interval: Option<f64>,
     /// Also write `contacts.csv`: every contact at every output time.
     pub contacts: bool,
+    /// Also write VTK frames for ParaView at every output time
+    /// (`blocks.pvd`, `contacts.pvd`, `vtk/`); default false.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub vtk: bool,
 }
 
 /// Isotropic elastic material.
