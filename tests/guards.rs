@@ -9,6 +9,7 @@ const QUIET: RunOptions = RunOptions {
     progress: false,
     notes: false,
     progress_lines: None,
+    vtk: false,
 };
 
 /// The free-fall example (1 s, dt 10 ms) with `from` replaced by `to`,
