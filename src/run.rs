@@ -115,13 +115,13 @@ pub const MAX_BYTES: f64 = 1e11;
 /// starts, with the estimate and what to change.
 fn refuse_absurd(scene: &Scene, e: &Estimate) -> anyhow::Result<()> {
     let origin = scene.origin();
-    if !(e.steps <= MAX_STEPS) {
+    if e.steps.is_nan() || e.steps > MAX_STEPS {
         bail!(
             "{origin}: the run would take {:.3e} steps (analysis.duration / dt), more than the {MAX_STEPS:.0e} a run may take; check analysis.duration and analysis.dt",
             e.steps
         );
     }
-    if !(e.bytes <= MAX_BYTES) {
+    if e.bytes.is_nan() || e.bytes > MAX_BYTES {
         bail!(
             "{origin}: history.csv would be about {} ({:.3e} rows), more than {}; give a larger output.interval",
             bytes_text(e.bytes),
