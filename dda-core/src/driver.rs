@@ -7,65 +7,20 @@
 //! floor; a step that moves a point too far is cut; a step that penetrates too
 //! deep raises the penalty. Nothing is changed until the step is accepted.
 
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector, SVector};
 
 use crate::assembly::BlockSparse;
 use crate::contact::{ContactResponse, ContactState, DynContactLaw, LocalKinematics};
-use crate::contacts::{transfer_records, BlockVector, Contact, ContactKey};
+use crate::contacts::{transfer_records, BlockVector, Contact};
 use crate::error::DdaError;
 use crate::loads::Support;
 use crate::settings::Settings;
 use crate::solve::{LinearSolver, SparseCholesky};
+use crate::statistics::CYCLES_KEPT;
+pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
-
-/// Counters of a run, reported in the summary.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Statistics {
-    pub steps: usize,
-    pub open_close_iterations: usize,
-    pub newton_iterations: usize,
-    pub factorizations: usize,
-    /// Steps cut to a third because open-close iterations did not settle.
-    pub open_close_cuts: usize,
-    /// Steps cut because a point moved farther than the bound.
-    pub displacement_cuts: usize,
-    pub penalty_raises: usize,
-    /// Steps cut because a contact penetrated too deep.
-    pub penetration_cuts: usize,
-    /// Steps accepted at the smallest time step without open-close agreement.
-    pub unconverged_steps: usize,
-    /// Steps whose open-close passes returned to the states of two passes
-    /// before (a cycle), settled by keeping each cycling contact's sliding
-    /// or closed state.
-    pub cycle_breaks: usize,
-    /// The first contacts that cycled (at most 20), each with the two
-    /// states it cycled between and the one it kept.
-    pub cycles: Vec<Cycle>,
-    /// Open-close passes whose Newton-Raphson iteration did not converge
-    /// (the best iterate was kept).
-    pub newton_failures: usize,
-    /// Open-close passes solved again with friction's coupling to the
-    /// normal force in the tangent, after the symmetric iteration failed.
-    pub coupled_solves: usize,
-    /// Accepted steps that ended with a penetration deeper than the limit.
-    pub deep_penetration_steps: usize,
-    /// The deepest penetration of any accepted step.
-    pub deepest_penetration: f64,
-    /// Total energy (kinetic, potential, elastic, contact springs) after
-    /// the last step, when the system can tell it (no work done on it).
-    pub energy: f64,
-    /// The energy in play: the largest kinetic plus spring energy plus the
-    /// potential energy released, seen so far.
-    pub energy_scale: f64,
-    /// The largest rise of the total energy above its lowest value so far,
-    /// counted when above a quarter of the energy in play: a scene that
-    /// should only lose energy gained some.
-    pub energy_growth: f64,
-    pub energy_growth_steps: usize,
-    pub wall_time: Duration,
-}
 
 /// Sliding contacts beyond this many are solved with the symmetric tangent
 /// only (the coupled solve costs one back-substitution per contact).
@@ -82,19 +37,6 @@ struct FrictionCoupling<const N: usize> {
     u: [BlockVector<N>; 2],
     v: [BlockVector<N>; 2],
     slope: f64,
-}
-
-/// How many cycling contacts the statistics name.
-const CYCLES_KEPT: usize = 20;
-
-/// A contact whose open-close passes cycled between two states in a step
-/// ending at `time`, and the state it kept.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Cycle {
-    pub time: f64,
-    pub key: ContactKey,
-    pub between: [ContactState; 2],
-    pub kept: ContactState,
 }
 
 /// The trial solution of one step attempt.
@@ -117,6 +59,8 @@ pub struct Driver<S, const N: usize, const T: usize> {
     matrix: BlockSparse<N>,
     values: Vec<f64>,
     factored: Option<Vec<f64>>,
+    /// Whether the solver holds the symbolic analysis of the matrix pattern.
+    analysed: bool,
     /// Inverse mass matrices of the blocks in the current step.
     inverse_masses: Vec<BlockMatrix<N>>,
     /// The held directions of fixed and driven points in the current step
@@ -199,6 +143,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             solver: Box::new(SparseCholesky::default()),
             values: Vec::new(),
             factored: None,
+            analysed: false,
             inverse_masses: Vec::new(),
             supports: Vec::new(),
             time: 0.0,
@@ -218,6 +163,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     pub fn with_solver(mut self, solver: Box<dyn LinearSolver>) -> Self {
         self.solver = solver;
         self.factored = None;
+        self.analysed = false;
         self
     }
 
@@ -312,7 +258,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     fn try_step(&mut self, dt_limit: f64) -> Result<(), DdaError> {
         let range = 2.5 * self.settings.max_displacement_ratio * self.length_scale;
-        let mut fresh = self.system.find_contacts(range);
+        let started = Instant::now();
+        let pairs = self.system.near_pairs(range);
+        let searched = Instant::now();
+        self.stats.times.broad_phase += searched - started;
+        let mut fresh = Vec::new();
+        for (i, j) in pairs {
+            fresh.extend(self.system.pair_contacts(i, j, range));
+        }
         transfer_records(&mut self.contacts, &mut fresh);
         let at_start = self.stats.steps == 0;
         let touching = self.settings.contact_tolerance * self.length_scale;
@@ -327,6 +280,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
         }
         self.contacts = fresh;
+        let found = Instant::now();
+        self.stats.times.narrow_phase += found - searched;
         let pattern_changed = {
             let pairs = self.contacts.iter().map(|c| (c.blocks[0], c.blocks[1]));
             let dofs = (0..self.system.block_count())
@@ -339,7 +294,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         };
         if pattern_changed {
             self.factored = None;
+            self.analysed = false;
         }
+        self.stats.times.pattern += found.elapsed();
 
         let floor = self.dt * self.settings.min_dt_ratio;
         let mut dt = self.dt_next.min(dt_limit);
@@ -389,7 +346,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             break trial;
         };
+        let committing = Instant::now();
         self.commit(trial, dt);
+        self.stats.times.commit += committing.elapsed();
         if cut {
             self.dt_next = (dt * 1.5).min(self.dt);
         } else if dt >= self.dt_next {
@@ -435,6 +394,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         for _ in 0..self.settings.open_close_limit {
             self.stats.open_close_iterations += 1;
             self.newton(dt, &masses, &mut trial)?;
+            let deciding = Instant::now();
             let assumed = trial.states.clone();
             let mut changed = false;
             for i in 0..self.contacts.len() {
@@ -477,6 +437,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 trial.states[i] = next;
                 trial.entrances[i] = entrance;
             }
+            self.stats.times.open_close += deciding.elapsed();
             if !changed {
                 trial.converged = true;
                 break;
@@ -587,9 +548,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             self.stats.newton_iterations += 1;
             self.factorize()?;
+            let solving = Instant::now();
             self.solver.solve(&mut residual);
             if !couplings.is_empty() {
                 self.correct(&couplings, &mut residual);
+            }
+            self.stats.times.solve += solving.elapsed();
+            if !couplings.is_empty() {
                 // The friction's direction turns fast with the stretch, so
                 // a full step can overshoot: halve it until the residual
                 // falls (the exact tangent makes the step a descent one).
@@ -678,9 +643,18 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         if self.values.iter().any(|v| !v.is_finite()) {
             return Err(DdaError::NotFinite { time: self.time });
         }
+        if !self.analysed {
+            let started = Instant::now();
+            self.solver.analyse(&self.matrix.pattern())?;
+            self.analysed = true;
+            self.factored = None;
+            self.stats.symbolic_analyses += 1;
+            self.stats.times.symbolic += started.elapsed();
+        }
         if self.factored.as_ref() != Some(&self.values) {
-            self.solver
-                .factorize(&self.matrix.pattern(), &self.values)?;
+            let started = Instant::now();
+            self.solver.factorize(&self.values)?;
+            self.stats.times.numeric += started.elapsed();
             self.stats.factorizations += 1;
             self.factored = Some(self.values.clone());
         }
@@ -697,6 +671,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         residual: &mut [f64],
         mut couplings: Option<&mut Vec<FrictionCoupling<N>>>,
     ) {
+        let started = Instant::now();
         let mut matrix = std::mem::take(&mut self.matrix);
         matrix.clear();
         residual.fill(0.0);
@@ -823,6 +798,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             matrix.add_block(residual, b, &rb);
         }
         self.matrix = matrix;
+        self.stats.times.assembly += started.elapsed();
     }
 
     /// Elastic shear displacement carried from earlier steps, valid only on

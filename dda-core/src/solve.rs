@@ -10,9 +10,12 @@ use crate::error::DdaError;
 
 /// Solves symmetric positive definite systems given by their lower triangle.
 pub trait LinearSolver: Send {
-    /// Factorizes the matrix with this pattern and these values. The symbolic
-    /// analysis is reused while the pattern stays the same.
-    fn factorize(&mut self, pattern: &CscPattern, values: &[f64]) -> Result<(), DdaError>;
+    /// Symbolic analysis of a pattern: kept for every factorisation until
+    /// the next analysis.
+    fn analyse(&mut self, pattern: &CscPattern) -> Result<(), DdaError>;
+
+    /// Factorises the matrix with the analysed pattern and these values.
+    fn factorize(&mut self, values: &[f64]) -> Result<(), DdaError>;
 
     /// Solves in place with the last factorization.
     fn solve(&self, rhs: &mut [f64]);
@@ -21,7 +24,6 @@ pub trait LinearSolver: Send {
 /// Sparse Cholesky (LLᵀ) from faer with a fill-reducing ordering.
 #[derive(Default)]
 pub struct SparseCholesky {
-    pattern: CscPattern,
     symbolic: Option<(SymbolicSparseColMat<usize>, SymbolicLlt<usize>)>,
     factor: Option<Llt<usize, f64>>,
     /// How many symbolic analyses were done (for statistics and tests).
@@ -29,26 +31,29 @@ pub struct SparseCholesky {
 }
 
 impl LinearSolver for SparseCholesky {
-    fn factorize(&mut self, pattern: &CscPattern, values: &[f64]) -> Result<(), DdaError> {
-        if self.symbolic.is_none() || self.pattern != *pattern {
-            let structure = SymbolicSparseColMat::new_checked(
-                pattern.dim,
-                pattern.dim,
-                pattern.col_ptr.clone(),
-                None,
-                pattern.row_idx.clone(),
-            );
-            let llt = SymbolicLlt::try_new(structure.as_ref(), Side::Lower)
-                .map_err(|e| DdaError::Factorization(format!("{e:?}")))?;
-            self.symbolic = Some((structure, llt));
-            self.pattern = pattern.clone();
-            self.analyses += 1;
-        }
-        let (structure, symbolic) = self.symbolic.as_ref().expect("analysed above");
+    fn analyse(&mut self, pattern: &CscPattern) -> Result<(), DdaError> {
+        let structure = SymbolicSparseColMat::new_checked(
+            pattern.dim,
+            pattern.dim,
+            pattern.col_ptr.clone(),
+            None,
+            pattern.row_idx.clone(),
+        );
+        let llt = SymbolicLlt::try_new(structure.as_ref(), Side::Lower)
+            .map_err(|e| DdaError::Factorization(format!("{e:?}")))?;
+        self.symbolic = Some((structure, llt));
+        self.factor = None;
+        self.analyses += 1;
+        Ok(())
+    }
+
+    fn factorize(&mut self, values: &[f64]) -> Result<(), DdaError> {
+        let (structure, symbolic) = self.symbolic.as_ref().expect("factorize before analyse");
+        let dim = structure.nrows();
         let matrix = SparseColMatRef::<'_, usize, f64>::new(
             SymbolicSparseColMatRef::new_checked(
-                pattern.dim,
-                pattern.dim,
+                dim,
+                dim,
                 structure.col_ptr(),
                 None,
                 structure.row_idx(),
@@ -82,13 +87,14 @@ mod tests {
             row_idx: vec![0, 1, 1, 2, 2],
         };
         let mut s = SparseCholesky::default();
-        s.factorize(&pattern, &[4.0, 1.0, 3.0, 1.0, 2.0]).unwrap();
+        s.analyse(&pattern).unwrap();
+        s.factorize(&[4.0, 1.0, 3.0, 1.0, 2.0]).unwrap();
         let mut b = vec![5.0, 5.0, 3.0]; // x = (1, 1, 1)
         s.solve(&mut b);
         for x in &b {
             assert!((x - 1.0).abs() < 1e-14);
         }
-        s.factorize(&pattern, &[8.0, 2.0, 6.0, 2.0, 4.0]).unwrap();
+        s.factorize(&[8.0, 2.0, 6.0, 2.0, 4.0]).unwrap();
         let mut b = vec![5.0, 5.0, 3.0];
         s.solve(&mut b);
         for x in &b {
@@ -105,6 +111,7 @@ mod tests {
             row_idx: vec![0, 1, 1],
         };
         let mut s = SparseCholesky::default();
-        assert!(s.factorize(&pattern, &[1.0, 2.0, 1.0]).is_err());
+        s.analyse(&pattern).unwrap();
+        assert!(s.factorize(&[1.0, 2.0, 1.0]).is_err());
     }
 }
