@@ -26,6 +26,15 @@ use crate::system::{BlockMatrix, BlockSystem};
 /// only (the coupled solve costs one back-substitution per contact).
 const COUPLED_SLIDING_LIMIT: usize = 64;
 
+/// The least reach of the matrix pattern, as a share of the median block
+/// size: open contacts this near enter the pattern whatever the motion.
+const PATTERN_REACH_SHARE: f64 = 0.05;
+
+/// How many times the last step's largest displacement an open contact's
+/// gap may be and still enter the pattern (both blocks may move toward each
+/// other, and the next step may be faster).
+const PATTERN_REACH_MOTION: f64 = 4.0;
+
 /// The most halvings of a coupled Newton-Raphson step.
 const LINE_SEARCH_HALVINGS: usize = 12;
 
@@ -61,6 +70,15 @@ pub struct Driver<S, const N: usize, const T: usize> {
     factored: Option<Vec<f64>>,
     /// Whether the solver holds the symbolic analysis of the matrix pattern.
     analysed: bool,
+    /// Where each contact's block pair sits in the matrix pattern (`None`:
+    /// not in it, so the contact must stay open).
+    slots: Vec<Option<usize>>,
+    /// How near an open contact's blocks must be for their pair to enter
+    /// the pattern: the reach of the last step's motion, at least
+    /// `PATTERN_REACH_SHARE` of the median block size (m).
+    pattern_reach: f64,
+    /// The median block size (m).
+    block_size: f64,
     /// Inverse mass matrices of the blocks in the current step.
     inverse_masses: Vec<BlockMatrix<N>>,
     /// The held directions of fixed and driven points in the current step
@@ -133,6 +151,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             );
         }
         let dofs = (0..blocks).map(|i| system.dofs(i)).collect();
+        let block_size = system.block_size();
         Ok(Self {
             velocity: vec![BlockVector::<N>::zeros(); blocks],
             matrix: BlockSparse::new(dofs, []),
@@ -144,6 +163,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             values: Vec::new(),
             factored: None,
             analysed: false,
+            slots: Vec::new(),
+            pattern_reach: PATTERN_REACH_SHARE * block_size,
+            block_size,
             inverse_masses: Vec::new(),
             supports: Vec::new(),
             time: 0.0,
@@ -282,25 +304,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.contacts = fresh;
         let found = Instant::now();
         self.stats.times.narrow_phase += found - searched;
-        let pattern_changed = {
-            let pairs = self.contacts.iter().map(|c| (c.blocks[0], c.blocks[1]));
-            let dofs = (0..self.system.block_count())
-                .map(|i| self.system.dofs(i))
-                .collect();
-            let matrix = BlockSparse::new(dofs, pairs);
-            let changed = matrix.pattern() != self.matrix.pattern();
-            self.matrix = matrix;
-            changed
-        };
-        if pattern_changed {
-            self.factored = None;
-            self.analysed = false;
-        }
+        self.update_pattern();
         self.stats.times.pattern += found.elapsed();
 
         let floor = self.dt * self.settings.min_dt_ratio;
         let mut dt = self.dt_next.min(dt_limit);
         let mut cut = false;
+        let mut last_moved;
         let trial = loop {
             let trial = self.attempt(dt)?;
             if !trial.converged && dt / 3.0 >= floor {
@@ -312,6 +322,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let d = split::<N>(&trial.d);
             let bound = self.settings.max_displacement_ratio * self.length_scale;
             let moved = self.system.max_displacement(&d);
+            last_moved = moved;
             if moved > bound && dt > floor {
                 dt = (0.9 * dt * bound / moved).max(floor);
                 cut = true;
@@ -349,12 +360,101 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let committing = Instant::now();
         self.commit(trial, dt);
         self.stats.times.commit += committing.elapsed();
+        self.pattern_reach =
+            (PATTERN_REACH_MOTION * last_moved).max(PATTERN_REACH_SHARE * self.block_size);
         if cut {
             self.dt_next = (dt * 1.5).min(self.dt);
         } else if dt >= self.dt_next {
             self.dt_next = (self.dt_next * 1.5).min(self.dt);
         }
         Ok(())
+    }
+
+    /// Keeps the matrix pattern to the block pairs whose contacts can close
+    /// in the step: closed ones, and open ones within the pattern's reach.
+    /// The pattern changes (and the solver analyses it again) only when a
+    /// pair within reach is missing, or when more than an eighth of its
+    /// pairs have moved beyond twice the reach, so a standing wall keeps
+    /// one analysis for thousands of steps.
+    fn update_pattern(&mut self) {
+        let reach = self.pattern_reach;
+        let mut wanted = Vec::new();
+        let mut kept = Vec::new();
+        for c in &self.contacts {
+            let [a, b] = c.blocks;
+            let pair = (a.max(b), a.min(b));
+            let closed = c.record.state.is_closed();
+            // Shi's contact closes through its widest entrance, so it is as
+            // far from closing as that entrance's gap.
+            let gap = c
+                .entrances
+                .iter()
+                .map(|e| e.gap)
+                .fold(f64::NEG_INFINITY, f64::max);
+            if closed || gap <= reach {
+                wanted.push(pair);
+            }
+            if closed || gap <= 2.0 * reach {
+                kept.push(pair);
+            }
+        }
+        kept.sort_unstable();
+        kept.dedup();
+        let missing = wanted
+            .iter()
+            .any(|&(a, b)| self.matrix.slot(a, b).is_none());
+        let current = self.matrix.pairs().len();
+        let held = kept
+            .iter()
+            .filter(|&&(a, b)| self.matrix.slot(a, b).is_some())
+            .count();
+        let stale = current - held;
+        if missing || 8 * stale > current || self.matrix.block_count() == 0 {
+            self.rebuild_pattern(kept);
+        }
+        self.find_slots();
+    }
+
+    /// A new matrix pattern with these block pairs.
+    fn rebuild_pattern(&mut self, pairs: Vec<(usize, usize)>) {
+        let dofs = (0..self.system.block_count())
+            .map(|i| self.system.dofs(i))
+            .collect();
+        self.matrix = BlockSparse::new(dofs, pairs);
+        self.factored = None;
+        self.analysed = false;
+    }
+
+    fn find_slots(&mut self) {
+        self.slots.clear();
+        let matrix = &self.matrix;
+        self.slots.extend(
+            self.contacts
+                .iter()
+                .map(|c| matrix.slot(c.blocks[0], c.blocks[1])),
+        );
+    }
+
+    /// Adds to the pattern the pairs of closed contacts it misses (a contact
+    /// that closed from beyond the pattern's reach in this step).
+    fn cover_closed(&mut self, states: &[ContactState]) {
+        let missing: Vec<(usize, usize)> = self
+            .contacts
+            .iter()
+            .zip(states)
+            .zip(&self.slots)
+            .filter(|((_, s), slot)| s.is_closed() && slot.is_none())
+            .map(|((c, _), _)| (c.blocks[0], c.blocks[1]))
+            .collect();
+        if missing.is_empty() {
+            return;
+        }
+        let started = Instant::now();
+        let mut pairs = self.matrix.pairs().to_vec();
+        pairs.extend(missing);
+        self.rebuild_pattern(pairs);
+        self.find_slots();
+        self.stats.times.pattern += started.elapsed();
     }
 
     /// Solves one step of length `dt` with open-close iterations.
@@ -482,6 +582,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         masses: &[BlockMatrix<N>],
         trial: &mut Trial<T>,
     ) -> Result<(), DdaError> {
+        self.cover_closed(&trial.states);
         if self.iterate(dt, masses, trial, false)? {
             return Ok(());
         }
@@ -710,6 +811,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let history = c.record.history.as_ref().expect("history set at search");
             let mut response = self.laws[c.law].response(state, &kin, history);
             let [a, b] = c.blocks;
+            let slot = self.slots[i].expect("closed contacts are in the pattern");
             if self.settings.contact_damping > 0.0 {
                 // A dashpot beside the normal spring, a share of critical
                 // for the contact's own effective mass: impacts end in a
@@ -724,7 +826,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let mut rb = BlockVector::<N>::zeros();
             // Normal spring: force along the gap gradient.
             let [na, nb] = &entrance.normal;
-            add_spring(&mut matrix, a, b, na, nb, response.normal_stiffness);
+            add_spring(&mut matrix, slot, a, b, na, nb, response.normal_stiffness);
             ra += na * response.normal_force;
             rb += nb * response.normal_force;
             // Shear: a spring when locked; when sliding, the friction force
@@ -757,7 +859,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     force -= c * step_shear[k] / dt;
                     stiffness += c / dt;
                 }
-                add_spring(&mut matrix, a, b, ta, tb, stiffness);
+                add_spring(&mut matrix, slot, a, b, ta, tb, stiffness);
                 ra += ta * force;
                 rb += tb * force;
             }
@@ -790,7 +892,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                         let identity = if k == l { 1.0 } else { 0.0 };
                         let projector = identity - direction[k] * direction[l];
                         let (gk, gl) = ((&gk[0], &gk[1]), (&gl[0], &gl[1]));
-                        add_coupling(&mut matrix, a, b, gk, gl, turning * projector);
+                        add_coupling(&mut matrix, slot, a, b, gk, gl, turning * projector);
                     }
                 }
             }
@@ -1012,19 +1114,21 @@ fn stored(force: f64, k: f64) -> f64 {
 /// Adds the spring k·g·gᵀ, with g = (ga on block a, gb on block b).
 fn add_spring<const N: usize>(
     matrix: &mut BlockSparse<N>,
+    slot: usize,
     a: usize,
     b: usize,
     ga: &BlockVector<N>,
     gb: &BlockVector<N>,
     k: f64,
 ) {
-    add_coupling(matrix, a, b, (ga, gb), (ga, gb), k);
+    add_coupling(matrix, slot, a, b, (ga, gb), (ga, gb), k);
 }
 
 /// Adds k·g·hᵀ with g = (ga, gb) and h = (ha, hb); called for (g, h) and
 /// (h, g) with the same k, the sum is symmetric.
 fn add_coupling<const N: usize>(
     matrix: &mut BlockSparse<N>,
+    slot: usize,
     a: usize,
     b: usize,
     (ga, gb): (&BlockVector<N>, &BlockVector<N>),
@@ -1036,7 +1140,7 @@ fn add_coupling<const N: usize>(
     }
     matrix.add(a, a, &(ga * ha.transpose() * k));
     matrix.add(b, b, &(gb * hb.transpose() * k));
-    matrix.add(a, b, &(ga * hb.transpose() * k));
+    matrix.add_at(slot, a, b, &(ga * hb.transpose() * k));
 }
 
 fn block<const N: usize>(d: &[f64], i: usize) -> BlockVector<N> {
