@@ -757,7 +757,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             self.solver.factorize(&self.values)?;
             self.stats.times.numeric += started.elapsed();
             self.stats.factorizations += 1;
-            self.factored = Some(self.values.clone());
+            // The factored values swap places with the buffer the next
+            // assembly fills: no copy, no allocation.
+            let spare = self.factored.take().unwrap_or_default();
+            self.factored = Some(std::mem::replace(&mut self.values, spare));
         }
         Ok(())
     }
