@@ -35,6 +35,11 @@ const PATTERN_REACH_SHARE: f64 = 0.05;
 /// other, and the next step may be faster).
 const PATTERN_REACH_MOTION: f64 = 4.0;
 
+/// The least displacement bound of a step, as a share of the median block
+/// size, when Shi's g2·w0 (a share of the whole model) is larger: the
+/// search range follows the blocks and their motion, not the model's extent.
+const BOUND_BLOCK_SHARE: f64 = 0.25;
+
 /// The most halvings of a coupled Newton-Raphson step.
 const LINE_SEARCH_HALVINGS: usize = 12;
 
@@ -77,6 +82,8 @@ pub struct Driver<S, const N: usize, const T: usize> {
     /// the pattern: the reach of the last step's motion, at least
     /// `PATTERN_REACH_SHARE` of the median block size (m).
     pattern_reach: f64,
+    /// The largest point displacement of the last accepted step (m).
+    last_moved: f64,
     /// The median block size (m).
     block_size: f64,
     /// Inverse mass matrices of the blocks in the current step.
@@ -165,6 +172,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             analysed: false,
             slots: Vec::new(),
             pattern_reach: PATTERN_REACH_SHARE * block_size,
+            last_moved: 0.0,
             block_size,
             inverse_masses: Vec::new(),
             supports: Vec::new(),
@@ -279,7 +287,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     }
 
     fn try_step(&mut self, dt_limit: f64) -> Result<(), DdaError> {
-        let range = 2.5 * self.settings.max_displacement_ratio * self.length_scale;
+        let bound = self.displacement_bound();
+        let range = 2.5 * bound;
         let started = Instant::now();
         let pairs = self.system.near_pairs(range);
         let searched = Instant::now();
@@ -310,7 +319,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let floor = self.dt * self.settings.min_dt_ratio;
         let mut dt = self.dt_next.min(dt_limit);
         let mut cut = false;
-        let mut last_moved;
+        let mut moved_by;
         let trial = loop {
             let trial = self.attempt(dt)?;
             if !trial.converged && dt / 3.0 >= floor {
@@ -320,9 +329,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 continue;
             }
             let d = split::<N>(&trial.d);
-            let bound = self.settings.max_displacement_ratio * self.length_scale;
             let moved = self.system.max_displacement(&d);
-            last_moved = moved;
+            moved_by = moved;
             if moved > bound && dt > floor {
                 dt = (0.9 * dt * bound / moved).max(floor);
                 cut = true;
@@ -360,14 +368,25 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let committing = Instant::now();
         self.commit(trial, dt);
         self.stats.times.commit += committing.elapsed();
+        self.last_moved = moved_by;
         self.pattern_reach =
-            (PATTERN_REACH_MOTION * last_moved).max(PATTERN_REACH_SHARE * self.block_size);
+            (PATTERN_REACH_MOTION * moved_by).max(PATTERN_REACH_SHARE * self.block_size);
         if cut {
             self.dt_next = (dt * 1.5).min(self.dt);
         } else if dt >= self.dt_next {
             self.dt_next = (self.dt_next * 1.5).min(self.dt);
         }
         Ok(())
+    }
+
+    /// How far a point may move in a step (m); the contact search reaches
+    /// 2.5 times as far, so no contact the step can close is missed. Shi's
+    /// g2·w0, but in a model many blocks wide no more than a quarter of the
+    /// median block size or twice the last step's motion, whichever is
+    /// larger: a step that moves farther is cut like one beyond g2·w0.
+    fn displacement_bound(&self) -> f64 {
+        let shi = self.settings.max_displacement_ratio * self.length_scale;
+        shi.min((BOUND_BLOCK_SHARE * self.block_size).max(2.0 * self.last_moved))
     }
 
     /// Keeps the matrix pattern to the block pairs whose contacts can close
