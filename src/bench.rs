@@ -8,6 +8,8 @@ use std::time::Instant;
 
 use serde::Serialize;
 
+use dda_core::Statistics;
+
 use crate::scene::{BlockKind, Scene};
 
 /// What to measure.
@@ -36,9 +38,25 @@ pub struct BenchRow {
     pub median_ms_per_step: f64,
     /// The same relative to the smallest wall's.
     pub ratio_to_baseline: f64,
-    /// Open-close passes and factorizations per step (from the last run).
+    /// Wall-clock seconds per simulated second (median run).
+    pub seconds_per_simulated_second: f64,
+    /// Per step of the median run: open-close passes, Newton-Raphson
+    /// iterations, numeric factorizations and symbolic analyses.
     pub passes_per_step: f64,
+    pub newton_per_step: f64,
     pub factorizations_per_step: f64,
+    pub analyses_per_step: f64,
+    /// Step cuts (open-close, displacement, penetration) and steps accepted
+    /// unconverged, over the timed steps of the median run.
+    pub cuts: usize,
+    pub unconverged_steps: usize,
+    /// Milliseconds per step in each phase of the median run, in step order.
+    pub phase_ms_per_step: Vec<(String, f64)>,
+    /// The largest centroid displacement of any brick since the wall was
+    /// built, m.
+    pub drift: f64,
+    /// The process's peak resident memory so far, MB (Linux; 0 elsewhere).
+    pub peak_memory_mb: f64,
 }
 
 /// A running-bond wall of `n` courses of `n` bricks (0.5 m × 0.25 m) on a
@@ -62,42 +80,120 @@ pub fn wall_scene(n: usize) -> Scene {
         .expect("the benchmark wall is a valid scene")
 }
 
+/// One timed run of a wall.
+struct Run {
+    ms_per_step: f64,
+    seconds_per_simulated_second: f64,
+    stats: Statistics,
+    drift: f64,
+    blocks: usize,
+    contacts: usize,
+    unknowns: usize,
+}
+
+fn run(n: usize, options: &BenchOptions) -> anyhow::Result<Run> {
+    let mut scene = wall_scene(n);
+    scene.materials[0].1.kind = options.kind;
+    let mut model = scene.build()?;
+    let start: Vec<_> = model
+        .driver
+        .system
+        .blocks
+        .iter()
+        .map(|b| b.centroid())
+        .collect();
+    let dt = model.driver.dt();
+    model.driver.step(dt)?;
+    let before = model.driver.statistics().clone();
+    let t0 = model.driver.time();
+    let started = Instant::now();
+    for _ in 0..options.steps {
+        model.driver.step(dt)?;
+    }
+    let wall = started.elapsed().as_secs_f64();
+    let after = model.driver.statistics();
+    let drift = model
+        .driver
+        .system
+        .blocks
+        .iter()
+        .zip(&start)
+        .map(|(b, c)| (b.centroid() - c).norm())
+        .fold(0.0, f64::max);
+    Ok(Run {
+        ms_per_step: wall * 1e3 / options.steps as f64,
+        seconds_per_simulated_second: wall / (model.driver.time() - t0),
+        stats: difference(after, &before),
+        drift,
+        blocks: model.driver.system.blocks.len(),
+        contacts: model.driver.contacts().len(),
+        unknowns: model.driver.unknowns(),
+    })
+}
+
+/// The counters and times of `after` since `before`.
+fn difference(after: &Statistics, before: &Statistics) -> Statistics {
+    Statistics {
+        steps: after.steps - before.steps,
+        open_close_iterations: after.open_close_iterations - before.open_close_iterations,
+        newton_iterations: after.newton_iterations - before.newton_iterations,
+        factorizations: after.factorizations - before.factorizations,
+        symbolic_analyses: after.symbolic_analyses - before.symbolic_analyses,
+        open_close_cuts: after.open_close_cuts - before.open_close_cuts,
+        displacement_cuts: after.displacement_cuts - before.displacement_cuts,
+        penetration_cuts: after.penetration_cuts - before.penetration_cuts,
+        unconverged_steps: after.unconverged_steps - before.unconverged_steps,
+        times: after.times.since(&before.times),
+        ..Statistics::default()
+    }
+}
+
+/// Peak resident memory of this process, MB (Linux's VmHWM; 0 elsewhere).
+fn peak_memory_mb() -> f64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
+        .map_or(0.0, |kb| kb / 1024.0)
+}
+
 /// Runs the benchmark.
 pub fn bench(options: &BenchOptions) -> anyhow::Result<Vec<BenchRow>> {
     let mut rows: Vec<BenchRow> = Vec::new();
     for &n in &options.sizes {
-        let mut times = Vec::with_capacity(options.repeats);
-        let mut last = None;
+        let mut runs = Vec::with_capacity(options.repeats);
         for _ in 0..options.repeats.max(1) {
-            let mut scene = wall_scene(n);
-            scene.materials[0].1.kind = options.kind;
-            let mut model = scene.build()?;
-            let dt = model.driver.dt();
-            model.driver.step(dt)?;
-            let before = model.driver.statistics().clone();
-            let started = Instant::now();
-            for _ in 0..options.steps {
-                model.driver.step(dt)?;
-            }
-            times.push(started.elapsed().as_secs_f64() * 1e3 / options.steps as f64);
-            let after = model.driver.statistics().clone();
-            last = Some((model, before, after));
+            runs.push(run(n, options)?);
         }
-        times.sort_by(f64::total_cmp);
-        let median = times[times.len() / 2];
-        let (model, before, after) = last.expect("at least one run");
-        let steps = (after.steps - before.steps) as f64;
+        runs.sort_by(|a, b| a.ms_per_step.total_cmp(&b.ms_per_step));
+        let median = &runs[runs.len() / 2];
+        let stats = &median.stats;
+        let steps = stats.steps.max(1) as f64;
+        let per_step = |count: usize| count as f64 / steps;
         rows.push(BenchRow {
             courses: n,
             kind: options.kind,
-            unknowns: model.driver.unknowns(),
-            blocks: model.driver.system.blocks.len(),
-            contacts: model.driver.contacts().len(),
-            median_ms_per_step: median,
+            blocks: median.blocks,
+            contacts: median.contacts,
+            unknowns: median.unknowns,
+            median_ms_per_step: median.ms_per_step,
             ratio_to_baseline: 1.0,
-            passes_per_step: (after.open_close_iterations - before.open_close_iterations) as f64
-                / steps,
-            factorizations_per_step: (after.factorizations - before.factorizations) as f64 / steps,
+            seconds_per_simulated_second: median.seconds_per_simulated_second,
+            passes_per_step: per_step(stats.open_close_iterations),
+            newton_per_step: per_step(stats.newton_iterations),
+            factorizations_per_step: per_step(stats.factorizations),
+            analyses_per_step: per_step(stats.symbolic_analyses),
+            cuts: stats.open_close_cuts + stats.displacement_cuts + stats.penetration_cuts,
+            unconverged_steps: stats.unconverged_steps,
+            phase_ms_per_step: stats
+                .times
+                .phases()
+                .iter()
+                .map(|(name, t)| (name.to_string(), t.as_secs_f64() * 1e3 / steps))
+                .collect(),
+            drift: median.drift,
+            peak_memory_mb: peak_memory_mb(),
         });
     }
     let baseline = rows.first().map(|r| r.median_ms_per_step).unwrap_or(1.0);

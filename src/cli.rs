@@ -286,21 +286,49 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 if rigid { "rigid" } else { "deformable" }
             );
             println!(
-                "{:>4} {:>7} {:>9} {:>8} {:>10} {:>9} {:>7} {:>7}",
-                "n", "blocks", "contacts", "unknowns", "ms/step", "× base", "passes", "factor."
+                "{:>4} {:>7} {:>9} {:>8} {:>10} {:>7} {:>8} {:>7} {:>7} {:>7} {:>5} {:>9} {:>9} {:>7}",
+                "n", "blocks", "contacts", "unknowns", "ms/step", "× base", "s/sim s", "passes",
+                "newton", "factor.", "cuts", "drift m", "analyses", "MB"
             );
             for r in &rows {
                 println!(
-                    "{:>4} {:>7} {:>9} {:>8} {:>10.2} {:>9.2} {:>7.2} {:>7.2}",
+                    "{:>4} {:>7} {:>9} {:>8} {:>10.2} {:>7.2} {:>8.2} {:>7.2} {:>7.2} {:>7.2} {:>5} {:>9.2e} {:>9.2} {:>7.0}",
                     r.courses,
                     r.blocks,
                     r.contacts,
                     r.unknowns,
                     r.median_ms_per_step,
                     r.ratio_to_baseline,
+                    r.seconds_per_simulated_second,
                     r.passes_per_step,
-                    r.factorizations_per_step
+                    r.newton_per_step,
+                    r.factorizations_per_step,
+                    r.cuts,
+                    r.drift,
+                    r.analyses_per_step,
+                    r.peak_memory_mb,
                 );
+            }
+            println!("where the time goes, ms per step (median run):");
+            if let Some(first) = rows.first() {
+                let names: Vec<&str> = first
+                    .phase_ms_per_step
+                    .iter()
+                    .map(|(name, _)| name.as_str())
+                    .collect();
+                println!(
+                    "{:>4} {}",
+                    "n",
+                    names.iter().map(|n| format!("{n:>13}")).collect::<String>()
+                );
+            }
+            for r in &rows {
+                let cells: String = r
+                    .phase_ms_per_step
+                    .iter()
+                    .map(|(_, ms)| format!("{ms:>13.3}"))
+                    .collect();
+                println!("{:>4} {cells}", r.courses);
             }
             if let Some(path) = json {
                 std::fs::write(&path, serde_json::to_string_pretty(&rows)?)

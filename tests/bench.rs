@@ -60,7 +60,9 @@ fn bench_command_prints_a_table() {
     );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains("ms/step") && text.lines().count() == 3,
+        text.contains("ms/step")
+            && text.contains("where the time goes")
+            && text.lines().count() == 6,
         "{text}"
     );
 }

@@ -5,9 +5,9 @@
 //! rigid block its translation and rotation): the rest never enter the
 //! matrix, so they stay exactly zero, and a system of rigid blocks is
 //! factorised at the size of its rigid DOF. Only the lower triangle is stored
-//! (the matrix is symmetric); the pattern is fixed for a step, since contacts
-//! are not searched again inside the open-close loop, so the solver's
-//! symbolic analysis is reused across passes.
+//! (the matrix is symmetric). The driver chooses the pairs: those whose
+//! contacts can close in the step, kept with hysteresis, so the solver's
+//! symbolic analysis is reused across passes and steps.
 
 use std::collections::HashMap;
 
@@ -132,6 +132,27 @@ impl<const N: usize> BlockSparse<N> {
         } else {
             let i = self.index[&(col, row)];
             self.lower[i] += m.transpose();
+        }
+    }
+
+    /// Where block pair (a, b), a ≠ b, is stored, if the pattern holds it.
+    pub fn slot(&self, a: usize, b: usize) -> Option<usize> {
+        self.index.get(&(a.max(b), a.min(b))).copied()
+    }
+
+    /// The off-diagonal pairs (row block > column block) of the pattern.
+    pub fn pairs(&self) -> &[(usize, usize)] {
+        &self.pairs
+    }
+
+    /// [`BlockSparse::add`] for `row` ≠ `col` stored at `slot` (from
+    /// [`BlockSparse::slot`]), without looking the pair up.
+    pub fn add_at(&mut self, slot: usize, row: usize, col: usize, m: &BlockMatrix<N>) {
+        debug_assert_eq!(self.pairs[slot], (row.max(col), row.min(col)));
+        if row > col {
+            self.lower[slot] += m;
+        } else {
+            self.lower[slot] += m.transpose();
         }
     }
 

@@ -232,12 +232,12 @@ where
         }
     }
 
-    fn find_contacts(&self, range: f64) -> Vec<Contact<N, T>> {
-        let mut contacts = Vec::new();
-        for (i, j) in B::near_pairs(&self.blocks, range) {
-            contacts.extend(B::pair_contacts(&self.blocks, i, j, range, self.law(i, j)));
-        }
-        contacts
+    fn near_pairs(&self, range: f64) -> Vec<(usize, usize)> {
+        B::near_pairs(&self.blocks, range)
+    }
+
+    fn pair_contacts(&self, i: usize, j: usize, range: f64) -> Vec<Contact<N, T>> {
+        B::pair_contacts(&self.blocks, i, j, range, self.law(i, j))
     }
 
     fn supports(&self, start: f64, end: f64) -> Vec<crate::loads::Support<N>> {

@@ -7,69 +7,38 @@
 //! floor; a step that moves a point too far is cut; a step that penetrates too
 //! deep raises the penalty. Nothing is changed until the step is accepted.
 
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector, SVector};
 
 use crate::assembly::BlockSparse;
 use crate::contact::{ContactResponse, ContactState, DynContactLaw, LocalKinematics};
-use crate::contacts::{transfer_records, BlockVector, Contact, ContactKey};
+use crate::contacts::{transfer_records, BlockVector, Contact};
 use crate::error::DdaError;
 use crate::loads::Support;
 use crate::settings::Settings;
 use crate::solve::{LinearSolver, SparseCholesky};
+use crate::statistics::CYCLES_KEPT;
+pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
-
-/// Counters of a run, reported in the summary.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Statistics {
-    pub steps: usize,
-    pub open_close_iterations: usize,
-    pub newton_iterations: usize,
-    pub factorizations: usize,
-    /// Steps cut to a third because open-close iterations did not settle.
-    pub open_close_cuts: usize,
-    /// Steps cut because a point moved farther than the bound.
-    pub displacement_cuts: usize,
-    pub penalty_raises: usize,
-    /// Steps cut because a contact penetrated too deep.
-    pub penetration_cuts: usize,
-    /// Steps accepted at the smallest time step without open-close agreement.
-    pub unconverged_steps: usize,
-    /// Steps whose open-close passes returned to the states of two passes
-    /// before (a cycle), settled by keeping each cycling contact's sliding
-    /// or closed state.
-    pub cycle_breaks: usize,
-    /// The first contacts that cycled (at most 20), each with the two
-    /// states it cycled between and the one it kept.
-    pub cycles: Vec<Cycle>,
-    /// Open-close passes whose Newton-Raphson iteration did not converge
-    /// (the best iterate was kept).
-    pub newton_failures: usize,
-    /// Open-close passes solved again with friction's coupling to the
-    /// normal force in the tangent, after the symmetric iteration failed.
-    pub coupled_solves: usize,
-    /// Accepted steps that ended with a penetration deeper than the limit.
-    pub deep_penetration_steps: usize,
-    /// The deepest penetration of any accepted step.
-    pub deepest_penetration: f64,
-    /// Total energy (kinetic, potential, elastic, contact springs) after
-    /// the last step, when the system can tell it (no work done on it).
-    pub energy: f64,
-    /// The energy in play: the largest kinetic plus spring energy plus the
-    /// potential energy released, seen so far.
-    pub energy_scale: f64,
-    /// The largest rise of the total energy above its lowest value so far,
-    /// counted when above a quarter of the energy in play: a scene that
-    /// should only lose energy gained some.
-    pub energy_growth: f64,
-    pub energy_growth_steps: usize,
-    pub wall_time: Duration,
-}
 
 /// Sliding contacts beyond this many are solved with the symmetric tangent
 /// only (the coupled solve costs one back-substitution per contact).
 const COUPLED_SLIDING_LIMIT: usize = 64;
+
+/// The least reach of the matrix pattern, as a share of the median block
+/// size: open contacts this near enter the pattern whatever the motion.
+const PATTERN_REACH_SHARE: f64 = 0.05;
+
+/// How many times the last step's largest displacement an open contact's
+/// gap may be and still enter the pattern (both blocks may move toward each
+/// other, and the next step may be faster).
+const PATTERN_REACH_MOTION: f64 = 4.0;
+
+/// The least displacement bound of a step, as a share of the median block
+/// size, when Shi's g2·w0 (a share of the whole model) is larger: the
+/// search range follows the blocks and their motion, not the model's extent.
+const BOUND_BLOCK_SHARE: f64 = 0.25;
 
 /// The most halvings of a coupled Newton-Raphson step.
 const LINE_SEARCH_HALVINGS: usize = 12;
@@ -82,19 +51,6 @@ struct FrictionCoupling<const N: usize> {
     u: [BlockVector<N>; 2],
     v: [BlockVector<N>; 2],
     slope: f64,
-}
-
-/// How many cycling contacts the statistics name.
-const CYCLES_KEPT: usize = 20;
-
-/// A contact whose open-close passes cycled between two states in a step
-/// ending at `time`, and the state it kept.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Cycle {
-    pub time: f64,
-    pub key: ContactKey,
-    pub between: [ContactState; 2],
-    pub kept: ContactState,
 }
 
 /// The trial solution of one step attempt.
@@ -117,6 +73,19 @@ pub struct Driver<S, const N: usize, const T: usize> {
     matrix: BlockSparse<N>,
     values: Vec<f64>,
     factored: Option<Vec<f64>>,
+    /// Whether the solver holds the symbolic analysis of the matrix pattern.
+    analysed: bool,
+    /// Where each contact's block pair sits in the matrix pattern (`None`:
+    /// not in it, so the contact must stay open).
+    slots: Vec<Option<usize>>,
+    /// How near an open contact's blocks must be for their pair to enter
+    /// the pattern: the reach of the last step's motion, at least
+    /// `PATTERN_REACH_SHARE` of the median block size (m).
+    pattern_reach: f64,
+    /// The largest point displacement of the last accepted step (m).
+    last_moved: f64,
+    /// The median block size (m).
+    block_size: f64,
     /// Inverse mass matrices of the blocks in the current step.
     inverse_masses: Vec<BlockMatrix<N>>,
     /// The held directions of fixed and driven points in the current step
@@ -189,6 +158,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             );
         }
         let dofs = (0..blocks).map(|i| system.dofs(i)).collect();
+        let block_size = system.block_size();
         Ok(Self {
             velocity: vec![BlockVector::<N>::zeros(); blocks],
             matrix: BlockSparse::new(dofs, []),
@@ -199,6 +169,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             solver: Box::new(SparseCholesky::default()),
             values: Vec::new(),
             factored: None,
+            analysed: false,
+            slots: Vec::new(),
+            pattern_reach: PATTERN_REACH_SHARE * block_size,
+            last_moved: 0.0,
+            block_size,
             inverse_masses: Vec::new(),
             supports: Vec::new(),
             time: 0.0,
@@ -218,6 +193,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     pub fn with_solver(mut self, solver: Box<dyn LinearSolver>) -> Self {
         self.solver = solver;
         self.factored = None;
+        self.analysed = false;
         self
     }
 
@@ -311,8 +287,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     }
 
     fn try_step(&mut self, dt_limit: f64) -> Result<(), DdaError> {
-        let range = 2.5 * self.settings.max_displacement_ratio * self.length_scale;
-        let mut fresh = self.system.find_contacts(range);
+        let bound = self.displacement_bound();
+        let range = 2.5 * bound;
+        let started = Instant::now();
+        let pairs = self.system.near_pairs(range);
+        let searched = Instant::now();
+        self.stats.times.broad_phase += searched - started;
+        let mut fresh = Vec::new();
+        for (i, j) in pairs {
+            fresh.extend(self.system.pair_contacts(i, j, range));
+        }
         transfer_records(&mut self.contacts, &mut fresh);
         let at_start = self.stats.steps == 0;
         let touching = self.settings.contact_tolerance * self.length_scale;
@@ -327,23 +311,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
         }
         self.contacts = fresh;
-        let pattern_changed = {
-            let pairs = self.contacts.iter().map(|c| (c.blocks[0], c.blocks[1]));
-            let dofs = (0..self.system.block_count())
-                .map(|i| self.system.dofs(i))
-                .collect();
-            let matrix = BlockSparse::new(dofs, pairs);
-            let changed = matrix.pattern() != self.matrix.pattern();
-            self.matrix = matrix;
-            changed
-        };
-        if pattern_changed {
-            self.factored = None;
-        }
+        let found = Instant::now();
+        self.stats.times.narrow_phase += found - searched;
+        self.update_pattern();
+        self.stats.times.pattern += found.elapsed();
 
         let floor = self.dt * self.settings.min_dt_ratio;
         let mut dt = self.dt_next.min(dt_limit);
         let mut cut = false;
+        let mut moved_by;
         let trial = loop {
             let trial = self.attempt(dt)?;
             if !trial.converged && dt / 3.0 >= floor {
@@ -353,8 +329,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 continue;
             }
             let d = split::<N>(&trial.d);
-            let bound = self.settings.max_displacement_ratio * self.length_scale;
             let moved = self.system.max_displacement(&d);
+            moved_by = moved;
             if moved > bound && dt > floor {
                 dt = (0.9 * dt * bound / moved).max(floor);
                 cut = true;
@@ -389,13 +365,115 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             break trial;
         };
+        let committing = Instant::now();
         self.commit(trial, dt);
+        self.stats.times.commit += committing.elapsed();
+        self.last_moved = moved_by;
+        self.pattern_reach =
+            (PATTERN_REACH_MOTION * moved_by).max(PATTERN_REACH_SHARE * self.block_size);
         if cut {
             self.dt_next = (dt * 1.5).min(self.dt);
         } else if dt >= self.dt_next {
             self.dt_next = (self.dt_next * 1.5).min(self.dt);
         }
         Ok(())
+    }
+
+    /// How far a point may move in a step (m); the contact search reaches
+    /// 2.5 times as far, so no contact the step can close is missed. Shi's
+    /// g2·w0, but in a model many blocks wide no more than a quarter of the
+    /// median block size or twice the last step's motion, whichever is
+    /// larger: a step that moves farther is cut like one beyond g2·w0.
+    fn displacement_bound(&self) -> f64 {
+        let shi = self.settings.max_displacement_ratio * self.length_scale;
+        shi.min((BOUND_BLOCK_SHARE * self.block_size).max(2.0 * self.last_moved))
+    }
+
+    /// Keeps the matrix pattern to the block pairs whose contacts can close
+    /// in the step: closed ones, and open ones within the pattern's reach.
+    /// The pattern changes (and the solver analyses it again) only when a
+    /// pair within reach is missing, or when more than an eighth of its
+    /// pairs have moved beyond twice the reach, so a standing wall keeps
+    /// one analysis for thousands of steps.
+    fn update_pattern(&mut self) {
+        let reach = self.pattern_reach;
+        let mut wanted = Vec::new();
+        let mut kept = Vec::new();
+        for c in &self.contacts {
+            let [a, b] = c.blocks;
+            let pair = (a.max(b), a.min(b));
+            let closed = c.record.state.is_closed();
+            // Shi's contact closes through its widest entrance, so it is as
+            // far from closing as that entrance's gap.
+            let gap = c
+                .entrances
+                .iter()
+                .map(|e| e.gap)
+                .fold(f64::NEG_INFINITY, f64::max);
+            if closed || gap <= reach {
+                wanted.push(pair);
+            }
+            if closed || gap <= 2.0 * reach {
+                kept.push(pair);
+            }
+        }
+        kept.sort_unstable();
+        kept.dedup();
+        let missing = wanted
+            .iter()
+            .any(|&(a, b)| self.matrix.slot(a, b).is_none());
+        let current = self.matrix.pairs().len();
+        let held = kept
+            .iter()
+            .filter(|&&(a, b)| self.matrix.slot(a, b).is_some())
+            .count();
+        let stale = current - held;
+        if missing || 8 * stale > current || self.matrix.block_count() == 0 {
+            self.rebuild_pattern(kept);
+        }
+        self.find_slots();
+    }
+
+    /// A new matrix pattern with these block pairs.
+    fn rebuild_pattern(&mut self, pairs: Vec<(usize, usize)>) {
+        let dofs = (0..self.system.block_count())
+            .map(|i| self.system.dofs(i))
+            .collect();
+        self.matrix = BlockSparse::new(dofs, pairs);
+        self.factored = None;
+        self.analysed = false;
+    }
+
+    fn find_slots(&mut self) {
+        self.slots.clear();
+        let matrix = &self.matrix;
+        self.slots.extend(
+            self.contacts
+                .iter()
+                .map(|c| matrix.slot(c.blocks[0], c.blocks[1])),
+        );
+    }
+
+    /// Adds to the pattern the pairs of closed contacts it misses (a contact
+    /// that closed from beyond the pattern's reach in this step).
+    fn cover_closed(&mut self, states: &[ContactState]) {
+        let missing: Vec<(usize, usize)> = self
+            .contacts
+            .iter()
+            .zip(states)
+            .zip(&self.slots)
+            .filter(|((_, s), slot)| s.is_closed() && slot.is_none())
+            .map(|((c, _), _)| (c.blocks[0], c.blocks[1]))
+            .collect();
+        if missing.is_empty() {
+            return;
+        }
+        let started = Instant::now();
+        let mut pairs = self.matrix.pairs().to_vec();
+        pairs.extend(missing);
+        self.rebuild_pattern(pairs);
+        self.find_slots();
+        self.stats.times.pattern += started.elapsed();
     }
 
     /// Solves one step of length `dt` with open-close iterations.
@@ -435,6 +513,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         for _ in 0..self.settings.open_close_limit {
             self.stats.open_close_iterations += 1;
             self.newton(dt, &masses, &mut trial)?;
+            let deciding = Instant::now();
             let assumed = trial.states.clone();
             let mut changed = false;
             for i in 0..self.contacts.len() {
@@ -477,6 +556,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 trial.states[i] = next;
                 trial.entrances[i] = entrance;
             }
+            self.stats.times.open_close += deciding.elapsed();
             if !changed {
                 trial.converged = true;
                 break;
@@ -521,6 +601,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         masses: &[BlockMatrix<N>],
         trial: &mut Trial<T>,
     ) -> Result<(), DdaError> {
+        self.cover_closed(&trial.states);
         if self.iterate(dt, masses, trial, false)? {
             return Ok(());
         }
@@ -587,9 +668,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             self.stats.newton_iterations += 1;
             self.factorize()?;
+            let solving = Instant::now();
             self.solver.solve(&mut residual);
             if !couplings.is_empty() {
                 self.correct(&couplings, &mut residual);
+            }
+            self.stats.times.solve += solving.elapsed();
+            if !couplings.is_empty() {
                 // The friction's direction turns fast with the stretch, so
                 // a full step can overshoot: halve it until the residual
                 // falls (the exact tangent makes the step a descent one).
@@ -678,11 +763,23 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         if self.values.iter().any(|v| !v.is_finite()) {
             return Err(DdaError::NotFinite { time: self.time });
         }
+        if !self.analysed {
+            let started = Instant::now();
+            self.solver.analyse(&self.matrix.pattern())?;
+            self.analysed = true;
+            self.factored = None;
+            self.stats.symbolic_analyses += 1;
+            self.stats.times.symbolic += started.elapsed();
+        }
         if self.factored.as_ref() != Some(&self.values) {
-            self.solver
-                .factorize(&self.matrix.pattern(), &self.values)?;
+            let started = Instant::now();
+            self.solver.factorize(&self.values)?;
+            self.stats.times.numeric += started.elapsed();
             self.stats.factorizations += 1;
-            self.factored = Some(self.values.clone());
+            // The factored values swap places with the buffer the next
+            // assembly fills: no copy, no allocation.
+            let spare = self.factored.take().unwrap_or_default();
+            self.factored = Some(std::mem::replace(&mut self.values, spare));
         }
         Ok(())
     }
@@ -697,6 +794,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         residual: &mut [f64],
         mut couplings: Option<&mut Vec<FrictionCoupling<N>>>,
     ) {
+        let started = Instant::now();
         let mut matrix = std::mem::take(&mut self.matrix);
         matrix.clear();
         residual.fill(0.0);
@@ -735,6 +833,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let history = c.record.history.as_ref().expect("history set at search");
             let mut response = self.laws[c.law].response(state, &kin, history);
             let [a, b] = c.blocks;
+            let slot = self.slots[i].expect("closed contacts are in the pattern");
             if self.settings.contact_damping > 0.0 {
                 // A dashpot beside the normal spring, a share of critical
                 // for the contact's own effective mass: impacts end in a
@@ -749,7 +848,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let mut rb = BlockVector::<N>::zeros();
             // Normal spring: force along the gap gradient.
             let [na, nb] = &entrance.normal;
-            add_spring(&mut matrix, a, b, na, nb, response.normal_stiffness);
+            add_spring(&mut matrix, slot, a, b, na, nb, response.normal_stiffness);
             ra += na * response.normal_force;
             rb += nb * response.normal_force;
             // Shear: a spring when locked; when sliding, the friction force
@@ -782,7 +881,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     force -= c * step_shear[k] / dt;
                     stiffness += c / dt;
                 }
-                add_spring(&mut matrix, a, b, ta, tb, stiffness);
+                add_spring(&mut matrix, slot, a, b, ta, tb, stiffness);
                 ra += ta * force;
                 rb += tb * force;
             }
@@ -815,7 +914,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                         let identity = if k == l { 1.0 } else { 0.0 };
                         let projector = identity - direction[k] * direction[l];
                         let (gk, gl) = ((&gk[0], &gk[1]), (&gl[0], &gl[1]));
-                        add_coupling(&mut matrix, a, b, gk, gl, turning * projector);
+                        add_coupling(&mut matrix, slot, a, b, gk, gl, turning * projector);
                     }
                 }
             }
@@ -823,6 +922,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             matrix.add_block(residual, b, &rb);
         }
         self.matrix = matrix;
+        self.stats.times.assembly += started.elapsed();
     }
 
     /// Elastic shear displacement carried from earlier steps, valid only on
@@ -1036,19 +1136,21 @@ fn stored(force: f64, k: f64) -> f64 {
 /// Adds the spring k·g·gᵀ, with g = (ga on block a, gb on block b).
 fn add_spring<const N: usize>(
     matrix: &mut BlockSparse<N>,
+    slot: usize,
     a: usize,
     b: usize,
     ga: &BlockVector<N>,
     gb: &BlockVector<N>,
     k: f64,
 ) {
-    add_coupling(matrix, a, b, (ga, gb), (ga, gb), k);
+    add_coupling(matrix, slot, a, b, (ga, gb), (ga, gb), k);
 }
 
 /// Adds k·g·hᵀ with g = (ga, gb) and h = (ha, hb); called for (g, h) and
 /// (h, g) with the same k, the sum is symmetric.
 fn add_coupling<const N: usize>(
     matrix: &mut BlockSparse<N>,
+    slot: usize,
     a: usize,
     b: usize,
     (ga, gb): (&BlockVector<N>, &BlockVector<N>),
@@ -1060,7 +1162,7 @@ fn add_coupling<const N: usize>(
     }
     matrix.add(a, a, &(ga * ha.transpose() * k));
     matrix.add(b, b, &(gb * hb.transpose() * k));
-    matrix.add(a, b, &(ga * hb.transpose() * k));
+    matrix.add_at(slot, a, b, &(ga * hb.transpose() * k));
 }
 
 fn block<const N: usize>(d: &[f64], i: usize) -> BlockVector<N> {

@@ -18,15 +18,17 @@ pub mod loads;
 pub mod motion;
 pub mod settings;
 pub mod solve;
+pub mod statistics;
 pub mod system;
 
 pub use block_set::{BlockSet, Element, RotationUpdate};
 pub use constitutive::ConstitutiveLaw;
 pub use contact::{ContactLaw, ContactResponse, ContactState, DynContactLaw, LocalKinematics};
 pub use contacts::{BlockVector, Contact, ContactKey, ContactRecord, Entrance};
-pub use driver::{Cycle, Driver, Statistics};
+pub use driver::Driver;
 pub use error::DdaError;
 pub use loads::{FixedPoint, Force, PointLoad};
 pub use motion::{GroundMotion, Quantity, Record};
 pub use settings::Settings;
+pub use statistics::{Cycle, PhaseTimes, Statistics};
 pub use system::{BlockKind, BlockMatrix, BlockSystem};

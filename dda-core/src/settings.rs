@@ -23,7 +23,10 @@ pub struct Settings {
     /// Open-close passes before the step is cut to a third; default 6.
     pub open_close_limit: usize,
     /// Largest step displacement of any boundary point, as a fraction of w0
-    /// (Shi's g2); default 0.01. The contact search range is 2.5 times this.
+    /// (Shi's g2); default 0.01. In a model more than about 25 blocks wide
+    /// the bound is also at most a quarter of the median block size (or
+    /// twice the last step's motion, if larger). The contact search range
+    /// is 2.5 times the bound.
     pub max_displacement_ratio: f64,
     /// Deepest penetration allowed, as a fraction of w0 (2.5·g3 in Shi);
     /// default 1e-3.

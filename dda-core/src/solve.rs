@@ -1,71 +1,127 @@
 //! Sparse direct solve. The only module that names faer.
 
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use std::cell::RefCell;
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
-use faer::{MatMut, Side};
+use faer::{Conj, MatMut, Par, Side};
 
 use crate::assembly::CscPattern;
 use crate::error::DdaError;
 
 /// Solves symmetric positive definite systems given by their lower triangle.
 pub trait LinearSolver: Send {
-    /// Factorizes the matrix with this pattern and these values. The symbolic
-    /// analysis is reused while the pattern stays the same.
-    fn factorize(&mut self, pattern: &CscPattern, values: &[f64]) -> Result<(), DdaError>;
+    /// Symbolic analysis of a pattern: kept for every factorisation until
+    /// the next analysis.
+    fn analyse(&mut self, pattern: &CscPattern) -> Result<(), DdaError>;
+
+    /// Factorises the matrix with the analysed pattern and these values.
+    fn factorize(&mut self, values: &[f64]) -> Result<(), DdaError>;
 
     /// Solves in place with the last factorization.
     fn solve(&self, rhs: &mut [f64]);
 }
 
-/// Sparse Cholesky (LLᵀ) from faer with a fill-reducing ordering.
-#[derive(Default)]
+/// Sparse Cholesky (LLᵀ) from faer with a fill-reducing ordering. The
+/// factor's storage and the workspaces are kept from one factorisation to
+/// the next, so the hot path allocates nothing.
 pub struct SparseCholesky {
-    pattern: CscPattern,
-    symbolic: Option<(SymbolicSparseColMat<usize>, SymbolicLlt<usize>)>,
-    factor: Option<Llt<usize, f64>>,
+    structure: Option<SymbolicSparseColMat<usize>>,
+    symbolic: Option<SymbolicCholesky<usize>>,
+    /// The values of L, in the symbolic analysis's layout.
+    factor: Vec<f64>,
+    factored: bool,
+    /// Workspace of the factorisation and of the solves.
+    scratch: RefCell<MemBuffer>,
     /// How many symbolic analyses were done (for statistics and tests).
     pub analyses: usize,
 }
 
-impl LinearSolver for SparseCholesky {
-    fn factorize(&mut self, pattern: &CscPattern, values: &[f64]) -> Result<(), DdaError> {
-        if self.symbolic.is_none() || self.pattern != *pattern {
-            let structure = SymbolicSparseColMat::new_checked(
-                pattern.dim,
-                pattern.dim,
-                pattern.col_ptr.clone(),
-                None,
-                pattern.row_idx.clone(),
-            );
-            let llt = SymbolicLlt::try_new(structure.as_ref(), Side::Lower)
-                .map_err(|e| DdaError::Factorization(format!("{e:?}")))?;
-            self.symbolic = Some((structure, llt));
-            self.pattern = pattern.clone();
-            self.analyses += 1;
+impl Default for SparseCholesky {
+    fn default() -> Self {
+        Self {
+            structure: None,
+            symbolic: None,
+            factor: Vec::new(),
+            factored: false,
+            scratch: RefCell::new(MemBuffer::new(StackReq::EMPTY)),
+            analyses: 0,
         }
-        let (structure, symbolic) = self.symbolic.as_ref().expect("analysed above");
+    }
+}
+
+impl LinearSolver for SparseCholesky {
+    fn analyse(&mut self, pattern: &CscPattern) -> Result<(), DdaError> {
+        let structure = SymbolicSparseColMat::new_checked(
+            pattern.dim,
+            pattern.dim,
+            pattern.col_ptr.clone(),
+            None,
+            pattern.row_idx.clone(),
+        );
+        let symbolic = factorize_symbolic_cholesky(
+            structure.as_ref(),
+            Side::Lower,
+            Default::default(),
+            Default::default(),
+        )
+        .map_err(|e| DdaError::Factorization(format!("{e:?}")))?;
+        let need = symbolic
+            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        self.scratch = RefCell::new(MemBuffer::new(need));
+        self.factor = vec![0.0; symbolic.len_val()];
+        self.symbolic = Some(symbolic);
+        self.structure = Some(structure);
+        self.factored = false;
+        self.analyses += 1;
+        Ok(())
+    }
+
+    fn factorize(&mut self, values: &[f64]) -> Result<(), DdaError> {
+        let (Some(structure), Some(symbolic)) = (&self.structure, &self.symbolic) else {
+            panic!("factorize before analyse");
+        };
+        let dim = structure.nrows();
         let matrix = SparseColMatRef::<'_, usize, f64>::new(
             SymbolicSparseColMatRef::new_checked(
-                pattern.dim,
-                pattern.dim,
+                dim,
+                dim,
                 structure.col_ptr(),
                 None,
                 structure.row_idx(),
             ),
             values,
         );
-        let factor = Llt::try_new_with_symbolic(symbolic.clone(), matrix, Side::Lower)
+        self.factored = false;
+        self.factor.fill(0.0);
+        symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut self.factor,
+                matrix,
+                Side::Lower,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(self.scratch.get_mut()),
+                Default::default(),
+            )
             .map_err(|e| DdaError::Factorization(format!("{e:?}")))?;
-        self.factor = Some(factor);
+        self.factored = true;
         Ok(())
     }
 
     fn solve(&self, rhs: &mut [f64]) {
-        let factor = self.factor.as_ref().expect("solve before factorize");
+        assert!(self.factored, "solve before factorize");
+        let symbolic = self.symbolic.as_ref().expect("analysed");
         let n = rhs.len();
         let col = MatMut::from_column_major_slice_mut(rhs, n, 1);
-        factor.solve_in_place(col);
+        LltRef::new(symbolic, &self.factor).solve_in_place_with_conj(
+            Conj::No,
+            col,
+            Par::Seq,
+            MemStack::new(&mut self.scratch.borrow_mut()),
+        );
     }
 }
 
@@ -82,13 +138,14 @@ mod tests {
             row_idx: vec![0, 1, 1, 2, 2],
         };
         let mut s = SparseCholesky::default();
-        s.factorize(&pattern, &[4.0, 1.0, 3.0, 1.0, 2.0]).unwrap();
+        s.analyse(&pattern).unwrap();
+        s.factorize(&[4.0, 1.0, 3.0, 1.0, 2.0]).unwrap();
         let mut b = vec![5.0, 5.0, 3.0]; // x = (1, 1, 1)
         s.solve(&mut b);
         for x in &b {
             assert!((x - 1.0).abs() < 1e-14);
         }
-        s.factorize(&pattern, &[8.0, 2.0, 6.0, 2.0, 4.0]).unwrap();
+        s.factorize(&[8.0, 2.0, 6.0, 2.0, 4.0]).unwrap();
         let mut b = vec![5.0, 5.0, 3.0];
         s.solve(&mut b);
         for x in &b {
@@ -105,6 +162,7 @@ mod tests {
             row_idx: vec![0, 1, 1],
         };
         let mut s = SparseCholesky::default();
-        assert!(s.factorize(&pattern, &[1.0, 2.0, 1.0]).is_err());
+        s.analyse(&pattern).unwrap();
+        assert!(s.factorize(&[1.0, 2.0, 1.0]).is_err());
     }
 }

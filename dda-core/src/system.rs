@@ -83,9 +83,24 @@ pub trait BlockSystem<const N: usize, const T: usize> {
         r: &mut BlockVector<N>,
     );
 
-    /// Contact candidates within `range` of each other, linearised about the
-    /// current geometry, with fresh records and law indices.
-    fn find_contacts(&self, range: f64) -> Vec<Contact<N, T>>;
+    /// Broad phase: pairs (i, j), i < j, of blocks whose bounds come within
+    /// `range` of each other, sorted.
+    fn near_pairs(&self, range: f64) -> Vec<(usize, usize)>;
+
+    /// Narrow phase: the contact candidates between blocks `i` < `j` within
+    /// `range`, linearised about the current geometry, with fresh records and
+    /// the pair's law index.
+    fn pair_contacts(&self, i: usize, j: usize, range: f64) -> Vec<Contact<N, T>>;
+
+    /// Contact candidates within `range` of each other: the narrow phase of
+    /// every near pair.
+    fn find_contacts(&self, range: f64) -> Vec<Contact<N, T>> {
+        let mut contacts = Vec::new();
+        for (i, j) in self.near_pairs(range) {
+            contacts.extend(self.pair_contacts(i, j, range));
+        }
+        contacts
+    }
 
     /// The held directions of the fixed and driven points for a step from
     /// `start` to `end` (for the dashpots of contact damping).
