@@ -1517,7 +1517,9 @@ fn a_hundred_thousand_generated_blocks_are_checked() {
     assert_eq!(scene.block_count(), 100_003);
     // An overlap among them is still found.
     let overlapping = column.replace("width: 4.0, height: 1.0", "width: 4.0, height: 1.5");
-    let message = Scene::from_str(&overlapping, "column.ron").unwrap_err().to_string();
+    let message = Scene::from_str(&overlapping, "column.ron")
+        .unwrap_err()
+        .to_string();
     assert!(message.contains("overlaps blocks[0]"), "{message}");
 }
 
@@ -1527,5 +1529,8 @@ fn a_meaningless_modulus_is_an_error() {
     let text = with("young: 1e10", "young: 1e-300");
     let message = error_of(&text);
     assert!(message.contains(".young: "), "{message}");
-    assert!(message.contains("Young's modulus 1e-300 Pa is below 1 Pa"), "{message}");
+    assert!(
+        message.contains("Young's modulus 1e-300 Pa is below 1 Pa"),
+        "{message}"
+    );
 }

@@ -25,8 +25,16 @@ fn outputs(scene: &str, label: &str, threads: usize) -> (Vec<u8>, Vec<u8>) {
 fn check(scene: &str, label: &str) {
     let one = outputs(scene, &format!("{label}-a"), 1);
     assert!(!one.0.is_empty());
-    assert_eq!(one, outputs(scene, &format!("{label}-b"), 1), "{scene}: run to run");
-    assert_eq!(one, outputs(scene, label, 2), "{scene}: one thread against two");
+    assert_eq!(
+        one,
+        outputs(scene, &format!("{label}-b"), 1),
+        "{scene}: run to run"
+    );
+    assert_eq!(
+        one,
+        outputs(scene, label, 2),
+        "{scene}: one thread against two"
+    );
 }
 
 #[test]

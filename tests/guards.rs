@@ -17,7 +17,9 @@ const QUIET: RunOptions = RunOptions {
 fn scene(name: &str, from: &str, to: &str) -> (PathBuf, PathBuf) {
     let text = std::fs::read_to_string("examples/free_fall_2d.ron").unwrap();
     assert!(text.contains(from), "{from} is not in the example");
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("guards").join(name);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("guards")
+        .join(name);
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("scene.ron");
     std::fs::write(&path, text.replace(from, to)).unwrap();
@@ -51,14 +53,25 @@ fn an_interval_below_the_step_writes_every_step_once() {
 #[test]
 fn absurd_step_counts_are_refused_before_the_run() {
     for (name, from, to, steps) in [
-        ("long", "duration: 1.0", "duration: 1e300", "1.000e302 steps"),
+        (
+            "long",
+            "duration: 1.0",
+            "duration: 1e300",
+            "1.000e302 steps",
+        ),
         ("tiny_dt", "dt: 0.01", "dt: 1e-12", "1.000e12 steps"),
     ] {
         let (path, out) = scene(name, from, to);
         let message = format!("{:#}", run_with(&path, &out, QUIET).unwrap_err());
         assert!(message.contains(steps), "{message}");
-        assert!(message.contains("check analysis.duration and analysis.dt"), "{message}");
-        assert!(message.contains("scene.ron"), "the file is named: {message}");
+        assert!(
+            message.contains("check analysis.duration and analysis.dt"),
+            "{message}"
+        );
+        assert!(
+            message.contains("scene.ron"),
+            "the file is named: {message}"
+        );
         assert!(!out.join("history.csv").exists());
     }
 }
