@@ -958,8 +958,6 @@ impl Scene {
             let mut candidates: Vec<usize> = large.clone();
             if spanned > 64 {
                 candidates.extend(0..i);
-                candidates.sort_unstable();
-                candidates.dedup();
                 large.push(i);
             } else {
                 let mut at = first;
@@ -977,6 +975,9 @@ impl Scene {
                     break;
                 }
             }
+            // A pair sharing several cells is tested once.
+            candidates.sort_unstable();
+            candidates.dedup();
             for j in candidates {
                 let apart =
                     (0..D).any(|k| boxes[j].0[k] > h[k] + tol || l[k] > boxes[j].1[k] + tol);
