@@ -2,7 +2,8 @@
 //! and, when the scene asks, `contacts.csv`; and their readers.
 
 use std::fs::File;
-use std::path::Path;
+use std::io::{Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
 use dda_core::ContactState;
@@ -61,16 +62,88 @@ pub struct HistoryRow3 {
 /// Writes `history.csv` a time at a time, flushing each so an interrupted
 /// run keeps what it reached.
 pub struct HistoryWriter {
-    out: csv::Writer<File>,
+    out: CsvFile,
 }
 
-/// A CSV file with `header` as its first line.
-fn create(path: &Path, header: &str) -> anyhow::Result<csv::Writer<File>> {
-    let mut out = csv::Writer::from_path(path)
-        .with_context(|| format!("cannot create {}", path.display()))?;
-    out.write_record(header.split(','))?;
-    out.flush()?;
-    Ok(out)
+/// A CSV file written a batch of rows at a time: each batch goes out in one
+/// write and is flushed, and a batch the disk refuses is cut off again, so
+/// the file always ends with a whole line and an error names the file.
+pub struct CsvFile {
+    path: PathBuf,
+    file: File,
+    /// Bytes of whole batches in the file.
+    written: u64,
+}
+
+impl CsvFile {
+    /// A new file with `header` as its first line.
+    pub fn create(path: &Path, header: &str) -> anyhow::Result<Self> {
+        let file =
+            File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+        let mut out = Self {
+            path: path.to_path_buf(),
+            file,
+            written: 0,
+        };
+        out.write_batch(|w| w.write_record(header.split(',')))?;
+        Ok(out)
+    }
+
+    /// An existing file cut back to its first `length` bytes, to be written
+    /// on from there (a run resumed from a checkpoint taken at that length).
+    pub fn resume(path: &Path, length: u64) -> anyhow::Result<Self> {
+        let mut file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .with_context(|| format!("cannot open {} to continue it", path.display()))?;
+        let found = file.metadata()?.len();
+        if found < length {
+            bail!(
+                "{} has {found} bytes, fewer than the {length} it had at the checkpoint: it was changed since; run the scene again from the start",
+                path.display()
+            );
+        }
+        file.set_len(length)
+            .and_then(|_| file.seek(SeekFrom::Start(length)))
+            .with_context(|| format!("cannot cut {} back to the checkpoint", path.display()))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            file,
+            written: length,
+        })
+    }
+
+    /// Bytes written so far, whole lines only.
+    pub fn len(&self) -> u64 {
+        self.written
+    }
+
+    /// Whether nothing, not even the header, was written.
+    pub fn is_empty(&self) -> bool {
+        self.written == 0
+    }
+
+    /// The rows `rows` writes, as one write.
+    pub fn write_batch(
+        &mut self,
+        rows: impl FnOnce(&mut csv::Writer<&mut Vec<u8>>) -> csv::Result<()>,
+    ) -> anyhow::Result<()> {
+        let mut bytes = Vec::new();
+        {
+            let mut w = csv::Writer::from_writer(&mut bytes);
+            rows(&mut w)?;
+            w.flush()?;
+        }
+        let result = self.file.write_all(&bytes).and_then(|_| self.file.flush());
+        if let Err(e) = result {
+            // Cut a torn batch off; if even that fails the error still stands.
+            let _ = self.file.set_len(self.written);
+            let _ = self.file.seek(SeekFrom::Start(self.written));
+            return Err(e).with_context(|| format!("cannot write {}", self.path.display()));
+        }
+        self.written += bytes.len() as u64;
+        Ok(())
+    }
 }
 
 impl HistoryWriter {
@@ -78,21 +151,39 @@ impl HistoryWriter {
     /// [`HISTORY_HEADER_3D`]).
     pub fn create(path: &Path, header: &str) -> anyhow::Result<Self> {
         Ok(Self {
-            out: create(path, header)?,
+            out: CsvFile::create(path, header)?,
         })
+    }
+
+    /// Writes on after the first `length` bytes of `path`.
+    pub fn resume(path: &Path, length: u64) -> anyhow::Result<Self> {
+        Ok(Self {
+            out: CsvFile::resume(path, length)?,
+        })
+    }
+
+    /// Bytes written so far.
+    pub fn len(&self) -> u64 {
+        self.out.len()
+    }
+
+    /// Whether nothing was written.
+    pub fn is_empty(&self) -> bool {
+        self.out.is_empty()
     }
 
     /// One row per block at the run's current time.
     pub fn write(&mut self, driver: &dyn RunView) -> anyhow::Result<()> {
         let step = driver.statistics().steps.to_string();
         let time = num(round_time(driver.time()));
-        for i in 0..driver.block_count() {
-            let values = driver.history_values(i).into_iter().map(num);
-            let row = [step.clone(), time.clone(), i.to_string()];
-            self.out.write_record(row.into_iter().chain(values))?;
-        }
-        self.out.flush()?;
-        Ok(())
+        self.out.write_batch(|w| {
+            for i in 0..driver.block_count() {
+                let values = driver.history_values(i).into_iter().map(num);
+                let row = [step.clone(), time.clone(), i.to_string()];
+                w.write_record(row.into_iter().chain(values))?;
+            }
+            Ok(())
+        })
     }
 }
 
@@ -136,35 +227,53 @@ pub struct ContactRow {
 /// step considered, open ones included (none at time 0, before the first
 /// contact search).
 pub struct ContactWriter {
-    out: csv::Writer<File>,
+    out: CsvFile,
 }
 
 impl ContactWriter {
     pub fn create(path: &Path) -> anyhow::Result<Self> {
         Ok(Self {
-            out: create(path, CONTACTS_HEADER)?,
+            out: CsvFile::create(path, CONTACTS_HEADER)?,
         })
+    }
+
+    /// Writes on after the first `length` bytes of `path`.
+    pub fn resume(path: &Path, length: u64) -> anyhow::Result<Self> {
+        Ok(Self {
+            out: CsvFile::resume(path, length)?,
+        })
+    }
+
+    /// Bytes written so far.
+    pub fn len(&self) -> u64 {
+        self.out.len()
+    }
+
+    /// Whether nothing was written.
+    pub fn is_empty(&self) -> bool {
+        self.out.is_empty()
     }
 
     /// One row per contact at the run's current time.
     pub fn write(&mut self, driver: &dyn RunView) -> anyhow::Result<()> {
         let step = driver.statistics().steps.to_string();
         let time = num(round_time(driver.time()));
-        for c in driver.contact_lines() {
-            self.out.write_record([
-                step.clone(),
-                time.clone(),
-                c.label,
-                c.blocks[0].to_string(),
-                c.blocks[1].to_string(),
-                c.state.name().to_string(),
-                num(c.normal_force),
-                num(c.shear_force),
-                num(c.slip),
-            ])?;
-        }
-        self.out.flush()?;
-        Ok(())
+        self.out.write_batch(|w| {
+            for c in driver.contact_lines() {
+                w.write_record([
+                    step.clone(),
+                    time.clone(),
+                    c.label,
+                    c.blocks[0].to_string(),
+                    c.blocks[1].to_string(),
+                    c.state.name().to_string(),
+                    num(c.normal_force),
+                    num(c.shear_force),
+                    num(c.slip),
+                ])?;
+            }
+            Ok(())
+        })
     }
 }
 
@@ -275,10 +384,28 @@ fn state_by_name<'de, D: Deserializer<'de>>(d: D) -> Result<ContactState, D::Err
     .ok_or_else(|| serde::de::Error::custom(format!("unknown contact state {name:?}")))
 }
 
-/// Writes pretty JSON to `path`.
+/// Writes pretty JSON to `path`, whole or not at all ([`write_atomically`]).
 pub fn write_json<T: Serialize>(path: &Path, value: &T) -> anyhow::Result<()> {
     let text = serde_json::to_string_pretty(value)?;
-    std::fs::write(path, text + "\n").with_context(|| format!("cannot write {}", path.display()))
+    write_atomically(path, (text + "\n").as_bytes())
+}
+
+/// Writes beside `path`, syncs, and renames over it, so `path` is always
+/// whole: the old contents or the new, even if the run is killed.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let mut partial = path.as_os_str().to_owned();
+    partial.push(".partial");
+    let partial = PathBuf::from(partial);
+    let write = || -> std::io::Result<()> {
+        let mut file = File::create(&partial)?;
+        file.write_all(bytes)?;
+        file.sync_all()
+    };
+    if let Err(e) = write() {
+        let _ = std::fs::remove_file(&partial);
+        return Err(e).with_context(|| format!("cannot write {}", path.display()));
+    }
+    std::fs::rename(&partial, path).with_context(|| format!("cannot replace {}", path.display()))
 }
 
 #[cfg(test)]

@@ -202,25 +202,15 @@ pub fn run_model<S: Simulation>(
     std::fs::create_dir_all(out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
     let history_path = out_dir.join("history.csv");
-    let mut history = HistoryWriter::create(&history_path, S::HISTORY_HEADER)?;
+    let vtk_wanted = options.vtk || scene.output.vtk;
     let mut outputs = vec!["history.csv".to_string()];
-    let mut contacts = None;
     if model.write_contacts {
-        contacts = Some(ContactWriter::create(&out_dir.join("contacts.csv"))?);
         outputs.push("contacts.csv".to_string());
     }
-    let mut vtk = None;
-    if options.vtk || scene.output.vtk {
-        vtk = Some(VtkWriter::create(out_dir)?);
+    if vtk_wanted {
         outputs.extend(VtkWriter::outputs().map(String::from));
     }
     outputs.push("summary.json".to_string());
-    if options.notes {
-        for note in model.all_notes() {
-            eprintln!("note: {note}");
-        }
-    }
-    let mut progress = Progress::new(options.progress, options.progress_lines, model.duration);
     let mut summary = SummaryWriter::new(
         out_dir.join("summary.json"),
         scene.origin().to_string(),
@@ -229,6 +219,33 @@ pub fn run_model<S: Simulation>(
         model.notes.clone(),
         outputs,
     );
+    // A file that cannot be made fails the run before it starts, and says so
+    // in summary.json when that can still be written.
+    let opened = (|| -> anyhow::Result<_> {
+        let history = HistoryWriter::create(&history_path, S::HISTORY_HEADER)?;
+        let contacts = match model.write_contacts {
+            true => Some(ContactWriter::create(&out_dir.join("contacts.csv"))?),
+            false => None,
+        };
+        let vtk = match vtk_wanted {
+            true => Some(VtkWriter::create(out_dir)?),
+            false => None,
+        };
+        Ok((history, contacts, vtk))
+    })();
+    let (mut history, mut contacts, mut vtk) = match opened {
+        Ok(files) => files,
+        Err(e) => {
+            let _ = summary.on_finish(&model.driver, Some(&e));
+            return Err(e);
+        }
+    };
+    if options.notes {
+        for note in model.all_notes() {
+            eprintln!("note: {note}");
+        }
+    }
+    let mut progress = Progress::new(options.progress, options.progress_lines, model.duration);
     // In this order: the bar is cleared before the summary's warnings.
     let mut observers: Vec<&mut dyn Observer> = vec![&mut progress, &mut history];
     if let Some(contacts) = &mut contacts {

@@ -1,4 +1,6 @@
-//! `summary.json`: what a run did, written at its end by an [`Observer`].
+//! `summary.json`: what a run did, written by an [`Observer`] at its start,
+//! every few seconds while it runs (status "running") and at its end, so a
+//! killed run still says how far it got.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -11,9 +13,14 @@ use crate::output::{round_time, write_json};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Status {
+    /// Still running, or killed: `time` says how far it got.
+    Running,
     Finished,
     Failed,
 }
+
+/// Wall-clock time between updates of a running run's `summary.json`.
+pub const SUMMARY_EVERY: std::time::Duration = std::time::Duration::from_secs(2);
 
 /// What `summary.json` holds.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -109,6 +116,8 @@ pub struct SummaryWriter {
     notes: Vec<String>,
     outputs: Vec<String>,
     started: Instant,
+    /// When `summary.json` was last written.
+    written: Option<Instant>,
     /// The last finite value of each number of the summary that a blown-up
     /// run can lose, as of the last output time.
     known: Known,
@@ -135,6 +144,7 @@ impl SummaryWriter {
             notes,
             outputs,
             started: Instant::now(),
+            written: None,
             known: Known::default(),
             summary: None,
         }
@@ -144,6 +154,11 @@ impl SummaryWriter {
 impl Observer for SummaryWriter {
     fn on_output(&mut self, run: &dyn RunView) -> anyhow::Result<()> {
         self.known.update(run);
+        if self.written.is_none_or(|t| t.elapsed() >= SUMMARY_EVERY) {
+            let summary = self.snapshot(run, None, Status::Running);
+            write_json(&self.path, &summary)?;
+            self.written = Some(Instant::now());
+        }
         Ok(())
     }
 
@@ -152,6 +167,29 @@ impl Observer for SummaryWriter {
         run: &dyn RunView,
         error: Option<&anyhow::Error>,
     ) -> anyhow::Result<()> {
+        let status = if error.is_none() {
+            Status::Finished
+        } else {
+            Status::Failed
+        };
+        let summary = self.snapshot(run, error, status);
+        write_json(&self.path, &summary)?;
+        for warning in &summary.warnings {
+            eprintln!("warning: {warning}");
+        }
+        self.summary = Some(summary);
+        Ok(())
+    }
+}
+
+impl SummaryWriter {
+    /// The summary of the run as it is now.
+    fn snapshot(
+        &self,
+        run: &dyn RunView,
+        error: Option<&anyhow::Error>,
+        status: Status,
+    ) -> Summary {
         let driver = run;
         let mut stats = driver.statistics().clone();
         let (mut time, mut penalty) = (driver.time(), driver.penalty());
@@ -190,14 +228,10 @@ impl Observer for SummaryWriter {
                 replaced.join(", ")
             ));
         }
-        let summary = Summary {
+        Summary {
             scene: self.scene.clone(),
             dimension: self.dimension,
-            status: if error.is_none() {
-                Status::Finished
-            } else {
-                Status::Failed
-            },
+            status,
             error: error.map(|e| format!("{e:#}")),
             blocks: driver.block_count(),
             steps: stats.steps,
@@ -226,13 +260,7 @@ impl Observer for SummaryWriter {
             dt: driver.dt(),
             notes: driver.notes().iter().chain(&self.notes).cloned().collect(),
             outputs: self.outputs.clone(),
-        };
-        write_json(&self.path, &summary)?;
-        for warning in &summary.warnings {
-            eprintln!("warning: {warning}");
         }
-        self.summary = Some(summary);
-        Ok(())
     }
 }
 

@@ -75,7 +75,7 @@ impl VtkWriter {
         self.frames.push((round_time(run.time()), frame));
         for what in ["blocks", "contacts"] {
             let pvd = collection(what, &self.frames);
-            save_atomically(&self.dir.join(format!("{what}.pvd")), &pvd)?;
+            crate::output::write_atomically(&self.dir.join(format!("{what}.pvd")), pvd.as_bytes())?;
         }
         Ok(())
     }
@@ -365,11 +365,4 @@ fn collection(what: &str, frames: &[(f64, usize)]) -> String {
 
 fn save(path: &Path, text: &str) -> anyhow::Result<()> {
     std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
-}
-
-/// Writes beside `path` and renames over it, so `path` is always whole.
-fn save_atomically(path: &Path, text: &str) -> anyhow::Result<()> {
-    let partial = path.with_extension("pvd.partial");
-    save(&partial, text)?;
-    std::fs::rename(&partial, path).with_context(|| format!("cannot replace {}", path.display()))
 }
