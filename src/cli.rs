@@ -45,8 +45,9 @@ struct Cli {
 enum Command {
     /// Run a scene, writing DIR/history.csv (and DIR/contacts.csv if asked) as it goes and DIR/summary.json at the end
     Run {
-        /// The scene file (RON)
-        scene: PathBuf,
+        /// The scene file (RON); with --resume, the one the checkpoint names when left out
+        #[arg(required_unless_present = "resume")]
+        scene: Option<PathBuf>,
         /// Output directory (created if missing); out/<scene name> under the current folder when left out
         #[arg(long, short, value_name = "DIR")]
         out: Option<PathBuf>,
@@ -56,6 +57,12 @@ enum Command {
         /// Also write VTK frames for ParaView (DIR/blocks.pvd, DIR/contacts.pvd, DIR/vtk/), as the scene's output.vtk does
         #[arg(long)]
         vtk: bool,
+        /// Save the whole run to DIR/checkpoint.bin at the first output time after every SECONDS of simulated time
+        #[arg(long, value_name = "SECONDS")]
+        checkpoint_every: Option<f64>,
+        /// Go on with the run checkpointed in DIR, writing on its outputs there
+        #[arg(long, value_name = "DIR", conflicts_with = "out")]
+        resume: Option<PathBuf>,
     },
     /// Time steps of running-bond walls of growing size: median milliseconds per step and ratio to the smallest wall
     Bench {
@@ -164,8 +171,9 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             out,
             progress_every,
             vtk,
+            checkpoint_every,
+            resume,
         } => {
-            let out = out.unwrap_or_else(|| default_out_dir(&scene));
             let every = Duration::try_from_secs_f64(progress_every).map_err(|_| {
                 anyhow::anyhow!(
                     "--progress-every must be a number of seconds, zero or more, got {progress_every}"
@@ -177,8 +185,19 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 notes: true,
                 progress_lines: (!terminal).then_some(every),
                 vtk,
+                checkpoint_every,
             };
-            let summary = run_with_registry(&scene, &out, options, registry)?;
+            let (summary, out) = match (resume, scene) {
+                (Some(dir), scene) => (
+                    crate::run::resume(&dir, scene.as_deref(), options, registry)?,
+                    dir,
+                ),
+                (None, Some(scene)) => {
+                    let out = out.unwrap_or_else(|| default_out_dir(&scene));
+                    (run_with_registry(&scene, &out, options, registry)?, out)
+                }
+                (None, None) => unreachable!("clap requires a scene without --resume"),
+            };
             let files: Vec<String> = summary
                 .outputs
                 .iter()

@@ -42,6 +42,7 @@
 //! ```
 
 pub mod bench;
+pub mod checkpoint;
 pub mod cli;
 pub mod extrude;
 pub mod features;
@@ -55,7 +56,7 @@ pub mod simulation;
 pub mod summary;
 pub mod vtk;
 
-pub use observe::{BlockShape, Observer, RunView};
+pub use observe::{BlockShape, Cursor, Observer, RunView};
 pub use output::{
     read_contacts, read_history, read_history_3d, ContactRow, HistoryRow, HistoryRow3,
 };

@@ -4,6 +4,7 @@
 //! [`RunView`] and so never need the driver's type.
 
 use dda_core::{ContactState, Statistics};
+use serde::{Deserialize, Serialize};
 
 /// One contact after a step, as `contacts.csv` writes it.
 #[derive(Debug, Clone, PartialEq)]
@@ -22,6 +23,30 @@ pub struct ContactLine {
     /// Unit normal from block_b towards block_a, along which the normal
     /// force pushes block_a; zero if the contact has no entrance.
     pub normal: [f64; 3],
+}
+
+/// Where an output stood at a checkpoint, so a resumed run writes on from
+/// there.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Cursor {
+    /// A CSV file's length in bytes.
+    File { name: String, length: u64 },
+    /// VTK frames: (time, frame number) of each, and the blocks' first
+    /// centroids.
+    Frames {
+        frames: Vec<(f64, usize)>,
+        start: Vec<[f64; 3]>,
+    },
+}
+
+impl Cursor {
+    /// The output's name: its file, or `vtk`.
+    pub fn name(&self) -> &str {
+        match self {
+            Cursor::File { name, .. } => name,
+            Cursor::Frames { .. } => "vtk",
+        }
+    }
 }
 
 /// A block's boundary now, as the VTK frames and pictures draw it.
@@ -69,6 +94,12 @@ pub trait Observer {
     /// At time 0 and at each output time (each step without an interval).
     fn on_output(&mut self, _run: &dyn RunView) -> anyhow::Result<()> {
         Ok(())
+    }
+
+    /// Where this observer's output stands, for a checkpoint taken just
+    /// after an output time.
+    fn cursor(&self) -> Option<Cursor> {
+        None
     }
 
     /// At the end; `error` says why a failed run stopped.

@@ -10,7 +10,7 @@ use dda_core::ContactState;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Deserializer, Serialize};
 
-use crate::observe::{Observer, RunView};
+use crate::observe::{Cursor, Observer, RunView};
 
 /// The header line of a 2D scene's `history.csv`.
 pub const HISTORY_HEADER: &str = "step,time,block,x,y,rotation,vx,vy,omega,sxx,syy,sxy";
@@ -191,6 +191,13 @@ impl Observer for HistoryWriter {
     fn on_output(&mut self, run: &dyn RunView) -> anyhow::Result<()> {
         self.write(run)
     }
+
+    fn cursor(&self) -> Option<Cursor> {
+        Some(Cursor::File {
+            name: "history.csv".into(),
+            length: self.len(),
+        })
+    }
 }
 
 /// The header line of `contacts.csv`.
@@ -280,6 +287,13 @@ impl ContactWriter {
 impl Observer for ContactWriter {
     fn on_output(&mut self, run: &dyn RunView) -> anyhow::Result<()> {
         self.write(run)
+    }
+
+    fn cursor(&self) -> Option<Cursor> {
+        Some(Cursor::File {
+            name: "contacts.csv".into(),
+            length: self.len(),
+        })
     }
 }
 

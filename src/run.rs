@@ -2,12 +2,13 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context};
 use dda_contact::LawRegistry;
 
-use crate::observe::{Observer, RunView};
+use crate::checkpoint::{Checkpoint, Schedule};
+use crate::observe::{Cursor, Observer, RunView};
 use crate::output::{ContactWriter, HistoryWriter};
 use crate::progress::Progress;
 use crate::scene::{AnyModel, Model, Scene};
@@ -29,6 +30,9 @@ pub struct RunOptions {
     pub progress_lines: Option<Duration>,
     /// VTK frames for ParaView whatever the scene's `output.vtk` says.
     pub vtk: bool,
+    /// Simulated seconds between checkpoints (`DIR/checkpoint.bin`, at the
+    /// first output time after each), none when `None`.
+    pub checkpoint_every: Option<f64>,
 }
 
 /// How often a run without a terminal reports its progress by default.
@@ -155,6 +159,7 @@ pub fn run(scene_path: &Path, out_dir: &Path) -> anyhow::Result<Summary> {
             notes: terminal,
             progress_lines: None,
             vtk: false,
+            checkpoint_every: None,
         },
     )
 }
@@ -186,18 +191,63 @@ pub fn run_scene(
 ) -> anyhow::Result<Summary> {
     let model = scene.build_any_with(registry)?;
     refuse_absurd(scene, &estimate(&model))?;
+    if let Some(every) = options.checkpoint_every {
+        check_interval(every)?;
+    }
     match model {
-        AnyModel::Plane(model) => run_model(scene, model, out_dir, options),
-        AnyModel::Space(model) => run_model(scene, model, out_dir, options),
+        AnyModel::Plane(model) => run_model(scene, model, out_dir, options, None),
+        AnyModel::Space(model) => run_model(scene, model, out_dir, options, None),
     }
 }
 
-/// Runs a built model to its end, writing the outputs of its dimension.
+/// A checkpoint interval must be a positive number of seconds.
+fn check_interval(every: f64) -> anyhow::Result<()> {
+    if !(every.is_finite() && every > 0.0) {
+        bail!("--checkpoint-every must be a positive number of simulated seconds, got {every}");
+    }
+    Ok(())
+}
+
+/// Goes on with the run whose checkpoint is in `out_dir`, writing on its
+/// outputs there: of `scene` if given (it must be the scene the checkpoint
+/// was taken of), else of the scene the checkpoint names. Checkpoints go on
+/// at `options.checkpoint_every`, or as often as before.
+pub fn resume(
+    out_dir: &Path,
+    scene: Option<&Path>,
+    mut options: RunOptions,
+    registry: &LawRegistry,
+) -> anyhow::Result<Summary> {
+    let checkpoint = Checkpoint::read(out_dir)?;
+    let scene = checkpoint.scene(out_dir, scene)?;
+    match options.checkpoint_every {
+        Some(every) => check_interval(every)?,
+        None => options.checkpoint_every = Some(checkpoint.every),
+    }
+    let restore = |e: dda_core::DdaError| {
+        anyhow::anyhow!("{}: {e}", out_dir.join(crate::checkpoint::FILE).display())
+    };
+    match scene.build_any_with(registry)? {
+        AnyModel::Plane(mut model) => {
+            model.driver.restore(&checkpoint.driver).map_err(restore)?;
+            run_model(&scene, model, out_dir, options, Some(checkpoint))
+        }
+        AnyModel::Space(mut model) => {
+            model.driver.restore(&checkpoint.driver).map_err(restore)?;
+            run_model(&scene, model, out_dir, options, Some(checkpoint))
+        }
+    }
+}
+
+/// Runs a built model to its end, writing the outputs of its dimension;
+/// with `resumed`, the model is restored from that checkpoint and the
+/// outputs are written on from where it found them.
 pub fn run_model<S: Simulation>(
     scene: &Scene,
     mut model: Model<S>,
     out_dir: &Path,
     options: RunOptions,
+    resumed: Option<Checkpoint>,
 ) -> anyhow::Result<Summary> {
     std::fs::create_dir_all(out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
@@ -219,17 +269,45 @@ pub fn run_model<S: Simulation>(
         model.notes.clone(),
         outputs,
     );
+    summary.earlier_wall_time = resumed.as_ref().map_or(0.0, |c| c.wall_time);
     // A file that cannot be made fails the run before it starts, and says so
     // in summary.json when that can still be written.
+    let contacts_path = out_dir.join("contacts.csv");
     let opened = (|| -> anyhow::Result<_> {
-        let history = HistoryWriter::create(&history_path, S::HISTORY_HEADER)?;
+        let Some(checkpoint) = &resumed else {
+            let history = HistoryWriter::create(&history_path, S::HISTORY_HEADER)?;
+            let contacts = match model.write_contacts {
+                true => Some(ContactWriter::create(&contacts_path)?),
+                false => None,
+            };
+            let vtk = match vtk_wanted {
+                true => Some(VtkWriter::create(out_dir)?),
+                false => None,
+            };
+            return Ok((history, contacts, vtk));
+        };
+        let length = |name: &str| {
+            match checkpoint.cursor(name) {
+            Some(Cursor::File { length, .. }) => Ok(*length),
+            _ => Err(anyhow::anyhow!(
+                "the checkpoint does not say where {name} stood: it was taken of a run with other outputs"
+            )),
+        }
+        };
+        let history = HistoryWriter::resume(&history_path, length("history.csv")?)?;
         let contacts = match model.write_contacts {
-            true => Some(ContactWriter::create(&out_dir.join("contacts.csv"))?),
+            true => Some(ContactWriter::resume(
+                &contacts_path,
+                length("contacts.csv")?,
+            )?),
             false => None,
         };
-        let vtk = match vtk_wanted {
-            true => Some(VtkWriter::create(out_dir)?),
-            false => None,
+        let vtk = match (vtk_wanted, checkpoint.cursor("vtk")) {
+            (false, _) => None,
+            (true, Some(cursor)) => Some(VtkWriter::resume(out_dir, cursor)?),
+            (true, None) => {
+                bail!("the run was checkpointed without VTK frames; resume it without --vtk")
+            }
         };
         Ok((history, contacts, vtk))
     })();
@@ -256,14 +334,30 @@ pub fn run_model<S: Simulation>(
     }
     observers.push(&mut summary);
 
-    let result = advance(&mut model, &mut observers).with_context(|| {
-        format!(
-            "the run failed at t = {} s, step {} ({} keeps the rows written until then)",
-            model.driver.time(),
-            model.driver.statistics().steps,
-            history_path.display()
-        )
+    let mut keeper = options.checkpoint_every.map(|every| Keeper {
+        dir: out_dir.to_path_buf(),
+        scene: crate::checkpoint::scene_path(scene),
+        digest: crate::checkpoint::scene_digest(scene),
+        schedule: Schedule {
+            every,
+            next: match &resumed {
+                Some(c) if c.every == every => c.next_checkpoint,
+                _ => model.driver.time() + every,
+            },
+        },
+        started: Instant::now(),
+        wall_before: resumed.as_ref().map_or(0.0, |c| c.wall_time),
     });
+    let first_output = resumed.as_ref().map_or(0, |c| c.next_output);
+    let result =
+        advance(&mut model, &mut observers, first_output, keeper.as_mut()).with_context(|| {
+            format!(
+                "the run failed at t = {} s, step {} ({} keeps the rows written until then)",
+                model.driver.time(),
+                model.driver.statistics().steps,
+                history_path.display()
+            )
+        });
     for observer in &mut observers {
         observer.on_finish(&model.driver, result.as_ref().err())?;
     }
@@ -272,18 +366,65 @@ pub fn run_model<S: Simulation>(
     Ok(summary.summary.expect("the summary is written at the end"))
 }
 
+/// Writes checkpoints as the run goes.
+struct Keeper {
+    dir: PathBuf,
+    scene: String,
+    digest: u64,
+    schedule: Schedule,
+    started: Instant,
+    /// Wall-clock seconds of the run before it was resumed.
+    wall_before: f64,
+}
+
+impl Keeper {
+    /// A checkpoint at an output time, if one is due; `next_output` is the
+    /// index of the next output time.
+    fn at_output<S: Simulation>(
+        &mut self,
+        driver: &S,
+        observers: &[&mut dyn Observer],
+        next_output: u64,
+    ) -> anyhow::Result<()> {
+        if !self.schedule.due(driver.time()) {
+            return Ok(());
+        }
+        let checkpoint = Checkpoint {
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            scene: self.scene.clone(),
+            digest: self.digest,
+            driver: driver.save()?,
+            next_output,
+            cursors: observers.iter().filter_map(|o| o.cursor()).collect(),
+            every: self.schedule.every,
+            next_checkpoint: self.schedule.next,
+            wall_time: self.wall_before + self.started.elapsed().as_secs_f64(),
+        };
+        checkpoint.write(&self.dir)
+    }
+}
+
 /// Steps to the end, showing observers every accepted step, and time 0 and
-/// every output time (every step without an interval).
+/// every output time (every step without an interval). A new run starts
+/// with `first_output` 0 (time 0); a resumed one with the index of the
+/// output time after its checkpoint.
 fn advance<S: Simulation>(
     model: &mut Model<S>,
     observers: &mut [&mut dyn Observer],
+    first_output: u64,
+    mut keeper: Option<&mut Keeper>,
 ) -> anyhow::Result<()> {
     let duration = model.duration;
     let driver = &mut model.driver;
-    output(driver, observers)?;
+    if duration - driver.time() <= 1e-9 * driver.dt() && first_output > 0 {
+        bail!("the run had already reached its end, {duration} s, at the checkpoint");
+    }
+    if first_output == 0 {
+        output(driver, observers)?;
+    }
     match model.output_interval {
         Some(interval) => {
-            for k in 1.. {
+            for k in first_output.max(1).. {
                 let mut t = k as f64 * interval;
                 // The last output is the end itself, not a hair before or after it.
                 if t >= duration - 1e-9 * interval {
@@ -296,6 +437,9 @@ fn advance<S: Simulation>(
                 if t == duration {
                     break;
                 }
+                if let Some(keeper) = keeper.as_deref_mut() {
+                    keeper.at_output(driver, observers, k + 1)?;
+                }
             }
         }
         None => {
@@ -304,6 +448,9 @@ fn advance<S: Simulation>(
                 driver.step(duration - driver.time())?;
                 observers.iter_mut().for_each(|o| o.on_step(driver));
                 output(driver, observers)?;
+                if let Some(keeper) = keeper.as_deref_mut() {
+                    keeper.at_output(driver, observers, 1)?;
+                }
             }
         }
     }

@@ -41,6 +41,10 @@ pub trait Simulation {
     fn is_finite(&self, block: usize) -> bool;
     /// The contacts the last step considered, open ones included.
     fn contact_lines(&self) -> Vec<ContactLine>;
+    /// The whole state, for a checkpoint.
+    fn save(&self) -> Result<Vec<u8>, DdaError>;
+    /// Back to a state [`Simulation::save`] gave.
+    fn restore(&mut self, bytes: &[u8]) -> Result<(), DdaError>;
 }
 
 macro_rules! delegate {
@@ -75,6 +79,12 @@ macro_rules! delegate {
         }
         fn step(&mut self, dt_limit: f64) -> Result<(), DdaError> {
             dda_core::Driver::step(self, dt_limit)
+        }
+        fn save(&self) -> Result<Vec<u8>, DdaError> {
+            dda_core::Driver::save(self)
+        }
+        fn restore(&mut self, bytes: &[u8]) -> Result<(), DdaError> {
+            dda_core::Driver::restore(self, bytes)
         }
         fn is_finite(&self, block: usize) -> bool {
             let c = self.system.blocks[block].centroid();

@@ -116,6 +116,8 @@ pub struct SummaryWriter {
     notes: Vec<String>,
     outputs: Vec<String>,
     started: Instant,
+    /// Wall-clock seconds of the run before it was resumed.
+    pub earlier_wall_time: f64,
     /// When `summary.json` was last written.
     written: Option<Instant>,
     /// The last finite value of each number of the summary that a blown-up
@@ -145,6 +147,7 @@ impl SummaryWriter {
             outputs,
             started: Instant::now(),
             written: None,
+            earlier_wall_time: 0.0,
             known: Known::default(),
             summary: None,
         }
@@ -237,7 +240,7 @@ impl SummaryWriter {
             steps: stats.steps,
             time: round_time(time),
             duration: self.duration,
-            wall_time: self.started.elapsed().as_secs_f64(),
+            wall_time: self.earlier_wall_time + self.started.elapsed().as_secs_f64(),
             open_close_iterations: stats.open_close_iterations,
             newton_iterations: stats.newton_iterations,
             factorizations: stats.factorizations,

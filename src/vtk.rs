@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
-use crate::observe::{Observer, RunView};
+use crate::observe::{Cursor, Observer, RunView};
 use crate::output::{num, round_time};
 
 /// The folder of the frames inside the run's folder.
@@ -48,6 +48,18 @@ impl VtkWriter {
             frames: Vec::new(),
             start: Vec::new(),
         })
+    }
+
+    /// Frames into `dir` after those a checkpoint found ([`Cursor::Frames`]);
+    /// the collections are written again at the next frame.
+    pub fn resume(dir: &Path, cursor: &Cursor) -> anyhow::Result<Self> {
+        let Cursor::Frames { frames, start } = cursor else {
+            anyhow::bail!("the checkpoint's VTK frames are not recorded as frames");
+        };
+        let mut writer = Self::create(dir)?;
+        writer.frames = frames.clone();
+        writer.start = start.clone();
+        Ok(writer)
     }
 
     /// The file names, relative to the run's folder, that a run with VTK
@@ -84,6 +96,13 @@ impl VtkWriter {
 impl Observer for VtkWriter {
     fn on_output(&mut self, run: &dyn RunView) -> anyhow::Result<()> {
         self.write(run)
+    }
+
+    fn cursor(&self) -> Option<Cursor> {
+        Some(Cursor::Frames {
+            frames: self.frames.clone(),
+            start: self.start.clone(),
+        })
     }
 }
 

@@ -10,6 +10,7 @@ const QUIET: RunOptions = RunOptions {
     notes: false,
     progress_lines: None,
     vtk: false,
+    checkpoint_every: None,
 };
 
 /// The free-fall example (1 s, dt 10 ms) with `from` replaced by `to`,

@@ -183,6 +183,26 @@ impl Element<2, 6, 1, 3> for Block {
         Block::commit(self, d, stress, update)
     }
 
+    fn rotation_state(&self) -> Vec<f64> {
+        vec![self.rotation]
+    }
+
+    fn restore(
+        &mut self,
+        vertices: Vec<Point2<f64>>,
+        stress: Vector3<f64>,
+        strain: Vector3<f64>,
+        rotation: &[f64],
+    ) {
+        // As commit derives them, so a restored run goes on bit for bit.
+        self.moments = central_moments(&vertices);
+        self.angles = polygon::interior_angles(&vertices);
+        self.vertices = vertices;
+        self.stress = stress;
+        self.strain = strain;
+        self.rotation = rotation[0];
+    }
+
     fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)> {
         let outlines: Vec<&[Point2<f64>]> = blocks.iter().map(|b| b.vertices()).collect();
         near_pairs(&outlines, range)

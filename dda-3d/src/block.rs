@@ -183,6 +183,23 @@ impl Element<3, 12, 2, 6> for Block {
         Block::commit(self, d, stress, update)
     }
 
+    fn rotation_state(&self) -> Vec<f64> {
+        self.rotation.iter().copied().collect()
+    }
+
+    fn restore(
+        &mut self,
+        vertices: Vec<Point3<f64>>,
+        stress: Vector6<f64>,
+        strain: Vector6<f64>,
+        rotation: &[f64],
+    ) {
+        self.shape = self.shape.with_vertices(vertices);
+        self.stress = stress;
+        self.strain = strain;
+        self.rotation = Vector3::from_column_slice(rotation);
+    }
+
     fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)> {
         let points: Vec<&[Point3<f64>]> = blocks.iter().map(|b| b.vertices()).collect();
         near_pairs(&points, range)

@@ -308,6 +308,13 @@ impl Polyhedron {
         Self::with_topology(vertices, self.topology.clone())
     }
 
+    /// The same polyhedron with its vertices at these points (same count and
+    /// order), its integrals derived as [`Polyhedron::moved`] derives them.
+    pub fn with_vertices(&self, vertices: Vec<Point3<f64>>) -> Self {
+        assert_eq!(vertices.len(), self.vertices.len(), "one point per vertex");
+        Self::with_topology(vertices, self.topology.clone())
+    }
+
     fn with_topology(vertices: Vec<Point3<f64>>, topology: Arc<Topology>) -> Self {
         let (normals, areas): (Vec<_>, Vec<_>) = topology
             .faces

@@ -60,7 +60,7 @@ impl Coulomb {
 }
 
 /// Whether the joint's bond (cohesion and tensile strength) still holds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct CoulombHistory {
     pub bonded: bool,
 }

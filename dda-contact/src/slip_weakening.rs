@@ -18,6 +18,7 @@ use crate::strength::{angle, stiffnesses, strength};
 use dda_core::ContactLaw;
 use dda_core::DdaError;
 use dda_core::{ContactState, LocalKinematics};
+use serde::{Deserialize, Serialize};
 
 use crate::springs::mohr_coulomb;
 use crate::weakening::Weakening;
@@ -58,7 +59,7 @@ impl SlipWeakening {
 }
 
 /// Whether the joint had a bond at the start and still holds in tension.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SlipHistory {
     pub bonded: bool,
     pub intact_in_tension: bool,

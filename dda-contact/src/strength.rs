@@ -29,7 +29,7 @@ pub struct Strength {
 /// `ContactLaw`.
 pub trait StrengthLaw: Send + Sync + 'static {
     /// What the law remembers about one contact between steps.
-    type History: Clone + Send + Sync + 'static;
+    type History: Clone + Send + Sync + serde::Serialize + serde::de::DeserializeOwned + 'static;
 
     /// The law's own normal and shear penalties per unit contact length (2D)
     /// or area (3D), N/m³; `None` takes the driver's penalty and, for the

@@ -39,7 +39,7 @@ pub struct ThresholdBond {
 }
 
 /// Whether the bond still holds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct BondHistory {
     pub bonded: bool,
 }

@@ -9,8 +9,9 @@ use nalgebra::{Point, SMatrix, SVector};
 
 use crate::constitutive::ConstitutiveLaw;
 use crate::contacts::{BlockVector, Contact};
+use crate::error::DdaError;
 use crate::loads::{held_energy, FixedPoint, PointLoad};
-use crate::system::{BlockKind, BlockMatrix, BlockSystem};
+use crate::system::{BlockKind, BlockMatrix, BlockState, BlockSystem, SystemState};
 
 /// Angle tolerance for parallel edges and faces and for wedge tests (Shi's
 /// h1 = 3°), in radians.
@@ -67,6 +68,17 @@ pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize
         d: &SVector<f64, N>,
         update: RotationUpdate,
     ) -> Point<f64, D>;
+    /// Accumulated rotation: the angle (2D) or the rotation vector (3D).
+    fn rotation_state(&self) -> Vec<f64>;
+    /// Puts the block where a checkpoint found it: these vertices (same
+    /// count and order as now), stress, strain and accumulated rotation.
+    fn restore(
+        &mut self,
+        vertices: Vec<Point<f64, D>>,
+        stress: SVector<f64, S>,
+        strain: SVector<f64, S>,
+        rotation: &[f64],
+    );
     /// Applies an accepted step: vertices, stress (`stress` is the stress
     /// after the step's strain, in the frame at the start of the step),
     /// strain and rotation.
@@ -275,6 +287,73 @@ where
                     .map(move |v| (b.t_matrix(v) * di).norm())
             })
             .fold(0.0, f64::max)
+    }
+
+    fn save_state(&self) -> Result<SystemState, DdaError> {
+        let coordinates = |p: &Point<f64, D>| p.coords.iter().copied().collect::<Vec<f64>>();
+        Ok(SystemState {
+            blocks: self
+                .blocks
+                .iter()
+                .map(|b| BlockState {
+                    vertices: b.vertices().iter().flat_map(coordinates).collect(),
+                    stress: b.stress().iter().copied().collect(),
+                    strain: b.strain().iter().copied().collect(),
+                    rotation: b.rotation_state(),
+                })
+                .collect(),
+            fixed_points: self.fixed.iter().map(|f| coordinates(&f.point)).collect(),
+            load_points: self.loads.iter().map(|l| coordinates(&l.point)).collect(),
+        })
+    }
+
+    fn restore_state(&mut self, state: &SystemState) -> Result<(), DdaError> {
+        let mismatch = |what: &str| {
+            DdaError::Checkpoint(format!(
+                "the checkpoint's {what} do not match the scene's: it was saved from another scene"
+            ))
+        };
+        if state.blocks.len() != self.blocks.len() {
+            return Err(mismatch("blocks"));
+        }
+        if state.fixed_points.len() != self.fixed.len()
+            || state.load_points.len() != self.loads.len()
+        {
+            return Err(mismatch("fixed or load points"));
+        }
+        let point = |c: &[f64]| Point::from(SVector::<f64, D>::from_column_slice(c));
+        for (b, s) in self.blocks.iter().zip(&state.blocks) {
+            let fits = s.vertices.len() == D * b.vertices().len()
+                && s.stress.len() == S
+                && s.strain.len() == S
+                && s.rotation.len() == b.rotation_state().len();
+            if !fits {
+                return Err(mismatch("block shapes"));
+            }
+        }
+        if state
+            .fixed_points
+            .iter()
+            .chain(&state.load_points)
+            .any(|p| p.len() != D)
+        {
+            return Err(mismatch("points"));
+        }
+        for (b, s) in self.blocks.iter_mut().zip(&state.blocks) {
+            b.restore(
+                s.vertices.chunks(D).map(point).collect(),
+                SVector::from_column_slice(&s.stress),
+                SVector::from_column_slice(&s.strain),
+                &s.rotation,
+            );
+        }
+        for (f, p) in self.fixed.iter_mut().zip(&state.fixed_points) {
+            f.point = point(p);
+        }
+        for (l, p) in self.loads.iter_mut().zip(&state.load_points) {
+            l.point = point(p);
+        }
+        Ok(())
     }
 
     fn commit(&mut self, d: &[BlockVector<N>], _dt: f64, _time: f64) {

@@ -17,8 +17,13 @@
 use std::any::Any;
 use std::fmt;
 
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+
 /// The three contact states of DDA.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
 pub enum ContactState {
     /// No springs: the blocks are apart.
     #[default]
@@ -113,8 +118,9 @@ pub struct ContactResponse {
 /// * `commit` is called once per accepted step, with the accepted state and
 ///   kinematics; it is the only place history changes.
 pub trait ContactLaw: Send + Sync + 'static {
-    /// What the law remembers about one contact between steps.
-    type History: Clone + Send + Sync + 'static;
+    /// What the law remembers about one contact between steps; saved with
+    /// the run in a checkpoint, so it derives serde.
+    type History: Clone + Send + Sync + Serialize + DeserializeOwned + 'static;
 
     /// History of a new contact. `at_start` is true for contacts found at the
     /// first step of a run (joints that exist in the initial geometry, which is
@@ -158,6 +164,10 @@ pub trait DynContactLaw: Send + Sync {
     fn next_state(&self, state: ContactState, kin: &LocalKinematics, h: &History) -> ContactState;
     fn commit(&self, state: ContactState, kin: &LocalKinematics, h: &mut History);
     fn check(&self) -> Result<(), crate::DdaError>;
+    /// A contact's history as a checkpoint keeps it.
+    fn save_history(&self, h: &History) -> Result<Vec<u8>, crate::DdaError>;
+    /// A history saved by [`DynContactLaw::save_history`] of this law.
+    fn load_history(&self, bytes: &[u8]) -> Result<History, crate::DdaError>;
 }
 
 impl<L: ContactLaw> DynContactLaw for L {
@@ -182,6 +192,21 @@ impl<L: ContactLaw> DynContactLaw for L {
 
     fn check(&self) -> Result<(), crate::DdaError> {
         ContactLaw::check(self)
+    }
+
+    fn save_history(&self, h: &History) -> Result<Vec<u8>, crate::DdaError> {
+        postcard::to_stdvec(downcast::<L>(h)).map_err(|e| {
+            crate::DdaError::Checkpoint(format!("cannot save a contact's history: {e}"))
+        })
+    }
+
+    fn load_history(&self, bytes: &[u8]) -> Result<History, crate::DdaError> {
+        let h: L::History = postcard::from_bytes(bytes).map_err(|e| {
+            crate::DdaError::Checkpoint(format!(
+                "a contact's history does not read as its law's: {e}"
+            ))
+        })?;
+        Ok(Box::new(h))
     }
 }
 

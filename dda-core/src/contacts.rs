@@ -21,7 +21,7 @@ pub type BlockVector<const N: usize> = SVector<f64, N>;
 /// the feature it enters through (an edge or a face; for a contact with several
 /// candidate entrances, a vertex). Meaning of the features is up to the
 /// dimension crate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub struct ContactKey {
     pub block_a: u32,
     pub feature_a: u32,

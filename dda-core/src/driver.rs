@@ -22,6 +22,8 @@ use crate::statistics::CYCLES_KEPT;
 pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
 
+mod checkpoint;
+
 /// Sliding contacts beyond this many are solved with the symmetric tangent
 /// only (the coupled solve costs one back-substitution per contact).
 const COUPLED_SLIDING_LIMIT: usize = 64;

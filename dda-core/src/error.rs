@@ -17,4 +17,7 @@ pub enum DdaError {
     },
     #[error("invalid analysis setting: {0}")]
     Settings(String),
+    /// A checkpoint that cannot be saved or does not fit the run.
+    #[error("{0}")]
+    Checkpoint(String),
 }

@@ -31,4 +31,4 @@ pub use loads::{FixedPoint, Force, PointLoad};
 pub use motion::{GroundMotion, Quantity, Record};
 pub use settings::Settings;
 pub use statistics::{Cycle, PhaseTimes, Statistics};
-pub use system::{BlockKind, BlockMatrix, BlockSystem};
+pub use system::{BlockKind, BlockMatrix, BlockState, BlockSystem, SystemState};

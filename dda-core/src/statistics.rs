@@ -2,11 +2,13 @@
 
 use std::time::Duration;
 
+use serde::{Deserialize, Serialize};
+
 use crate::contact::ContactState;
 use crate::contacts::ContactKey;
 
 /// Counters of a run, reported in the summary.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Statistics {
     pub steps: usize,
     pub open_close_iterations: usize,
@@ -62,7 +64,7 @@ pub(crate) const CYCLES_KEPT: usize = 20;
 
 /// A contact whose open-close passes cycled between two states in a step
 /// ending at `time`, and the state it kept.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Cycle {
     pub time: f64,
     pub key: ContactKey,
@@ -73,7 +75,7 @@ pub struct Cycle {
 /// Wall time of each phase of the step, summed over the run. Each phase
 /// reads the clock once on entry and once on exit, so the timing costs
 /// nothing next to the work it measures.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct PhaseTimes {
     /// Broad phase: pairs of blocks near enough to touch.
     pub broad_phase: Duration,

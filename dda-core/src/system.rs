@@ -4,6 +4,7 @@ use nalgebra::SMatrix;
 use serde::{Deserialize, Serialize};
 
 use crate::contacts::{BlockVector, Contact};
+use crate::error::DdaError;
 use crate::loads::Support;
 
 /// One block's N×N matrix (mass, stiffness).
@@ -121,4 +122,41 @@ pub trait BlockSystem<const N: usize, const T: usize> {
     /// Applies an accepted step: moves the blocks, updates stresses and fixed
     /// point drifts. `time` is the end of the step.
     fn commit(&mut self, d: &[BlockVector<N>], dt: f64, time: f64);
+
+    /// What the accepted steps have changed, for a checkpoint.
+    fn save_state(&self) -> Result<SystemState, DdaError> {
+        Err(DdaError::Checkpoint(
+            "this block system cannot be saved in a checkpoint".into(),
+        ))
+    }
+
+    /// Puts the system back as [`BlockSystem::save_state`] found it; the
+    /// system must be built from the same scene.
+    fn restore_state(&mut self, _state: &SystemState) -> Result<(), DdaError> {
+        Err(DdaError::Checkpoint(
+            "this block system cannot be restored from a checkpoint".into(),
+        ))
+    }
+}
+
+/// What a block's motion has changed since it was built: enough to put it
+/// back where a checkpoint found it (its integrals follow from these).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BlockState {
+    /// Vertex coordinates, one point after another.
+    pub vertices: Vec<f64>,
+    pub stress: Vec<f64>,
+    pub strain: Vec<f64>,
+    /// Accumulated rotation: the angle (2D) or the rotation vector (3D).
+    pub rotation: Vec<f64>,
+}
+
+/// What a block system's accepted steps have changed: the blocks, and the
+/// fixed and load points that move with them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SystemState {
+    pub blocks: Vec<BlockState>,
+    /// Coordinates of each fixed point, then of each load point.
+    pub fixed_points: Vec<Vec<f64>>,
+    pub load_points: Vec<Vec<f64>>,
 }

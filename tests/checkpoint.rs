@@ -1,0 +1,249 @@
+//! Checkpoint and restart: a run killed after a checkpoint and resumed
+//! writes the same bytes as one that never stopped, in 2D and 3D, with laws
+//! that keep a history per contact; a checkpoint torn while written, of
+//! another version or of another scene is handled or refused clearly.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn dda(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_dda"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn folder(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("checkpoint")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// An example with `from` replaced by `to`, written into `dir`.
+fn scene(dir: &Path, example: &str, from: &str, to: &str) -> PathBuf {
+    let text = std::fs::read_to_string(format!("examples/{example}")).unwrap();
+    assert!(text.contains(from), "{from} is not in {example}");
+    let path = dir.join(example);
+    std::fs::write(&path, text.replace(from, to)).unwrap();
+    path
+}
+
+fn ok(output: std::process::Output) {
+    assert!(
+        output.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+fn read(path: impl AsRef<Path>) -> Vec<u8> {
+    std::fs::read(path.as_ref()).unwrap_or_else(|e| panic!("{}: {e}", path.as_ref().display()))
+}
+
+/// Runs `scene` uninterrupted into `dir/whole`, and again into `dir/killed`
+/// with checkpoints, killed with SIGKILL once its first checkpoint exists
+/// (or left to finish, if it is faster than that), then resumed; both
+/// folders must hold the same outputs byte for byte.
+fn killed_and_resumed_matches(dir: &Path, scene: &Path, outputs: &[&str]) {
+    let whole = dir.join("whole");
+    let killed = dir.join("killed");
+    let s = scene.to_str().unwrap();
+    ok(dda(&["run", s, "--out", whole.to_str().unwrap()]));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_dda"))
+        .args(["run", s, "--out", killed.to_str().unwrap()])
+        .args(["--checkpoint-every", "0.2"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    while !killed.join("checkpoint.bin").exists() {
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "no checkpoint"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().ok();
+    child.wait().unwrap();
+    // The last checkpoint is before the end, so there is always a rest to run.
+    ok(dda(&["run", "--resume", killed.to_str().unwrap()]));
+    for name in outputs {
+        assert!(
+            read(whole.join(name)) == read(killed.join(name)),
+            "{name} of the resumed run differs from the uninterrupted one"
+        );
+    }
+    let summary: serde_json::Value =
+        serde_json::from_slice(&read(killed.join("summary.json"))).unwrap();
+    assert_eq!(summary["status"], "finished");
+}
+
+/// 2D: the two-stage friction slide, whose contacts remember their slip
+/// path (the law weakens after 5 cm of it).
+#[test]
+fn a_resumed_2d_run_writes_the_same_bytes() {
+    let dir = folder("2d");
+    let scene = scene(
+        &dir,
+        "two_stage_friction_2d.ron",
+        "duration: 1.0",
+        "duration: 3.0",
+    );
+    killed_and_resumed_matches(&dir, &scene, &["history.csv", "contacts.csv"]);
+}
+
+/// 3D: the wedge on two joints, with cohesion (its bonds are the Coulomb
+/// law's history) and contacts written.
+#[test]
+fn a_resumed_3d_run_writes_the_same_bytes() {
+    let dir = folder("3d");
+    let scene = scene(
+        &dir,
+        "wedge_3d.ron",
+        "output: (interval: 0.01)",
+        "output: (interval: 0.01, contacts: true)",
+    );
+    killed_and_resumed_matches(&dir, &scene, &["history.csv", "contacts.csv"]);
+}
+
+/// Resuming from each of several checkpoints of a finished run (the
+/// outputs after it are cut off and written again) gives the same bytes,
+/// VTK collections included.
+#[test]
+fn every_checkpoint_resumes_to_the_same_end() {
+    let dir = folder("each");
+    let scene = scene(
+        &dir,
+        "sliding_block_2d.ron",
+        "output: (interval: 0.01)",
+        "output: (interval: 0.01, contacts: true, vtk: true)",
+    );
+    let s = scene.to_str().unwrap();
+    let first = dir.join("first");
+    ok(dda(&[
+        "run",
+        s,
+        "--out",
+        first.to_str().unwrap(),
+        "--checkpoint-every",
+        "0.3",
+    ]));
+    let checkpoint = read(first.join("checkpoint.bin"));
+    // The last checkpoint was at 0.9 s: resume it in a copy of the folder.
+    let again = dir.join("again");
+    std::fs::create_dir_all(&again).unwrap();
+    for name in ["history.csv", "contacts.csv", "checkpoint.bin"] {
+        std::fs::copy(first.join(name), again.join(name)).unwrap();
+    }
+    ok(dda(&["run", "--resume", again.to_str().unwrap()]));
+    for name in ["history.csv", "contacts.csv", "blocks.pvd"] {
+        assert!(read(first.join(name)) == read(again.join(name)), "{name}");
+    }
+    let last = dda::read_history(again.join("history.csv")).unwrap();
+    assert_eq!(last.last().unwrap().time, 1.0);
+    assert_eq!(read(first.join("checkpoint.bin")), checkpoint);
+}
+
+/// A checkpoint torn while it was written (the run killed then) is the
+/// temporary file beside it: the run resumes from the previous one. A
+/// damaged checkpoint is refused with its name.
+#[test]
+fn a_torn_checkpoint_leaves_the_previous_one() {
+    let dir = folder("torn");
+    let scene = scene(
+        &dir,
+        "sliding_block_2d.ron",
+        "duration: 1.0",
+        "duration: 0.5",
+    );
+    let s = scene.to_str().unwrap();
+    let out = dir.join("out");
+    let whole = dir.join("whole");
+    ok(dda(&["run", s, "--out", whole.to_str().unwrap()]));
+    ok(dda(&[
+        "run",
+        s,
+        "--out",
+        out.to_str().unwrap(),
+        "--checkpoint-every",
+        "0.2",
+    ]));
+    let good = read(out.join("checkpoint.bin"));
+    std::fs::write(out.join("checkpoint.bin.partial"), &good[..good.len() / 2]).unwrap();
+    ok(dda(&["run", "--resume", out.to_str().unwrap()]));
+    assert!(read(out.join("history.csv")) == read(whole.join("history.csv")));
+
+    std::fs::write(out.join("checkpoint.bin"), &good[..good.len() / 2]).unwrap();
+    let result = dda(&["run", "--resume", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("checkpoint.bin is damaged"), "{stderr}");
+}
+
+/// A checkpoint of another version, or of a scene changed since, is
+/// refused with what to do; nothing is written.
+#[test]
+fn a_checkpoint_of_another_version_or_scene_is_refused() {
+    let dir = folder("refused");
+    let scene = scene(
+        &dir,
+        "sliding_block_2d.ron",
+        "duration: 1.0",
+        "duration: 0.5",
+    );
+    let s = scene.to_str().unwrap();
+    let out = dir.join("out");
+    ok(dda(&[
+        "run",
+        s,
+        "--out",
+        out.to_str().unwrap(),
+        "--checkpoint-every",
+        "0.2",
+    ]));
+    let history = read(out.join("history.csv"));
+
+    // Another scene: the friction angle changed after the checkpoint.
+    let text = std::fs::read_to_string(&scene).unwrap();
+    std::fs::write(
+        &scene,
+        text.replace("friction_angle: 20.0", "friction_angle: 21.0"),
+    )
+    .unwrap();
+    let result = dda(&["run", "--resume", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("was taken of another scene"), "{stderr}");
+    // A comment is not a change.
+    std::fs::write(&scene, format!("// a note\n{text}")).unwrap();
+    let mut checkpoint = dda::checkpoint::Checkpoint::read(&out).unwrap();
+    assert!(checkpoint.scene(&out, None).is_ok());
+
+    // Another version.
+    checkpoint.version = "0.0.1".into();
+    checkpoint.write(&out).unwrap();
+    let result = dda(&["run", "--resume", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("was written by dda 0.0.1") && stderr.contains("run the scene again"),
+        "{stderr}"
+    );
+    assert!(
+        read(out.join("history.csv")) == history,
+        "nothing was written"
+    );
+
+    // No checkpoint at all.
+    let result = dda(&["run", "--resume", dir.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(stderr.contains("--checkpoint-every"), "{stderr}");
+}
