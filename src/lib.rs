@@ -46,6 +46,7 @@ pub mod checkpoint;
 pub mod cli;
 pub mod extrude;
 pub mod features;
+pub mod guard;
 pub mod observe;
 pub mod output;
 pub mod pictures;

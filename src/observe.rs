@@ -83,6 +83,10 @@ pub trait RunView {
     fn is_finite(&self, block: usize) -> bool;
     /// The contacts the last step considered, open ones included.
     fn contact_lines(&self) -> Vec<ContactLine>;
+    /// A contact's name, like `1:v0/0:e2`.
+    fn contact_label(&self, key: &dda_core::ContactKey) -> String;
+    /// A block's velocity (z = 0 in 2D), m/s.
+    fn velocity(&self, block: usize) -> [f64; 3];
 }
 
 /// Something a run tells about its progress: an output file, the progress

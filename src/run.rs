@@ -8,6 +8,7 @@ use anyhow::{bail, Context};
 use dda_contact::LawRegistry;
 
 use crate::checkpoint::{Checkpoint, Schedule};
+use crate::guard::Guards;
 use crate::observe::{Cursor, Observer, RunView};
 use crate::output::{ContactWriter, HistoryWriter};
 use crate::progress::Progress;
@@ -349,15 +350,23 @@ pub fn run_model<S: Simulation>(
         wall_before: resumed.as_ref().map_or(0.0, |c| c.wall_time),
     });
     let first_output = resumed.as_ref().map_or(0, |c| c.next_output);
-    let result =
-        advance(&mut model, &mut observers, first_output, keeper.as_mut()).with_context(|| {
-            format!(
-                "the run failed at t = {} s, step {} ({} keeps the rows written until then)",
-                model.driver.time(),
-                model.driver.statistics().steps,
-                history_path.display()
-            )
-        });
+    let limit = model.settings.max_penetration_ratio * model.driver.length_scale();
+    let mut guards = Guards::new(model.on_failure, limit, &model.driver);
+    let result = advance(
+        &mut model,
+        &mut observers,
+        &mut guards,
+        first_output,
+        keeper.as_mut(),
+    )
+    .with_context(|| {
+        format!(
+            "the run failed at t = {} s, step {} ({} keeps the rows written until then)",
+            model.driver.time(),
+            model.driver.statistics().steps,
+            history_path.display()
+        )
+    });
     for observer in &mut observers {
         observer.on_finish(&model.driver, result.as_ref().err())?;
     }
@@ -411,6 +420,7 @@ impl Keeper {
 fn advance<S: Simulation>(
     model: &mut Model<S>,
     observers: &mut [&mut dyn Observer],
+    guards: &mut Guards,
     first_output: u64,
     mut keeper: Option<&mut Keeper>,
 ) -> anyhow::Result<()> {
@@ -430,9 +440,14 @@ fn advance<S: Simulation>(
                 if t >= duration - 1e-9 * interval {
                     t = duration;
                 }
-                driver.advance_observed(t, &mut |d| {
-                    observers.iter_mut().for_each(|o| o.on_step(d))
+                let mut tripped = None;
+                driver.advance_while(t, &mut |d| {
+                    observers.iter_mut().for_each(|o| o.on_step(d));
+                    guards.after_step(d).map_err(|e| tripped = Some(e)).is_ok()
                 })?;
+                if let Some(e) = tripped {
+                    return Err(e);
+                }
                 output(driver, observers)?;
                 if t == duration {
                     break;
@@ -447,6 +462,7 @@ fn advance<S: Simulation>(
             while duration - driver.time() > 1e-9 * driver.dt() {
                 driver.step(duration - driver.time())?;
                 observers.iter_mut().for_each(|o| o.on_step(driver));
+                guards.after_step(driver)?;
                 output(driver, observers)?;
                 if let Some(keeper) = keeper.as_deref_mut() {
                     keeper.at_output(driver, observers, 1)?;

@@ -4,7 +4,7 @@
 
 use dda_2d::Driver2d;
 use dda_3d::Driver3d;
-use dda_core::{DdaError, Statistics};
+use dda_core::{ContactKey, DdaError, Statistics};
 
 use crate::observe::{BlockShape, ContactLine, RunView};
 
@@ -31,6 +31,13 @@ pub trait Simulation {
         time: f64,
         observe: &mut dyn FnMut(&Self),
     ) -> Result<(), DdaError>;
+    /// [`Simulation::advance_observed`] that stops after a step where
+    /// `go_on` says false; returns whether `time` was reached.
+    fn advance_while(
+        &mut self,
+        time: f64,
+        go_on: &mut dyn FnMut(&Self) -> bool,
+    ) -> Result<bool, DdaError>;
     /// One step of at most `dt_limit`.
     fn step(&mut self, dt_limit: f64) -> Result<(), DdaError>;
     /// The values of a block's history row after `step,time,block`.
@@ -41,6 +48,12 @@ pub trait Simulation {
     fn is_finite(&self, block: usize) -> bool;
     /// The contacts the last step considered, open ones included.
     fn contact_lines(&self) -> Vec<ContactLine>;
+    /// A contact's name, like `1:v0/0:e2`.
+    fn contact_label(&self, key: &ContactKey) -> String;
+    /// A block's velocity (z = 0 in 2D), m/s.
+    fn velocity(&self, block: usize) -> [f64; 3];
+    /// The model's length scale w0, m.
+    fn length_scale(&self) -> f64;
     /// The whole state, for a checkpoint.
     fn save(&self) -> Result<Vec<u8>, DdaError>;
     /// Back to a state [`Simulation::save`] gave.
@@ -77,8 +90,25 @@ macro_rules! delegate {
         ) -> Result<(), DdaError> {
             dda_core::Driver::advance_observed(self, time, observe)
         }
+        fn advance_while(
+            &mut self,
+            time: f64,
+            go_on: &mut dyn FnMut(&Self) -> bool,
+        ) -> Result<bool, DdaError> {
+            dda_core::Driver::advance_while(self, time, go_on)
+        }
         fn step(&mut self, dt_limit: f64) -> Result<(), DdaError> {
             dda_core::Driver::step(self, dt_limit)
+        }
+        fn velocity(&self, block: usize) -> [f64; 3] {
+            let v = self.velocities()[block];
+            let mut out = [0.0; 3];
+            let d = Self::DIMENSION as usize;
+            out[..d].copy_from_slice(&v.as_slice()[..d]);
+            out
+        }
+        fn length_scale(&self) -> f64 {
+            dda_core::Driver::length_scale(self)
         }
         fn save(&self) -> Result<Vec<u8>, DdaError> {
             dda_core::Driver::save(self)
@@ -117,6 +147,10 @@ impl Simulation for Driver2d {
             material: b.material,
             rigid: b.kind == dda_core::BlockKind::Rigid,
         }
+    }
+
+    fn contact_label(&self, key: &ContactKey) -> String {
+        dda_2d::contact::contact_label(key)
     }
 
     fn contact_lines(&self) -> Vec<ContactLine> {
@@ -166,6 +200,10 @@ impl Simulation for Driver3d {
             material: b.material,
             rigid: b.kind == dda_core::BlockKind::Rigid,
         }
+    }
+
+    fn contact_label(&self, key: &ContactKey) -> String {
+        dda_3d::contact_label(key)
     }
 
     fn contact_lines(&self) -> Vec<ContactLine> {
@@ -245,5 +283,11 @@ impl<S: Simulation> RunView for S {
     }
     fn contact_lines(&self) -> Vec<ContactLine> {
         Simulation::contact_lines(self)
+    }
+    fn contact_label(&self, key: &ContactKey) -> String {
+        Simulation::contact_label(self, key)
+    }
+    fn velocity(&self, block: usize) -> [f64; 3] {
+        Simulation::velocity(self, block)
     }
 }

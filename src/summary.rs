@@ -323,30 +323,7 @@ fn warnings(stats: &dda_core::Statistics) -> Vec<String> {
         ));
     }
     if stats.energy_growth_steps > 0 {
-        // The advice follows what the run saw: friction itself never adds
-        // energy, so a rise comes from raised penalties, unsolved passes or
-        // steps accepted without agreement.
-        let mut causes = Vec::new();
-        if stats.penalty_raises > 0 {
-            causes.push(format!(
-                "the penalty was raised {} times, which multiplies the force of every existing overlap: leave raise_penalty off",
-                stats.penalty_raises
-            ));
-        }
-        if stats.newton_failures > 0 {
-            causes.push(format!(
-                "{} passes kept an unconverged Newton-Raphson iterate: a softer penalty or a smaller dt makes the springs less stiff against the blocks' inertia",
-                stats.newton_failures
-            ));
-        }
-        if stats.unconverged_steps > 0 {
-            causes.push("steps were accepted without open-close agreement (see above)".into());
-        }
-        let advice = if causes.is_empty() {
-            "no cut, raise or unconverged pass explains it; please report the scene".to_string()
-        } else {
-            causes.join("; ")
-        };
+        let advice = energy_advice(stats);
         out.push(format!(
             "the total energy rose by up to {:.3e} J in {} steps although nothing did work on the blocks; \
              the method added energy and the results are suspect ({advice})",
@@ -354,6 +331,33 @@ fn warnings(stats: &dda_core::Statistics) -> Vec<String> {
         ));
     }
     out
+}
+
+/// Why the energy rose, from what the run saw: friction itself never adds
+/// energy, so a rise comes from raised penalties, unsolved passes or steps
+/// accepted without agreement.
+pub(crate) fn energy_advice(stats: &dda_core::Statistics) -> String {
+    let mut causes = Vec::new();
+    if stats.penalty_raises > 0 {
+        causes.push(format!(
+            "the penalty was raised {} times, which multiplies the force of every existing overlap: leave raise_penalty off",
+            stats.penalty_raises
+        ));
+    }
+    if stats.newton_failures > 0 {
+        causes.push(format!(
+            "{} passes kept an unconverged Newton-Raphson iterate: a softer penalty or a smaller dt makes the springs less stiff against the blocks' inertia",
+            stats.newton_failures
+        ));
+    }
+    if stats.unconverged_steps > 0 {
+        causes.push("steps were accepted without open-close agreement (see above)".into());
+    }
+    if causes.is_empty() {
+        "no cut, raise or unconverged pass explains it; please report the scene".to_string()
+    } else {
+        causes.join("; ")
+    }
 }
 
 /// The last finite values, at an output time, of the summary's numbers.

@@ -2,22 +2,50 @@
 //! terminal, instead of quietly writing garbage: a step that cannot
 //! converge even at the smallest time step, a penetration beyond the
 //! allowed bound, and energy growth in a scene that should only lose energy.
+//! By default each stops the run with a report naming the time, the blocks
+//! and contacts, and what to change; `on_failure: Continue` runs on and
+//! warns.
 
 use std::process::Command;
 
 mod common;
 
-/// Runs `dda run` on scene text; returns (summary.json as JSON, stderr).
+/// Runs `dda run` on scene text with `on_failure: Continue`; returns
+/// (summary.json as JSON, stderr).
 fn run(name: &str, analysis: &str, height: f64) -> (serde_json::Value, String) {
+    let analysis = format!("{analysis}, on_failure: Continue");
+    let (summary, stderr, ok) = run_scene(name, &analysis, height, 0.0);
+    assert!(ok, "{stderr}");
+    (summary, stderr)
+}
+
+/// Runs `dda run` with the default `on_failure: Stop` on a block dropped
+/// from `height` at `speed` (m/s, downwards); returns (summary.json,
+/// stderr), the run having failed.
+fn stopped(name: &str, analysis: &str, height: f64, speed: f64) -> (serde_json::Value, String) {
+    let (summary, stderr, ok) = run_scene(name, analysis, height, speed);
+    assert!(!ok, "the run went on: {stderr}");
+    assert_eq!(summary["status"], "failed", "{summary}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    (summary, stderr)
+}
+
+fn run_scene(
+    name: &str,
+    analysis: &str,
+    height: f64,
+    speed: f64,
+) -> (serde_json::Value, String, bool) {
     let text = format!(
         r#"Scene(
     analysis: (duration: 0.3, gravity: (0.0, -9.81), {analysis}),
     materials: {{ "rock": (density: 2700.0, young: 1e10, poisson: 0.25) }},
     blocks: [
         Rectangle(center: (0.0, -0.5), width: 4.0, height: 1.0, fixed: true),
-        Rectangle(center: (0.0, {height:?}), width: 1.0, height: 1.0),
+        Rectangle(center: (0.0, {height:?}), width: 1.0, height: 1.0, velocity: (0.0, {:?}, 0.0)),
     ],
-)"#
+)"#,
+        -speed
     );
     let out = common::out_dir(name);
     std::fs::create_dir_all(&out).unwrap();
@@ -32,17 +60,13 @@ fn run(name: &str, analysis: &str, height: f64) -> (serde_json::Value, String) {
         ])
         .output()
         .unwrap();
-    assert!(
-        result.status.success(),
-        "{}",
-        String::from_utf8_lossy(&result.stderr)
-    );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let _ = std::fs::remove_dir_all(&out);
     (
         summary,
         String::from_utf8_lossy(&result.stderr).into_owned(),
+        result.status.success(),
     )
 }
 
@@ -135,4 +159,62 @@ fn energy_growth_is_reported() {
         .find(|w| w.contains("the total energy rose"))
         .unwrap();
     assert!(!energy.contains("smaller dt"), "{energy}");
+}
+
+/// The same three by default: the run stops at the step, with the time,
+/// the blocks or contacts, and advice that fits the cause.
+#[test]
+fn a_step_that_cannot_converge_stops_the_run() {
+    let (summary, stderr) = stopped(
+        "unconverged-stop",
+        "penalty: 1e10, dt: 0.01, open_close_limit: 1",
+        0.55,
+        0.0,
+    );
+    let error = summary["error"].as_str().unwrap();
+    assert!(
+        error.contains("could not reach open-close agreement even at the smallest time step"),
+        "{error}"
+    );
+    // The landing corners of block 1 on the base, block 0.
+    assert!(error.contains("(block 1 on block 0)"), "{error}");
+    assert!(stderr.contains("on_failure: Continue"), "{stderr}");
+    // Stopped at the landing, not at the end.
+    assert!(summary["time"].as_f64().unwrap() < 0.3, "{summary}");
+}
+
+/// Too soft a penalty: the advice is a stiffer one, not a smaller dt.
+#[test]
+fn a_soft_penalty_stops_the_run_and_asks_for_a_stiffer_one() {
+    let (summary, _) = stopped("soft-stop", "penalty: 1e6, dt: 0.01", 0.5, 0.0);
+    let error = summary["error"].as_str().unwrap();
+    assert!(error.contains("penetrated"), "{error}");
+    assert!(error.contains("(block 1 into block 0)"), "{error}");
+    assert!(error.contains("raise analysis.penalty"), "{error}");
+    assert!(!error.contains("a dt below"), "{error}");
+}
+
+/// A block thrown at its base at 300 m/s closes 3 m in one 10 ms step:
+/// the advice is a smaller dt, not a stiffer penalty.
+#[test]
+fn a_fast_impact_stops_the_run_and_asks_for_a_smaller_dt() {
+    let (summary, _) = stopped("fast-stop", "penalty: 1e10, dt: 0.01", 0.6, 300.0);
+    let error = summary["error"].as_str().unwrap();
+    assert!(error.contains("penetrated"), "{error}");
+    assert!(error.contains("a dt below"), "{error}");
+    assert!(!error.contains("raise analysis.penalty"), "{error}");
+}
+
+#[test]
+fn energy_growth_stops_the_run() {
+    let (summary, _) = stopped(
+        "energy-stop",
+        "penalty: 1e6, dt: 0.001, raise_penalty: true",
+        0.5,
+        0.0,
+    );
+    let error = summary["error"].as_str().unwrap();
+    assert!(error.contains("the total energy rose"), "{error}");
+    assert!(error.contains("block 1 ("), "{error}");
+    assert!(error.contains("leave raise_penalty off"), "{error}");
 }

@@ -13,7 +13,7 @@ use nalgebra::{DMatrix, DVector, SVector};
 
 use crate::assembly::BlockSparse;
 use crate::contact::{ContactResponse, ContactState, DynContactLaw, LocalKinematics};
-use crate::contacts::{transfer_records, BlockVector, Contact};
+use crate::contacts::{transfer_records, BlockVector, Contact, ContactKey};
 use crate::error::DdaError;
 use crate::loads::Support;
 use crate::settings::Settings;
@@ -62,6 +62,8 @@ struct Trial<const T: usize> {
     entrances: Vec<usize>,
     directions: Vec<SVector<f64, T>>,
     converged: bool,
+    /// Contacts whose state or entrance the last pass changed.
+    unsettled: Vec<usize>,
 }
 
 /// Runs a [`BlockSystem`] in time.
@@ -260,6 +262,20 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         time: f64,
         mut observe: impl FnMut(&Self),
     ) -> Result<(), DdaError> {
+        self.advance_while(time, |d| {
+            observe(d);
+            true
+        })?;
+        Ok(())
+    }
+
+    /// [`Driver::advance_observed`] that stops after a step where `go_on`
+    /// says false; returns whether `time` was reached.
+    pub fn advance_while(
+        &mut self,
+        time: f64,
+        mut go_on: impl FnMut(&Self) -> bool,
+    ) -> Result<bool, DdaError> {
         while time - self.time > 1e-9 * self.dt {
             self.step(time - self.time)?;
             if (time - self.time).abs() <= 1e-9 * self.dt {
@@ -267,9 +283,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 self.time = time;
                 self.time_carry = 0.0;
             }
-            observe(self);
+            if !go_on(self) {
+                return Ok(false);
+            }
         }
-        Ok(())
+        Ok(true)
     }
 
     /// Adds `dt` to the time by Kahan's compensated summation.
@@ -343,7 +361,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // (Shi) or, by default, a shorter step. A contact that starts the
             // step deep is left alone: either remedy would throw it out harder.
             let limit = self.settings.max_penetration_ratio * self.length_scale;
-            let (deepest, deepened) = self.penetration(&trial, limit);
+            let (deepest, deepened, deepest_key) = self.penetration(&trial, limit);
             if deepened > limit {
                 if self.settings.raise_penalty && self.stats.penalty_raises < 6 {
                     self.penalty *= 10.0;
@@ -360,10 +378,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             if !trial.converged {
                 self.stats.unconverged_steps += 1;
+                self.stats.last_unsettled = (trial.unsettled.iter())
+                    .take(CYCLES_KEPT)
+                    .map(|&i| self.contacts[i].key)
+                    .collect();
             }
             if deepest > limit {
                 self.stats.deep_penetration_steps += 1;
                 self.stats.deepest_penetration = self.stats.deepest_penetration.max(deepest);
+                self.stats.last_deep = deepest_key.map(|k| (k, deepest));
             }
             break trial;
         };
@@ -491,6 +514,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 .map(|c| c.record.slip_direction)
                 .collect(),
             converged: false,
+            unsettled: Vec::new(),
         };
         let tolerance = self.settings.contact_tolerance * self.length_scale;
         trial.entrances = self
@@ -518,6 +542,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let deciding = Instant::now();
             let assumed = trial.states.clone();
             let mut changed = false;
+            trial.unsettled.clear();
             for i in 0..self.contacts.len() {
                 let c = &self.contacts[i];
                 let e = trial.entrances[i];
@@ -554,6 +579,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 let entrance = widest_entrance(c, &trial.d, e, tolerance);
                 if next != state || entrance != e {
                     changed = true;
+                    trial.unsettled.push(i);
                 }
                 trial.states[i] = next;
                 trial.entrances[i] = entrance;
@@ -983,21 +1009,25 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// The deepest penetration of the closed contacts at the trial, and the
     /// deepest among those that started the step within the `limit`.
-    fn penetration(&self, trial: &Trial<T>, limit: f64) -> (f64, f64) {
+    fn penetration(&self, trial: &Trial<T>, limit: f64) -> (f64, f64, Option<ContactKey>) {
         let mut deepest: f64 = 0.0;
         let mut deepened: f64 = 0.0;
+        let mut key = None;
         for (i, c) in self.contacts.iter().enumerate() {
             if !trial.states[i].is_closed() {
                 continue;
             }
             let e = &c.entrances[trial.entrances[i]];
             let gap = e.gap_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
-            deepest = deepest.max(-gap);
+            if -gap > deepest {
+                deepest = -gap;
+                key = Some(c.key);
+            }
             if -e.gap <= limit {
                 deepened = deepened.max(-gap);
             }
         }
-        (deepest, deepened)
+        (deepest, deepened, key)
     }
 
     fn commit(&mut self, trial: Trial<T>, dt: f64) {

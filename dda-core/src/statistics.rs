@@ -40,6 +40,12 @@ pub struct Statistics {
     pub deep_penetration_steps: usize,
     /// The deepest penetration of any accepted step.
     pub deepest_penetration: f64,
+    /// The deepest contact of the last step accepted deeper than the limit,
+    /// and its penetration (m).
+    pub last_deep: Option<(ContactKey, f64)>,
+    /// Contacts still changing state or entrance in the last step accepted
+    /// without open-close agreement (at most `CYCLES_KEPT`).
+    pub last_unsettled: Vec<ContactKey>,
     /// Total energy (kinetic, potential, elastic, contact springs) after
     /// the last step, when the system can tell it (no work done on it).
     pub energy: f64,

@@ -29,6 +29,8 @@ pub struct Model<D = Driver2d> {
     pub notes: Vec<String>,
     /// The settings the driver was made with.
     pub settings: Settings,
+    /// What the run does when a guard trips.
+    pub on_failure: crate::guard::OnFailure,
 }
 
 impl<D: crate::Simulation> Model<D> {
@@ -359,6 +361,7 @@ impl Scene {
             duration: self.analysis.duration,
             output_interval,
             write_contacts: self.output.contacts,
+            on_failure: self.analysis.on_failure,
             settings,
             notes,
         })

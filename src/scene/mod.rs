@@ -128,6 +128,16 @@ pub struct Analysis {
     /// Contact damping, a share of critical; default 0 (off), 1 critical:
     /// see [`dda_core::Settings::contact_damping`].
     pub contact_damping: f64,
+    /// What a run does when a guard trips (energy growth in a scene nothing
+    /// works on, a penetration past the bound or a step without open-close
+    /// agreement, both at the smallest step): `Stop` (default) ends it,
+    /// status "failed", with a report; `Continue` runs on and warns.
+    #[serde(skip_serializing_if = "is_stop")]
+    pub on_failure: crate::guard::OnFailure,
+}
+
+fn is_stop(on_failure: &crate::guard::OnFailure) -> bool {
+    *on_failure == crate::guard::OnFailure::Stop
 }
 
 fn is_plane_strain(plane: &Plane) -> bool {
@@ -173,6 +183,7 @@ impl Default for Analysis {
             fixed_penalty: None,
             damping: None,
             contact_damping: s.contact_damping,
+            on_failure: crate::guard::OnFailure::Stop,
         }
     }
 }
