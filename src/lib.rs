@@ -45,6 +45,7 @@ pub mod bench;
 pub mod cli;
 pub mod extrude;
 pub mod features;
+pub mod import;
 pub mod observe;
 pub mod output;
 pub mod pictures;

@@ -206,7 +206,42 @@ pub fn cut(region: &[Point2<f64>], traces: &[Trace], min_area: f64) -> Result<Cu
             }
         }
     }
+    arrange(&segments, Some(0), tol, min_area)
+}
 
+/// Cuts the plane by the traces alone (Shi's DC step on a list of joint
+/// lines, the rock mass being what they enclose): the blocks are the
+/// closed faces of the traces once dangling ones are dropped.
+pub fn cut_lines(traces: &[Trace], min_area: f64) -> Result<Cut, CutError> {
+    if let Some(k) = traces
+        .iter()
+        .position(|t| !(t.a.iter().chain(t.b.iter()).all(|v| v.is_finite())))
+    {
+        return Err(CutError::NotFinite(k));
+    }
+    let Some(first) = traces.first() else {
+        return Ok(Cut::default());
+    };
+    let (lo, hi) = traces.iter().fold((first.a, first.a), |(lo, hi), t| {
+        (lo.inf(&t.a).inf(&t.b), hi.sup(&t.a).sup(&t.b))
+    });
+    let tol = SNAP * (hi - lo).norm();
+    let segments: Vec<([Point2<f64>; 2], Option<usize>)> = traces
+        .iter()
+        .filter(|t| (t.b - t.a).norm() > tol)
+        .map(|t| ([t.a, t.b], Some(t.set)))
+        .collect();
+    arrange(&segments, None, tol, min_area)
+}
+
+/// The blocks of an arrangement of segments (`None` for the region's
+/// boundary); with a `root` node, only the part of the graph joined to it.
+fn arrange(
+    segments: &[([Point2<f64>; 2], Option<usize>)],
+    root: Option<usize>,
+    tol: f64,
+    min_area: f64,
+) -> Result<Cut, CutError> {
     // Split every segment where it meets another.
     let mut splits: Vec<Vec<(f64, Point2<f64>)>> = segments
         .iter()
@@ -225,7 +260,7 @@ pub fn cut(region: &[Point2<f64>], traces: &[Trace], min_area: f64) -> Result<Cu
     // Undirected edges (lower node first) and the set that made each; the
     // boundary wins over a trace along it, the lower set over a higher one.
     let mut edges: HashMap<(usize, usize), Option<usize>> = HashMap::new();
-    for (split, (_, set)) in splits.iter_mut().zip(&segments) {
+    for (split, (_, set)) in splits.iter_mut().zip(segments) {
         split.sort_by(|x, y| x.0.total_cmp(&y.0));
         let ids: Vec<usize> = split.iter().map(|(_, p)| nodes.id(*p)).collect();
         for w in ids.windows(2) {
@@ -240,10 +275,9 @@ pub fn cut(region: &[Point2<f64>], traces: &[Trace], min_area: f64) -> Result<Cu
         }
     }
     let points = nodes.points;
-    let boundary_node = 0; // the region's first corner
     let mut faces;
     loop {
-        prune(&mut edges, boundary_node);
+        prune(&mut edges, root);
         faces = trace_faces(&points, &edges);
         let bridges: Vec<(usize, usize)> = faces
             .left
@@ -321,17 +355,17 @@ pub fn cut(region: &[Point2<f64>], traces: &[Trace], min_area: f64) -> Result<Cu
     Ok(out)
 }
 
-/// Drops nodes of degree one (again and again) and every piece of the graph
-/// not joined to `root`.
-fn prune(edges: &mut HashMap<(usize, usize), Option<usize>>, root: usize) {
+/// Drops nodes of degree one (again and again) and, with a `root`, every
+/// piece of the graph not joined to it.
+fn prune(edges: &mut HashMap<(usize, usize), Option<usize>>, root: Option<usize>) {
     loop {
         let mut adjacent: HashMap<usize, Vec<usize>> = HashMap::new();
         for &(u, v) in edges.keys() {
             adjacent.entry(u).or_default().push(v);
             adjacent.entry(v).or_default().push(u);
         }
-        let mut joined = std::collections::HashSet::from([root]);
-        let mut stack = vec![root];
+        let mut joined: std::collections::HashSet<usize> = root.into_iter().collect();
+        let mut stack: Vec<usize> = root.into_iter().collect();
         while let Some(u) = stack.pop() {
             for &v in adjacent.get(&u).into_iter().flatten() {
                 if joined.insert(v) {
@@ -341,7 +375,9 @@ fn prune(edges: &mut HashMap<(usize, usize), Option<usize>>, root: usize) {
         }
         let before = edges.len();
         edges.retain(|&(u, v), _| {
-            joined.contains(&u) && adjacent[&u].len() > 1 && adjacent[&v].len() > 1
+            (root.is_none() || joined.contains(&u))
+                && adjacent[&u].len() > 1
+                && adjacent[&v].len() > 1
         });
         if edges.len() == before {
             return;
@@ -540,6 +576,26 @@ mod tests {
         ));
         let nan = [trace((f64::NAN, 0.0), (1.0, 1.0), 0)];
         assert_eq!(cut(&rect(1.0, 1.0), &nan, 0.0), Err(CutError::NotFinite(0)));
+    }
+
+    /// Joint lines alone: two squares sharing a side, drawn as overlapping
+    /// lines with a dangling end, and a lone line elsewhere.
+    #[test]
+    fn lines_alone_enclose_blocks() {
+        let traces = [
+            trace((-0.01, 0.0), (2.01, 0.0), 0),
+            trace((2.0, -0.01), (2.0, 1.0), 0),
+            trace((2.0, 1.0), (0.0, 1.0), 0),
+            trace((1.0, 1.0), (0.0, 1.0), 0), // along another
+            trace((0.0, 1.01), (0.0, 0.0), 0),
+            trace((1.0, 0.0), (1.0, 1.3), 1), // the shared side, overrunning
+            trace((5.0, 5.0), (6.0, 6.0), 0),
+        ];
+        let c = cut_lines(&traces, 0.0).unwrap();
+        assert_eq!(c.blocks.len(), 2);
+        assert!((total_area(&c) - 2.0).abs() <= 1e-9 * 2.0);
+        assert_eq!(c.joints.len(), 1);
+        assert_eq!(c.joints[0].set, 1);
     }
 
     /// A loop of traces joined to the boundary by a single trace is not a
