@@ -132,6 +132,61 @@ fn traces_with_bridges_cut_only_where_they_cross() {
     }
 }
 
+/// `fixed_below` fixes the blocks under a level: a 4 × 3 m region from
+/// y = −1 with horizontal joints at y = 0 and 1 and vertical ones at
+/// x = 2 has two blocks below y = 0, and only those are fixed.
+#[test]
+fn blocks_below_a_level_are_fixed() {
+    let s = scene(
+        r#"Scene(
+    analysis: (duration: 1.0),
+    materials: { "rock": (density: 2600.0, young: 1e10) },
+    blocks: [JointedDomain(
+        region: [(0.0, -1.0), (4.0, -1.0), (4.0, 2.0), (0.0, 2.0)],
+        sets: [(dip: 0.0, spacing: 1.0), (dip: 90.0, spacing: 2.0)],
+        fixed_below: 0.0,
+    )],
+)"#,
+    );
+    let blocks = s.expanded_blocks();
+    assert_eq!(blocks.len(), 6);
+    for b in &blocks {
+        let top = b.vertices.iter().map(|p| p[1]).fold(f64::MIN, f64::max);
+        assert_eq!(b.fixed, top <= 0.0, "{b:?}");
+    }
+    assert_eq!(blocks.iter().filter(|b| b.fixed).count(), 2);
+}
+
+/// Random 3D sets are the same for the same seed and fill the box.
+#[test]
+fn random_planes_are_deterministic_per_seed() {
+    let text = |seed: u64| {
+        format!(
+            r#"Scene(
+    dimension: 3,
+    analysis: (duration: 1.0),
+    materials: {{ "rock": (density: 2600.0, young: 1e10) }},
+    blocks: [JointedDomain3D(
+        region: Box(min: (0.0, 0.0, 0.0), max: (5.0, 4.0, 3.0)),
+        sets: [
+            (dip: 60.0, dip_direction: 30.0, spacing: 1.0, placement: Random(seed: {seed})),
+            (dip: 20.0, dip_direction: 200.0, spacing: 1.0, placement: Random(seed: {seed})),
+        ],
+        min_block_volume: 0.0,
+    )],
+)"#
+        )
+    };
+    let (a, b, c) = (scene(&text(3)), scene(&text(3)), scene(&text(4)));
+    assert_eq!(a.expanded_blocks_3d(), b.expanded_blocks_3d());
+    assert_ne!(a.expanded_blocks_3d(), c.expanded_blocks_3d());
+    for s in [a, c] {
+        let model = s.build_3d().unwrap();
+        let volume: f64 = model.driver.system.blocks.iter().map(|b| b.volume()).sum();
+        assert!((volume - 60.0).abs() <= 1e-9 * 60.0, "volume {volume}");
+    }
+}
+
 #[test]
 fn bad_sets_are_located_errors() {
     let bad = |from: &str, to: &str| {

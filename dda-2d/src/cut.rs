@@ -598,6 +598,54 @@ mod tests {
         assert_eq!(c.joints[0].set, 1);
     }
 
+    /// Traces between points of a coarse grid: many pass through each
+    /// other's ends, the region's corners and crossings, or lie along each
+    /// other and the boundary. The blocks always fill the region and are
+    /// valid polygons; a block whose outline would touch itself is an error,
+    /// never a wrong block.
+    #[test]
+    fn traces_on_a_grid_keep_the_area() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let region = vec![
+            p(0.0, 0.0),
+            p(4.0, 0.0),
+            p(4.0, 3.0),
+            p(2.0, 4.0),
+            p(0.0, 3.0),
+        ];
+        let area = polygon::signed_area(&region);
+        let (mut cuts, mut pinched) = (0, 0);
+        for _ in 0..300 {
+            let mut grid = || (next() * 12.0).floor() / 2.0 - 0.5;
+            let traces: Vec<Trace> = (0..10)
+                .map(|k| trace((grid(), grid()), (grid(), grid()), k % 3))
+                .collect();
+            match cut(&region, &traces, 0.0) {
+                Ok(c) => {
+                    cuts += 1;
+                    let sum = total_area(&c);
+                    assert!(
+                        (sum - area).abs() <= 1e-9 * area,
+                        "area {sum} of {area}: {traces:?}"
+                    );
+                    for b in &c.blocks {
+                        assert!(polygon::validate(b).is_ok(), "{b:?} from {traces:?}");
+                    }
+                }
+                Err(CutError::Pinched { .. }) => pinched += 1,
+                Err(e) => panic!("{e} from {traces:?}"),
+            }
+        }
+        println!("{cuts} cut, {pinched} with a block touching itself");
+        assert!(cuts > 250, "{cuts} cut, {pinched} pinched");
+    }
+
     /// A loop of traces joined to the boundary by a single trace is not a
     /// block boundary there: only the loop's inside splits off if it closes.
     #[test]

@@ -545,6 +545,65 @@ mod tests {
         assert!((volume_of(&c) - 32.0).abs() <= 1e-9 * 32.0);
     }
 
+    /// Planes through points of a coarse grid with grid-like normals: many
+    /// pass through corners and edges, lie along faces or repeat. The
+    /// blocks fill the box and are valid polyhedra facing outward.
+    #[test]
+    fn planes_on_a_grid_keep_the_volume() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let region = Convex::cuboid(Point3::origin(), Point3::new(3.0, 2.0, 2.0)).unwrap();
+        for _ in 0..100 {
+            let mut pick = |n: f64| (next() * n).floor();
+            let planes: Vec<JointPlane> = (0..6)
+                .map(|k| {
+                    let normal = [pick(3.0) - 1.0, pick(3.0) - 1.0, pick(2.0) + 0.0];
+                    let normal = if normal == [0.0; 3] {
+                        [0.0, 0.0, 1.0]
+                    } else {
+                        normal
+                    };
+                    let at = [pick(4.0), pick(3.0), pick(3.0)];
+                    let offset = (0..3).map(|i| normal[i] * at[i]).sum();
+                    plane(normal, offset, k % 2, k)
+                })
+                .collect();
+            let c = cut(&region, &planes, 0.0).unwrap();
+            let mut total = 0.0;
+            for (v, f) in &c.blocks {
+                let shape =
+                    polyhedron::validate(v, f).unwrap_or_else(|e| panic!("{e}: {planes:?}"));
+                let signed: f64 = f
+                    .iter()
+                    .map(|face| {
+                        (1..face.len() - 1)
+                            .map(|k| {
+                                v[face[0]]
+                                    .coords
+                                    .dot(&v[face[k]].coords.cross(&v[face[k + 1]].coords))
+                            })
+                            .sum::<f64>()
+                    })
+                    .sum::<f64>()
+                    / 6.0;
+                assert!(
+                    (signed - shape.volume()).abs() < 1e-9,
+                    "inside out: {planes:?}"
+                );
+                total += shape.volume();
+            }
+            assert!(
+                (total - 12.0).abs() <= 1e-9 * 12.0,
+                "volume {total}: {planes:?}"
+            );
+        }
+    }
+
     #[test]
     fn bad_planes_and_regions_are_errors() {
         let region = Convex::cuboid(Point3::origin(), Point3::new(1.0, 1.0, 1.0)).unwrap();
