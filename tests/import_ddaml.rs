@@ -316,3 +316,61 @@ fn bad_files_are_errors_naming_the_line() {
         "{e}"
     );
 }
+
+/// Hole points take out the block they lie in; load points carry the
+/// analysis's force histories, in order, on the blocks they lie in.
+#[test]
+fn hole_and_load_points() {
+    let left = rectangle(Point2::new(0.5, 0.5), 1.0, 1.0, 0.0);
+    let right = rectangle(Point2::new(1.5, 0.5), 1.0, 1.0, 0.0);
+    let top = rectangle(Point2::new(1.0, 1.5), 2.0, 1.0, 0.0);
+    let mut joints = outline(&left, 1);
+    joints.extend(outline(&right, 1));
+    joints.extend(outline(&top, 1));
+    let geo = geometry(&joints, &[[0.5, 0.5]], &[])
+        .replace(
+            "</Berkeley:Geometry>",
+            "   <Loadpointlist>\n      <Point> 1.2 1.8 </Point>\n   </Loadpointlist>\n   \
+             <Holepointlist>\n      <Point> 1.5 0.5 </Point>\n   </Holepointlist>\n</Berkeley:Geometry>",
+        );
+    let ana = analysis(10, 0.001, 2700.0, 1e10, &[30.0]).replace(
+        "</Analysis>",
+        "  <Loadpointlist>\n\t<Loadpoint numpoints = \"2\">\n\t0 5000 500;\n          5 5000 -500;\n\t</Loadpoint>\n  </Loadpointlist>\n</Analysis>",
+    );
+    let (dir, imported) = import("holes", &geo, &ana);
+    let blocks = imported.scene.expanded_blocks();
+    assert_eq!(blocks.len(), 2, "the right square is a hole");
+    let holding = |x: f64, y: f64| {
+        blocks
+            .iter()
+            .position(|b| {
+                dda_2d::polygon::contains(
+                    &b.vertices
+                        .iter()
+                        .map(|q| Point2::new(q[0], q[1]))
+                        .collect::<Vec<_>>(),
+                    &Point2::new(x, y),
+                )
+            })
+            .unwrap()
+    };
+    assert_eq!(imported.scene.fixed_points[0].block, holding(0.5, 0.5));
+    match &imported.scene.loads[..] {
+        [dda::scene::Load::PointLoad {
+            block,
+            point,
+            history: Some(history),
+            ..
+        }] => {
+            assert_eq!(*block, holding(1.2, 1.8));
+            assert_eq!(point.as_slice(), [1.2, 1.8]);
+            let samples: Vec<&[f64]> = history.iter().map(|s| s.as_slice()).collect();
+            assert_eq!(
+                samples,
+                [&[0.0, 5000.0, 500.0][..], &[5.0, 5000.0, -500.0][..]]
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -371,3 +371,18 @@ fn jointed_slope_3d_slides_on_weak_bedding_and_holds_on_strong() {
         }
     }
 }
+
+/// `dda extrude` writes a jointed domain block by block, and keeps the
+/// laws its sets gave the block pairs.
+#[test]
+fn extruding_a_jointed_domain_keeps_the_sets_laws() {
+    let flat = Scene::load(common::example("jointed_slope_2d.ron")).unwrap();
+    let solid = dda::extrude::extrude(&flat, 1.0).unwrap();
+    let solid = Scene::from_str(&solid.to_ron(), "extruded.ron").unwrap();
+    let (a, b) = (flat.law_table(), solid.law_table());
+    assert_eq!(a.laws.len(), b.laws.len());
+    assert_eq!(a.pairs.len(), b.pairs.len());
+    for (pair, law) in &a.pairs {
+        assert_eq!(a.laws[*law], b.laws[b.pairs[pair]]);
+    }
+}
