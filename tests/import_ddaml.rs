@@ -374,3 +374,42 @@ fn hole_and_load_points() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// `dda import GEO ANA -o SCENE` writes a scene `dda check` accepts, and
+/// prints the notes on what was not carried over.
+#[test]
+fn the_command_writes_a_scene_that_checks() {
+    let square = outline(&rectangle(Point2::new(0.0, 0.5), 1.0, 1.0, 0.0), 1);
+    let base = outline(&rectangle(Point2::new(0.0, -0.5), 3.0, 1.0, 0.0), 1);
+    let joints: Vec<_> = square.into_iter().chain(base).collect();
+    let geo = geometry(&joints, &[[-1.0, -0.5], [1.0, -0.5]], &[[0.0, 0.5]]);
+    let dir = common::out_dir("import-command");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (g, a, out) = (dir.join("b.geo"), dir.join("b.ana"), dir.join("b.ron"));
+    std::fs::write(&g, geo).unwrap();
+    std::fs::write(&a, analysis(10, 0.001, 2700.0, 1e10, &[30.0])).unwrap();
+    let dda = |args: &[&std::ffi::OsStr]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_dda"))
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let run = dda(&[
+        "import".as_ref(),
+        g.as_os_str(),
+        a.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert!(String::from_utf8_lossy(&run.stdout).contains("(2 blocks)"));
+    assert!(stderr.contains("b.geo:6: <Edgenodedist>"), "{stderr}");
+    let check = dda(&["check".as_ref(), out.as_os_str()]);
+    assert!(
+        check.status.success(),
+        "{}",
+        String::from_utf8_lossy(&check.stderr)
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}

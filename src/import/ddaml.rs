@@ -573,9 +573,20 @@ pub fn import_ddaml(geo: &Path, ana: Option<&Path>) -> Result<Imported, ImportEr
             set: kind - 1,
         });
     }
-    let size = traces.iter().fold(0.0f64, |s, t| {
-        s.max(t.a.coords.norm()).max(t.b.coords.norm())
-    });
+    // The model's size: its bounding box's diagonal, wherever it lies.
+    let corners = traces.iter().flat_map(|t| [t.a, t.b]);
+    let (lo, hi) = corners.fold(
+        (
+            Point2::from([f64::INFINITY; 2]),
+            Point2::from([f64::NEG_INFINITY; 2]),
+        ),
+        |(lo, hi), p| (lo.inf(&p), hi.sup(&p)),
+    );
+    let size = if traces.is_empty() {
+        0.0
+    } else {
+        (hi - lo).norm()
+    };
     let cut = dda_2d::cut::cut_lines(&traces, 1e-9 * size * size)
         .map_err(|e| fail(format!("the joint lines: {e}")))?;
     if cut.dropped > 0 {
