@@ -508,8 +508,8 @@ pub enum BlockSpec {
     },
     /// A 2D region cut into blocks by joint sets (Shi's DC step): blocks
     /// are the closed faces of the joint traces and the region's boundary,
-    /// numbered from the bottom left; traces ending inside a block leave
-    /// it whole.
+    /// numbered in the order the cutter finds them (the same for the same
+    /// scene); traces ending inside a block leave it whole.
     JointedDomain {
         #[serde(default)]
         material: Option<String>,
