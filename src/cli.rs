@@ -138,6 +138,16 @@ enum Command {
         #[arg(long)]
         plane_strain: bool,
     },
+    /// Make a scene from Doolin's DDAML input files: the geometry (.geo: joint lines, fixed, load, measured and hole points) and the analysis (.ana: materials, joint properties, time stepping)
+    Import {
+        /// The geometry file (DDAML .geo)
+        geo: PathBuf,
+        /// The analysis file (DDAML .ana)
+        ana: Option<PathBuf>,
+        /// The scene file to write
+        #[arg(long, short, value_name = "FILE")]
+        out: PathBuf,
+    },
 }
 
 /// The `dda` command on this process's arguments, with `Custom` joint laws
@@ -385,6 +395,19 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             std::fs::write(&out, header + &solid.to_ron() + "\n")
                 .with_context(|| format!("cannot write {}", out.display()))?;
             println!("wrote {}", out.display());
+        }
+        Command::Import { geo, ana, out } => {
+            let imported = crate::import::import_ddaml(&geo, ana.as_deref())?;
+            for note in &imported.notes {
+                eprintln!("note: {note}");
+            }
+            std::fs::write(&out, &imported.text)
+                .with_context(|| format!("cannot write {}", out.display()))?;
+            println!(
+                "wrote {} ({} blocks)",
+                out.display(),
+                imported.scene.block_count()
+            );
         }
     }
     Ok(())

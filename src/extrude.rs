@@ -113,6 +113,30 @@ pub fn extrude_with(scene: &Scene, how: &Extrusion) -> Result<Scene, ExtrudeErro
         })
         .collect();
 
+    // The laws a jointed domain's sets give its block pairs, listed as
+    // block pairs now that the domain is written block by block.
+    let table = scene.law_table();
+    let listed: std::collections::HashSet<(usize, usize)> = scene
+        .joints
+        .iter()
+        .flat_map(|j| j.blocks.iter().flatten())
+        .map(|&[a, b]| (a.min(b), a.max(b)))
+        .collect();
+    let mut by_law: std::collections::BTreeMap<usize, Vec<[usize; 2]>> = Default::default();
+    for (&(a, b), &law) in &table.pairs {
+        if !listed.contains(&(a, b)) {
+            by_law.entry(law).or_default().push([a, b]);
+        }
+    }
+    for (law, mut pairs) in by_law {
+        pairs.sort_unstable();
+        out.joints.push(crate::scene::Joint {
+            between: None,
+            blocks: Some(pairs),
+            law: table.laws[law].clone(),
+        });
+    }
+
     let point = |c: &Coords| Coords(vec![c.get(0), 0.0, c.get(1)]);
     out.loads = scene
         .loads

@@ -47,6 +47,7 @@ pub mod cli;
 pub mod extrude;
 pub mod features;
 pub mod guard;
+pub mod import;
 pub mod observe;
 pub mod output;
 pub mod pictures;

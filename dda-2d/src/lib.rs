@@ -7,6 +7,7 @@
 pub mod block;
 pub mod broad_phase;
 pub mod contact;
+pub mod cut;
 pub mod kinematics;
 pub mod material;
 pub mod polygon;

@@ -13,6 +13,7 @@
 pub mod block;
 pub mod broad_phase;
 pub mod contact;
+pub mod cut;
 pub mod face;
 pub mod kinematics;
 pub mod material;

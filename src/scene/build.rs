@@ -408,9 +408,49 @@ impl Scene {
         if *law == self.default_joint {
             return root.field("default_joint");
         }
-        match self.joints.iter().position(|j| j.law == *law) {
-            Some(k) => root.field("joints").index(k).field("law"),
-            None => root.field("default_joint"),
+        if let Some(k) = self.joints.iter().position(|j| j.law == *law) {
+            return root.field("joints").index(k).field("law");
+        }
+        for (k, spec) in self.blocks.iter().enumerate() {
+            if let Some(s) = spec
+                .joint_sets()
+                .iter()
+                .position(|s| s.law.as_ref() == Some(law))
+            {
+                return root
+                    .field("blocks")
+                    .index(k)
+                    .field("sets")
+                    .index(s)
+                    .field("law");
+            }
+        }
+        root.field("default_joint")
+    }
+
+    /// How many blocks an entry makes and, for a jointed domain, which set
+    /// separates each pair of them (indices within the entry).
+    fn generated_joints(&self, spec: &super::BlockSpec) -> (usize, Vec<(usize, usize, usize)>) {
+        use super::BlockSpec;
+        match spec {
+            BlockSpec::JointedDomain {
+                region,
+                sets,
+                min_block_area,
+                fixed_below,
+                ..
+            } => super::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
+                .map_or((0, Vec::new()), |j| (j.pieces.len(), j.joints)),
+            BlockSpec::JointedDomain3D {
+                region,
+                sets,
+                min_block_volume,
+                fixed_below,
+                ..
+            } => super::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
+                .map_or((0, Vec::new()), |j| (j.pieces.len(), j.joints)),
+            _ if self.dimension == 3 => (spec.expand_3d(0).len(), Vec::new()),
+            _ => (spec.expand(0).len(), Vec::new()),
         }
     }
 
@@ -421,6 +461,25 @@ impl Scene {
         let mut laws = vec![self.default_joint.clone()];
         let mut materials = vec![vec![0; n]; n];
         let mut pairs = HashMap::new();
+        // Joints made by a jointed domain's sets first; the scene's own
+        // block pairs override them.
+        let mut offset = 0;
+        for spec in &self.blocks {
+            let (count, joints) = self.generated_joints(spec);
+            for (a, b, set) in joints {
+                if let Some(law) = spec.joint_sets().get(set).and_then(|s| s.law.as_ref()) {
+                    let index = match laws.iter().position(|l| l == law) {
+                        Some(i) => i,
+                        None => {
+                            laws.push(law.clone());
+                            laws.len() - 1
+                        }
+                    };
+                    pairs.insert((offset + a, offset + b), index);
+                }
+            }
+            offset += count;
+        }
         for joint in &self.joints {
             let index = match laws.iter().position(|l| *l == joint.law) {
                 Some(i) => i,

@@ -14,6 +14,7 @@
 mod build;
 mod error;
 mod generate;
+mod jointed;
 mod locate;
 mod motion;
 mod validate;
@@ -28,6 +29,7 @@ pub use dda_core::{BlockKind, Quantity};
 
 pub use build::{AnyModel, LawTable, Model, Model3};
 pub use error::{Location, SceneError};
+pub use jointed::{JointSet, Placement, Region3};
 
 /// One experiment. Field order and names are the file format.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -515,6 +517,62 @@ pub enum BlockSpec {
         #[serde(default)]
         stress: [f64; 3],
     },
+    /// A 2D region cut into blocks by joint sets (Shi's DC step): blocks
+    /// are the closed faces of the joint traces and the region's boundary,
+    /// numbered in the order the cutter finds them (the same for the same
+    /// scene); traces ending inside a block leave it whole.
+    JointedDomain {
+        #[serde(default)]
+        material: Option<String>,
+        /// `Rigid` or `Deformable`; the material's kind when left out.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        kind: Option<BlockKind>,
+        /// The region's corners (a simple polygon, either order), m.
+        region: Vec<[f64; 2]>,
+        /// The joint sets; none leaves the region one block.
+        #[serde(default)]
+        sets: Vec<JointSet>,
+        /// Blocks smaller than this are left out, m²; default 1e-3 × the
+        /// smallest spacing².
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        min_block_area: Option<f64>,
+        /// Blocks with every corner at or below this height are fixed, m;
+        /// default none.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        fixed_below: Option<f64>,
+        #[serde(default)]
+        fixed: bool,
+        #[serde(default)]
+        velocity: [f64; 3],
+        #[serde(default)]
+        stress: [f64; 3],
+    },
+    /// A convex 3D region cut into convex blocks by persistent joint sets.
+    JointedDomain3D {
+        #[serde(default)]
+        material: Option<String>,
+        /// `Rigid` or `Deformable`; the material's kind when left out.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        kind: Option<BlockKind>,
+        /// `Box(min: (x, y, z), max: (x, y, z))` or `Hull([corners])`, m.
+        region: Region3,
+        #[serde(default)]
+        sets: Vec<JointSet>,
+        /// Blocks smaller than this are left out, m³; default 1e-3 × the
+        /// smallest spacing³.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        min_block_volume: Option<f64>,
+        /// Blocks with every corner at or below this z are fixed, m;
+        /// default none.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        fixed_below: Option<f64>,
+        #[serde(default)]
+        fixed: bool,
+        #[serde(default)]
+        velocity: [f64; 6],
+        #[serde(default)]
+        stress: [f64; 6],
+    },
 }
 
 fn is_false(b: &bool) -> bool {
@@ -588,10 +646,12 @@ macro_rules! common {
             | BlockSpec::Rectangle { $field, .. }
             | BlockSpec::Arch { $field, .. }
             | BlockSpec::Column { $field, .. }
-            | BlockSpec::Wall { $field, .. } => $value,
+            | BlockSpec::Wall { $field, .. }
+            | BlockSpec::JointedDomain { $field, .. } => $value,
             BlockSpec::Polyhedron { $field, .. }
             | BlockSpec::Box { $field, .. }
-            | BlockSpec::Prism { $field, .. } => $value,
+            | BlockSpec::Prism { $field, .. }
+            | BlockSpec::JointedDomain3D { $field, .. } => $value,
         }
     };
 }
@@ -620,6 +680,14 @@ impl BlockSpec {
         common!(self, stress => stress)
     }
 
+    /// A jointed domain's joint sets; none for other entries.
+    pub fn joint_sets(&self) -> &[JointSet] {
+        match self {
+            BlockSpec::JointedDomain { sets, .. } | BlockSpec::JointedDomain3D { sets, .. } => sets,
+            _ => &[],
+        }
+    }
+
     /// The entry's name in the file, like "Rectangle".
     pub fn kind(&self) -> &'static str {
         match self {
@@ -631,13 +699,18 @@ impl BlockSpec {
             BlockSpec::Polyhedron { .. } => "Polyhedron",
             BlockSpec::Box { .. } => "Box",
             BlockSpec::Prism { .. } => "Prism",
+            BlockSpec::JointedDomain { .. } => "JointedDomain",
+            BlockSpec::JointedDomain3D { .. } => "JointedDomain3D",
         }
     }
 
     /// The dimension of scene the entry belongs in: 2 or 3.
     pub fn dimension(&self) -> u32 {
         match self {
-            BlockSpec::Polyhedron { .. } | BlockSpec::Box { .. } | BlockSpec::Prism { .. } => 3,
+            BlockSpec::Polyhedron { .. }
+            | BlockSpec::Box { .. }
+            | BlockSpec::Prism { .. }
+            | BlockSpec::JointedDomain3D { .. } => 3,
             _ => 2,
         }
     }
@@ -646,7 +719,11 @@ impl BlockSpec {
     pub fn is_generator(&self) -> bool {
         matches!(
             self,
-            BlockSpec::Arch { .. } | BlockSpec::Column { .. } | BlockSpec::Wall { .. }
+            BlockSpec::Arch { .. }
+                | BlockSpec::Column { .. }
+                | BlockSpec::Wall { .. }
+                | BlockSpec::JointedDomain { .. }
+                | BlockSpec::JointedDomain3D { .. }
         )
     }
 
@@ -729,9 +806,19 @@ impl BlockSpec {
                 *brick_height,
                 *bond,
             ),
-            BlockSpec::Polyhedron { .. } | BlockSpec::Box { .. } | BlockSpec::Prism { .. } => {
-                return Vec::new()
-            }
+            BlockSpec::JointedDomain {
+                region,
+                sets,
+                min_block_area,
+                fixed_below,
+                ..
+            } => jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
+                .map(|j| j.pieces)
+                .unwrap_or_default(),
+            BlockSpec::Polyhedron { .. }
+            | BlockSpec::Box { .. }
+            | BlockSpec::Prism { .. }
+            | BlockSpec::JointedDomain3D { .. } => return Vec::new(),
         };
         pieces
             .into_iter()
@@ -792,6 +879,31 @@ impl BlockSpec {
                 Some((v, f)) => block(v, f, *velocity, *stress),
                 None => Vec::new(),
             },
+            BlockSpec::JointedDomain3D {
+                region,
+                sets,
+                min_block_volume,
+                fixed_below,
+                velocity,
+                stress,
+                ..
+            } => jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
+                .map(|j| {
+                    j.pieces
+                        .into_iter()
+                        .enumerate()
+                        .map(|(k, p)| SceneBlock3 {
+                            entry,
+                            part: Some(format!("block {k}")),
+                            vertices: p.vertices,
+                            faces: p.faces,
+                            fixed: self.fixed() || p.fixed,
+                            velocity: if p.fixed { [0.0; 6] } else { *velocity },
+                            stress: *stress,
+                        })
+                        .collect()
+                })
+                .unwrap_or_default(),
             _ => Vec::new(),
         }
     }

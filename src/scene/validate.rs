@@ -13,8 +13,8 @@ use super::generate::{self, MAX_PARTS};
 use super::locate::{locate_exact, Seg};
 use super::motion::{read_record, Layout};
 use super::{
-    BlockSpec, Coords, GroundMotionSpec, JointLaw, Load, MotionSpec, Scene, SceneBlock,
-    SceneBlock3, SceneError,
+    BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Region3, Scene,
+    SceneBlock, SceneBlock3, SceneError,
 };
 
 /// A path into the scene, like `blocks[2].vertices[1]`.
@@ -698,6 +698,39 @@ impl Scene {
                     ));
                 }
             }
+            BlockSpec::JointedDomain3D {
+                region,
+                sets,
+                min_block_volume,
+                fixed_below,
+                ..
+            } => {
+                let corners: Vec<[f64; 3]> = match region {
+                    Region3::Box { min, max } => vec![*min, *max],
+                    Region3::Hull(c) => c.clone(),
+                };
+                for (i, v) in corners.iter().enumerate() {
+                    self.finite_all(
+                        &at.field("region").index(i),
+                        &format!("region corner {i}"),
+                        v,
+                    )?;
+                }
+                self.check_sets(at, sets, 3)?;
+                if let Some(v) = min_block_volume {
+                    self.non_negative(
+                        &at.field("min_block_volume"),
+                        "min_block_volume",
+                        *v,
+                        "give a volume in m³, 0 to keep every block",
+                    )?;
+                }
+                if let Some(z) = fixed_below {
+                    self.finite(&at.field("fixed_below"), "fixed_below", *z)?;
+                }
+                super::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
+                    .map_err(|e| self.cut_failure(at, e))?;
+            }
             _ => {}
         }
         self.finite_all(
@@ -706,6 +739,97 @@ impl Scene {
             block.velocity(),
         )?;
         self.finite_all(&at.field("stress"), "the initial stress", block.stress())
+    }
+
+    /// A jointed domain that cannot be cut, at the field to change.
+    fn cut_failure(&self, at: &Place, e: super::jointed::Failure) -> SceneError {
+        let place = match e.set {
+            Some(k) => at.field("sets").index(k).field(e.field),
+            None => at.field(e.field),
+        };
+        self.error(&place, e.message)
+    }
+
+    /// A jointed domain's joint sets, in `dimension` 2 or 3.
+    fn check_sets(&self, at: &Place, sets: &[JointSet], dimension: u32) -> Result {
+        for (k, set) in sets.iter().enumerate() {
+            let at = at.field("sets").index(k);
+            self.finite(&at.field("dip"), "the dip", set.dip)?;
+            let (lo, hi) = if dimension == 3 {
+                (0.0, 90.0)
+            } else {
+                (-90.0, 90.0)
+            };
+            if set.dip < lo || set.dip > hi || (dimension == 2 && set.dip == -90.0) {
+                let range = if dimension == 3 {
+                    "[0, 90]"
+                } else {
+                    "(-90, 90]"
+                };
+                return Err(self.error(
+                    &at.field("dip"),
+                    format!("the dip must lie in {range} degrees, got {}; give the angle below the horizontal", set.dip),
+                ));
+            }
+            self.positive(
+                &at.field("spacing"),
+                "the spacing",
+                set.spacing,
+                "give the distance between joints in m",
+            )?;
+            if !set.origin.is_empty() {
+                self.coords(&at.field("origin"), "the origin", &set.origin, self.axes())?;
+            }
+            if dimension == 3 {
+                self.finite(
+                    &at.field("dip_direction"),
+                    "the dip direction",
+                    set.dip_direction,
+                )?;
+                if set.trace_length.is_some() || set.bridge != 0.0 {
+                    let field = if set.trace_length.is_some() {
+                        "trace_length"
+                    } else {
+                        "bridge"
+                    };
+                    return Err(self.error(
+                        &at.field(field),
+                        "3D joint sets are persistent planes; remove trace_length and bridge",
+                    ));
+                }
+            } else {
+                if set.dip_direction != 0.0 {
+                    return Err(self.error(
+                        &at.field("dip_direction"),
+                        "a 2D joint set has no dip direction: a positive dip dips toward +x, a negative one toward -x; remove dip_direction",
+                    ));
+                }
+                if let Some(length) = set.trace_length {
+                    self.positive(
+                        &at.field("trace_length"),
+                        "the trace length",
+                        length,
+                        "give the length of each trace in m, or leave it out for persistent joints",
+                    )?;
+                }
+                self.non_negative(
+                    &at.field("bridge"),
+                    "the bridge",
+                    set.bridge,
+                    "give the intact length between traces in m",
+                )?;
+                if set.bridge > 0.0 && set.trace_length.is_none() {
+                    return Err(self.error(
+                        &at.field("bridge"),
+                        "a bridge separates traces, but the set has no trace_length (its joints are persistent); add trace_length or remove bridge",
+                    ));
+                }
+            }
+            if let Some(law) = &set.law {
+                self.check_law(&at.field("law"), law)?;
+            }
+        }
+        Ok(())
     }
 
     /// Validates a 3D block's surface; errors name the face or corner.
@@ -828,7 +952,41 @@ impl Scene {
                     ));
                 }
             }
-            BlockSpec::Polyhedron { .. } | BlockSpec::Box { .. } | BlockSpec::Prism { .. } => {}
+            BlockSpec::JointedDomain {
+                region,
+                sets,
+                min_block_area,
+                fixed_below,
+                ..
+            } => {
+                for (i, v) in region.iter().enumerate() {
+                    self.finite_all(
+                        &at.field("region").index(i),
+                        &format!("region corner {i}"),
+                        v,
+                    )?;
+                }
+                polygon::validate(&to_points(region))
+                    .map_err(|e| self.error(&at.field("region"), e.to_string()))?;
+                self.check_sets(&at, sets, 2)?;
+                if let Some(a) = min_block_area {
+                    self.non_negative(
+                        &at.field("min_block_area"),
+                        "min_block_area",
+                        *a,
+                        "give an area in m², 0 to keep every block",
+                    )?;
+                }
+                if let Some(y) = fixed_below {
+                    self.finite(&at.field("fixed_below"), "fixed_below", *y)?;
+                }
+                super::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
+                    .map_err(|e| self.cut_failure(&at, e))?;
+            }
+            BlockSpec::Polyhedron { .. }
+            | BlockSpec::Box { .. }
+            | BlockSpec::Prism { .. }
+            | BlockSpec::JointedDomain3D { .. } => {}
         }
         self.finite_all(
             &at.field("velocity"),
