@@ -161,11 +161,9 @@ fn offsets(
             if (last - first < MAX_JOINTS as f64).not() {
                 return None;
             }
-            let mut k = first;
-            while k <= last {
-                out.push(at + k * s);
-                k += 1.0;
-            }
+            // Counted, not stepped: far from the origin k + 1 rounds to k.
+            let count = (last - first).max(-1.0) as i64 + 1;
+            out.extend((0..count).map(|i| at + (first + i as f64) * s));
         }
         Some(r) => {
             // Memoryless: from the region's edge when `at` lies outside.
