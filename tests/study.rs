@@ -157,3 +157,43 @@ fn a_run_that_fails_is_a_row_not_the_end_of_the_study() {
     assert_eq!(report.rows[1].outcome, Outcome::Converged);
     assert!(report.rows[1].figure.unwrap() > 0.0);
 }
+
+/// Three shards of a grid, merged, give the rows of the whole grid run at
+/// once (all but the wall time, which depends on the machine's load).
+#[test]
+fn three_shards_merge_into_the_rows_of_the_whole_grid() {
+    let path = studies().join("spinning_rotation_update.ron");
+    let base = common::out_dir("study-shards");
+    let whole = study::run(&path, &options(&base.join("whole"))).unwrap();
+    let mut dirs = Vec::new();
+    for i in 0..3 {
+        let dir = base.join(format!("shard{i}"));
+        let o = Options {
+            shard: Some((i, 3)),
+            ..options(&dir)
+        };
+        let part = study::run(&path, &o).unwrap();
+        assert!(part.rows.iter().all(|r| r.index % 3 == i));
+        dirs.push(dir);
+    }
+    let merged = study::merge(&dirs, &base.join("merged")).unwrap();
+    let (_, from_whole) = study::table::read(&base.join("whole").join("study.csv")).unwrap();
+    let (fields, from_merge) = study::table::read(&base.join("merged").join("study.csv")).unwrap();
+    assert_eq!(fields, whole.fields);
+    assert_eq!(from_merge.len(), whole.rows.len());
+    let same = |rows: &[study::Row]| -> Vec<study::Row> {
+        rows.iter().map(study::table::deterministic).collect()
+    };
+    assert_eq!(same(&from_merge), same(&from_whole));
+    assert_charts(&merged, 2);
+    // A shard of a shard's folder twice is refused.
+    let e = study::merge(&[dirs[0].clone(), dirs[0].clone()], &base.join("twice")).unwrap_err();
+    assert!(format!("{e:#}").contains("more than one"), "{e:#}");
+}
+
+#[test]
+fn shards_come_from_the_command_line_or_slurm() {
+    assert_eq!(study::shard(Some("1/3")).unwrap(), Some((1, 3)));
+    assert!(study::shard(Some("3/3")).is_err());
+    assert!(study::shard(Some("x")).is_err());
+}

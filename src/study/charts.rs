@@ -1,7 +1,7 @@
 //! Charts of a study, SVG and PNG, drawn from its rows: error against wall
 //! time with the Pareto front, stability maps, the figure against a swept
-//! field, and a bisection's bracket. Axes spanning more than a factor of
-//! 20 of positive values are logarithmic (drawn as log10, labelled in the
+//! field, and a bisection's bracket. Axes spanning a factor of 4 or more
+//! of positive values are logarithmic (drawn as log10, labelled in the
 //! values themselves).
 
 use std::path::{Path, PathBuf};
@@ -33,7 +33,7 @@ impl Axis {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
                 (a.min(x), b.max(x))
             });
-        let log = !v.is_empty() && lo > 0.0 && hi / lo > 20.0;
+        let log = !v.is_empty() && lo > 0.0 && hi / lo >= 4.0;
         Self { title, log }
     }
 
@@ -120,6 +120,7 @@ where
         |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("cannot draw {}: {e:?}", chart.title);
     root.fill(&WHITE).map_err(fail)?;
     let pts = || chart.series.iter().flat_map(|s| s.points.iter().copied());
+    let legend_rows = chart.series.len() + chart.rules.len();
     let (mut x0, mut x1) = range(pts().map(|p| chart.x.at(p.0)));
     let (mut y0, mut y1) = range(pts().map(|p| chart.y.at(p.1)));
     for (v, on_x, _) in &chart.rules {
@@ -129,8 +130,9 @@ where
             (y0, y1) = (y0.min(chart.y.at(*v)), y1.max(chart.y.at(*v)));
         }
     }
-    let (x0, x1) = pad(x0, x1, 0.06);
-    let (y0, y1) = pad(y0, y1, 0.12);
+    let (x0, x1) = pad(x0, x1, 0.06, 0.06);
+    // Room at the top for the legend, above the marks.
+    let (y0, y1) = pad(y0, y1, 0.08, 0.1 + 0.07 * legend_rows as f64);
     let mut c = ChartBuilder::on(&root)
         .caption(&chart.title, (FAMILY, 22))
         .margin(18)
@@ -232,7 +234,7 @@ fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// A range around [lo, hi] with a margin; a point gets a unit span.
-fn pad(lo: f64, hi: f64, share: f64) -> (f64, f64) {
+fn pad(lo: f64, hi: f64, below: f64, above: f64) -> (f64, f64) {
     if !(lo.is_finite() && hi.is_finite()) {
         return (0.0, 1.0);
     }
@@ -241,7 +243,7 @@ fn pad(lo: f64, hi: f64, share: f64) -> (f64, f64) {
         let half = if lo == 0.0 { 1.0 } else { 0.1 * lo.abs() };
         return (lo - half, hi + half);
     }
-    (lo - share * span, hi + share * span)
+    (lo - below * span, hi + above * span)
 }
 
 fn tick(v: f64) -> String {

@@ -238,20 +238,33 @@ fn spin_series(run: &RunData, block: usize) -> Vec<f64> {
 
 /// The impacts of a rocking block: the peaks of |ω| (it speeds up until a
 /// corner lands, then slows as it climbs), each confirmed once |ω| has
-/// fallen below half of it. The
+/// fallen below half of it, the next sought once it has nearly stopped
+/// and speeds up again. The
 /// first two, as (time, |ω|); with energy kept between impacts, the second impact
 /// carries exactly the speed the first left, so the ratio is the
 /// restitution (Housner's r = 1 − 1.5 sin² α for a rigid block).
 fn impacts(times: &[f64], spin: &[f64]) -> Vec<(f64, f64)> {
     let mut peaks: Vec<(f64, f64)> = Vec::new();
     let mut best = (0.0f64, 0.0f64);
+    // After a peak, |ω| must nearly vanish (the top of the climb) and
+    // grow again before the next peak is sought.
+    let mut climbing = false;
+    let mut low = f64::INFINITY;
     for (k, w) in spin.iter().enumerate() {
         let w = w.abs();
+        if climbing {
+            let p = peaks.last().map_or(0.0, |p| p.1);
+            low = low.min(w);
+            climbing = !(low < 0.1 * p && w > low + 0.05 * p);
+            continue;
+        }
         if w > best.1 {
             best = (times[k], w);
         } else if best.1 > 0.0 && w < 0.5 * best.1 {
             peaks.push(best);
             best = (0.0, 0.0);
+            climbing = true;
+            low = f64::INFINITY;
             if peaks.len() == 2 {
                 break;
             }

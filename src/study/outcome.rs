@@ -8,7 +8,7 @@
 //! * `cut`: steps were cut down to the smallest time step and accepted
 //!   without open-close agreement (`unconverged_steps > 0`);
 //! * with `held: (block, tolerance)` in the study: `held` when the block
-//!   stayed within `tolerance` of its start at every output time, else `slid`;
+//!   ended within `tolerance` of its start, else `slid`;
 //! * otherwise `converged`.
 
 use std::fmt;

@@ -73,6 +73,7 @@ impl Value {
     /// As written in study.csv and folder names.
     pub fn label(&self) -> String {
         match self {
+            Value::Number(x) if *x != 0.0 && !(1e-3..1e5).contains(&x.abs()) => format!("{x:e}"),
             Value::Number(x) => format!("{x}"),
             Value::Text(s) => s.clone(),
         }
@@ -142,8 +143,8 @@ pub enum Reference {
     Finest(String),
 }
 
-/// A run is held when `block` stays within `tolerance` (m) of its start at
-/// every output time; else it slid.
+/// A run is held when `block` ends within `tolerance` (m) of its start;
+/// else it slid.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Held {
