@@ -197,3 +197,147 @@ fn shards_come_from_the_command_line_or_slurm() {
     assert!(study::shard(Some("3/3")).is_err());
     assert!(study::shard(Some("x")).is_err());
 }
+
+#[test]
+fn resting_block_map_holds_above_the_friction_limit_and_slides_below() {
+    let (report, _) = run_shipped("resting_block_friction_dt.ron", |s| {
+        keep(s, "default_joint.friction_angle", &[29.0, 31.0]);
+        keep(s, "analysis.dt", &[0.002, 0.001]);
+    });
+    assert_eq!(report.rows.len(), 4);
+    for row in &report.rows {
+        let phi: f64 = row.values[0].parse().unwrap();
+        if phi < 30.0 {
+            assert_eq!(row.outcome, Outcome::Slid, "{row:?}");
+            // Coulomb's slide in the study's 1 s, within 5 %.
+            let (theta, phi) = (30f64.to_radians(), phi.to_radians());
+            let d = 0.5 * 9.81 * (theta.sin() - theta.cos() * phi.tan());
+            let moved = row.figure.unwrap();
+            assert!(
+                (moved - d).abs() < 0.05 * d,
+                "φ {phi}: {moved} m, Coulomb {d} m"
+            );
+        } else {
+            assert_eq!(row.outcome, Outcome::Held, "{row:?}");
+        }
+    }
+    assert_charts(&report, 2);
+}
+
+#[test]
+fn rocking_column_restitution_is_housners() {
+    let (report, _) = run_shipped("rocking_restitution.ron", |s| {
+        keep(s, "analysis.penalty", &[2e10]);
+        keep(s, "analysis.dt", &[0.001, 0.0005]);
+    });
+    let housner = 1.0 - 1.5 * 0.25f64.atan().sin().powi(2);
+    for row in &report.rows {
+        assert!((row.reference.unwrap() - housner).abs() < 1e-12);
+        // Within 1 % of the rigid block, as tests/impact_convergence_2d.rs
+        // finds for the first rebound with critical contact damping.
+        let e = row.relative_error.unwrap();
+        assert!(
+            e < 0.01,
+            "dt {}: restitution {:?}, Housner {housner}",
+            row.values[1],
+            row.figure
+        );
+    }
+    assert_charts(&report, 2);
+}
+
+#[test]
+fn heyman_arch_least_thickness_by_bisection() {
+    let (report, out) = run_shipped("arch_heyman_thickness.ron", |_| {});
+    let (lo, hi) = report.bracket.unwrap();
+    assert!(hi - lo <= 0.005 + 1e-12, "bracket [{lo}, {hi}]");
+    // The examples stand at 1.05 × Heyman's t/R and collapse at 0.95 ×: the
+    // flip lies between (R = 10 m).
+    let heyman = 0.1074 * 10.0;
+    assert!(
+        lo >= 0.95 * heyman && hi <= 1.05 * heyman,
+        "bracket [{lo}, {hi}] m, Heyman {heyman} m"
+    );
+    let below = report
+        .rows
+        .iter()
+        .filter(|r| r.values[0].parse::<f64>().unwrap() <= lo);
+    assert!(below.clone().all(|r| r.outcome == Outcome::Slid));
+    let above = report
+        .rows
+        .iter()
+        .filter(|r| r.values[0].parse::<f64>().unwrap() >= hi);
+    assert!(above.clone().all(|r| r.outcome == Outcome::Held));
+    let search: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("search.json")).unwrap()).unwrap();
+    assert!(
+        (search["low"].as_f64().unwrap() - lo).abs() < 1e-12,
+        "{search}"
+    );
+    println!(
+        "critical thickness in [{lo}, {hi}] m: t/R = {:.4} ± {:.4}",
+        (lo + hi) / 20.0,
+        (hi - lo) / 20.0
+    );
+    assert_charts(&report, 1);
+}
+
+#[test]
+fn spinning_block_keeps_its_area_only_with_the_exact_update() {
+    let (report, _) = run_shipped("spinning_rotation_update.ron", |_| {});
+    for row in &report.rows {
+        let drift = row.figure.unwrap();
+        let dt: f64 = row.values[1].parse().unwrap();
+        if row.values[0] == "Exact" {
+            assert!(drift.abs() < 1e-9, "exact update, dt {dt}: drift {drift}");
+        } else if dt <= 0.01 {
+            // (1 + (ω·Δt)²) per step over one revolution (ω = 1 rad/s), within 2 %.
+            let expected = (1.0 + dt * dt).powf(std::f64::consts::TAU / dt) - 1.0;
+            assert!(
+                (drift - expected).abs() < 0.02 * expected,
+                "linear, dt {dt}: {drift}, expected {expected}"
+            );
+        } else {
+            assert!(drift > 0.1, "linear, dt {dt}: {drift}");
+        }
+    }
+    assert_charts(&report, 2);
+}
+
+/// The same figure in 2D and for the extruded prisms.
+fn two_and_three(name: &str) -> (study::Row, study::Row) {
+    let (report, _) = run_shipped(name, |_| {});
+    assert_eq!(report.rows.len(), 2);
+    assert_charts(&report, 1);
+    assert!(report.rows[1].run.contains("dimension=3"));
+    (report.rows[0].clone(), report.rows[1].clone())
+}
+
+#[test]
+fn two_d_against_three_d_sliding_and_resting_blocks() {
+    let (flat, solid) = two_and_three("sliding_block_2d_3d.ron");
+    for r in [&flat, &solid] {
+        assert!(r.relative_error.unwrap() < 0.01, "{r:?}");
+    }
+    let (a, b) = (flat.figure.unwrap(), solid.figure.unwrap());
+    assert!((a - b).abs() < 0.01 * a, "2D {a} m, 3D {b} m");
+    let (flat, solid) = two_and_three("resting_block_2d_3d.ron");
+    assert_eq!(
+        (flat.outcome, solid.outcome),
+        (Outcome::Held, Outcome::Held)
+    );
+}
+
+#[test]
+fn two_d_against_three_d_column_and_arch() {
+    let (flat, solid) = two_and_three("rocking_column_2d_3d.ron");
+    for r in [&flat, &solid] {
+        // The rigid block's first impact within 3 % (tests/housner_rocking_2d.rs).
+        assert!(r.relative_error.unwrap() < 0.03, "{r:?}");
+    }
+    let (flat, solid) = two_and_three("arch_2d_3d.ron");
+    assert_eq!(
+        (flat.outcome, solid.outcome),
+        (Outcome::Held, Outcome::Held)
+    );
+}

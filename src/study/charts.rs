@@ -23,6 +23,8 @@ const SIZE: (u32, u32) = (900, 600);
 struct Axis {
     title: String,
     log: bool,
+    /// Names of the whole-number positions, for categories.
+    names: Option<Vec<String>>,
 }
 
 impl Axis {
@@ -34,7 +36,19 @@ impl Axis {
                 (a.min(x), b.max(x))
             });
         let log = !v.is_empty() && lo > 0.0 && hi / lo >= 4.0;
-        Self { title, log }
+        Self {
+            title,
+            log,
+            names: None,
+        }
+    }
+
+    fn linear(title: String) -> Self {
+        Self {
+            title,
+            log: false,
+            names: None,
+        }
     }
 
     fn at(&self, v: f64) -> f64 {
@@ -47,8 +61,27 @@ impl Axis {
 
     /// A tick label with enough digits to tell ticks `span` apart.
     fn label(&self, v: f64, span: f64) -> String {
+        if let Some(names) = &self.names {
+            let k = v.round();
+            return match names.get(k as usize) {
+                Some(n) if (v - k).abs() < 1e-6 && k >= 0.0 => n.clone(),
+                _ => String::new(),
+            };
+        }
         if self.log {
             let x = 10f64.powf(v);
+            // Only round values are labelled (ticks fall evenly in log10).
+            let e = x.log10().floor();
+            let m = x / 10f64.powf(e);
+            let round = [1.0, 2.0, 2.5, 5.0, 10.0]
+                .into_iter()
+                .find(|r| (m / r - 1.0).abs() < 0.03);
+            if let Some(r) = round.filter(|_| span >= 0.3) {
+                return tick(r * 10f64.powf(e));
+            }
+            if span >= 0.3 {
+                return String::new();
+            }
             let digits = if span < 1.0 { 2 } else { 1 };
             let s = format!("{x:.digits$e}");
             match s.split_once('e') {
@@ -91,6 +124,8 @@ enum Mark {
     Square,
     /// A hollow ring around other marks.
     Ring,
+    /// A bar from zero, 0.6 wide in x.
+    Bar,
 }
 
 struct Chart {
@@ -100,6 +135,8 @@ struct Chart {
     series: Vec<Series>,
     /// Vertical or horizontal reference lines: (value, on x?, label).
     rules: Vec<(f64, bool, String)>,
+    /// The x range, when not from the marks.
+    x_span: Option<(f64, f64)>,
 }
 
 /// Draws `chart` as `stem.svg` and `stem.png` in `dir`.
@@ -119,7 +156,13 @@ where
     let fail =
         |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("cannot draw {}: {e:?}", chart.title);
     root.fill(&WHITE).map_err(fail)?;
-    let pts = || chart.series.iter().flat_map(|s| s.points.iter().copied());
+    // Bars stand on zero.
+    let pts = || {
+        chart.series.iter().flat_map(|s| {
+            let base = (s.mark == Mark::Bar).then_some(s.points.iter().map(|p| (p.0, 0.0)));
+            s.points.iter().copied().chain(base.into_iter().flatten())
+        })
+    };
     let legend_rows = chart.series.len() + chart.rules.len();
     let (mut x0, mut x1) = range(pts().map(|p| chart.x.at(p.0)));
     let (mut y0, mut y1) = range(pts().map(|p| chart.y.at(p.1)));
@@ -130,7 +173,7 @@ where
             (y0, y1) = (y0.min(chart.y.at(*v)), y1.max(chart.y.at(*v)));
         }
     }
-    let (x0, x1) = pad(x0, x1, 0.06, 0.06);
+    let (x0, x1) = chart.x_span.unwrap_or_else(|| pad(x0, x1, 0.06, 0.06));
     // Room at the top for the legend, above the marks.
     let (y0, y1) = pad(y0, y1, 0.08, 0.1 + 0.07 * legend_rows as f64);
     let mut c = ChartBuilder::on(&root)
@@ -188,6 +231,17 @@ where
         }
         let name = s.name.as_str();
         match s.mark {
+            Mark::Bar => {
+                let bars = at
+                    .iter()
+                    .map(|&(x, y)| Rectangle::new([(x - 0.3, 0.0), (x + 0.3, y)], colour.filled()));
+                c.draw_series(bars)
+                    .map_err(fail)?
+                    .label(name)
+                    .legend(move |(x, y)| {
+                        Rectangle::new([(x, y - 6), (x + 12, y + 6)], colour.filled())
+                    });
+            }
             Mark::Square => {
                 let marks = at.iter().map(|&p| {
                     EmptyElement::at(p) + Rectangle::new([(-9, -9), (9, 9)], colour.filled())
@@ -208,10 +262,12 @@ where
                 let marks = at
                     .iter()
                     .map(move |&p| EmptyElement::at(p) + Circle::new((0, 0), radius, style));
-                c.draw_series(marks)
-                    .map_err(fail)?
-                    .label(name)
-                    .legend(move |(x, y)| Circle::new((x + 6, y), radius.min(6), style));
+                let drawn = c.draw_series(marks).map_err(fail)?;
+                if !name.is_empty() {
+                    drawn
+                        .label(name)
+                        .legend(move |(x, y)| Circle::new((x + 6, y), radius.min(6), style));
+                }
             }
         }
     }
@@ -348,6 +404,7 @@ pub fn error_vs_time(
         ),
         series: out,
         rules: vec![],
+        x_span: None,
     };
     save(&chart, dir, stem)
 }
@@ -423,6 +480,7 @@ pub fn stability_map(
         y: Axis::new(y.into(), rows.iter().map(&fy)),
         series,
         rules,
+        x_span: None,
     };
     save(&chart, dir, stem)
 }
@@ -488,12 +546,10 @@ pub fn figure_against(
     let chart = Chart {
         title: title.into(),
         x: Axis::new(x.into(), xs.into_iter()),
-        y: Axis {
-            title: figure.into(),
-            log: false,
-        },
+        y: Axis::linear(figure.into()),
         series: out,
         rules,
+        x_span: None,
     };
     save(&chart, dir, stem)
 }
@@ -560,16 +616,11 @@ pub fn bracket(
         .unwrap_or_default();
     let chart = Chart {
         title: title.into(),
-        x: Axis {
-            title: "run".into(),
-            log: false,
-        },
-        y: Axis {
-            title: field.into(),
-            log: false,
-        },
+        x: Axis::linear("run".into()),
+        y: Axis::linear(field.into()),
         series,
         rules,
+        x_span: None,
     };
     save(&chart, dir, stem)
 }
@@ -577,4 +628,59 @@ pub fn bracket(
 /// A field's last segment, for legends.
 fn short(path: &str) -> &str {
     path.rsplit('.').next().unwrap_or(path)
+}
+
+/// The figure of each value of `by` side by side as bars (the first run of
+/// each value), the wall time in the legend, the reference as a line.
+pub fn bars(
+    title: &str,
+    figure: &str,
+    fields: &[String],
+    rows: &[Row],
+    by: &str,
+    dir: &Path,
+    stem: &str,
+) -> anyhow::Result<Vec<PathBuf>> {
+    let mut series = Vec::new();
+    let mut names = Vec::new();
+    for (i, (name, g)) in groups(fields, rows, Some(by))?.into_iter().enumerate() {
+        let r = g[0];
+        let (cr, cg, cb) = palette(i);
+        let value = r.figure.map_or("failed".into(), |f| {
+            if (1e-3..1e5).contains(&f.abs()) {
+                format!("{f:.4}")
+            } else {
+                format!("{f:.3e}")
+            }
+        });
+        series.push(Series {
+            name: format!("{} = {name}: {value}, {:.2} s", short(by), r.wall_time),
+            colour: RGBColor(cr, cg, cb),
+            points: r.figure.map(|f| (i as f64, f)).into_iter().collect(),
+            line: false,
+            mark: Mark::Bar,
+            dashed: false,
+        });
+        names.push(format!("{} = {name}", short(by)));
+    }
+    let rules = rows
+        .iter()
+        .find_map(|r| r.reference)
+        .map(|v| vec![(v, false, format!("reference {}", tick(v)))])
+        .unwrap_or_default();
+    let n = names.len();
+    let chart = Chart {
+        title: title.into(),
+        x: Axis {
+            names: Some(names),
+            ..Axis::linear(String::new())
+        },
+        y: Axis::linear(figure.into()),
+        series,
+        rules,
+        x_span: None,
+    };
+    let mut chart = chart;
+    chart.x_span = Some((-0.6, n as f64 - 0.4));
+    save(&chart, dir, stem)
 }

@@ -480,6 +480,15 @@ fn draw_charts(
                 &dir,
                 &format!("{k}_stability_map"),
             )?,
+            spec::Chart::Bars { by } => charts::bars(
+                title,
+                &study.figure.label(),
+                fields,
+                rows,
+                by,
+                &dir,
+                &format!("{k}_bars"),
+            )?,
             spec::Chart::FigureAgainst { x, series } => charts::figure_against(
                 title,
                 &study.figure.label(),

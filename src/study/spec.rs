@@ -168,6 +168,9 @@ pub enum Chart {
         #[serde(default)]
         boundary: Option<Boundary>,
     },
+    /// The figure of each value of a swept field side by side as bars,
+    /// with each run's wall time (2D against 3D: `by: "dimension"`).
+    Bars { by: String },
     /// The figure (and reference) against a swept field, one series per
     /// value of `series`.
     FigureAgainst {
@@ -282,6 +285,7 @@ impl Study {
                         name_check("a chart's x", x)?;
                     }
                 }
+                Chart::Bars { by } => name_check("a bar chart's `by`", by)?,
                 Chart::StabilityMap { x, y, .. } => {
                     name_check("a stability map's x", x)?;
                     name_check("a stability map's y", y)?;
