@@ -341,3 +341,57 @@ fn two_d_against_three_d_column_and_arch() {
         (Outcome::Held, Outcome::Held)
     );
 }
+
+/// The sbatch example of docs/studies.md: array tasks take their shard from
+/// SLURM's variables, and `--merge` gathers them.
+#[test]
+fn slurm_array_tasks_and_merge_through_the_command() {
+    let study = studies().join("spinning_rotation_update.ron");
+    let base = common::out_dir("study-slurm");
+    let dda = env!("CARGO_BIN_EXE_dda");
+    let mut shards = Vec::new();
+    for id in 1..=2 {
+        let dir = base.join(format!("shard-{id}"));
+        let status = std::process::Command::new(dda)
+            .args([
+                "study",
+                study.to_str().unwrap(),
+                "--jobs",
+                "1",
+                "--out",
+                dir.to_str().unwrap(),
+            ])
+            .env("SLURM_ARRAY_TASK_ID", id.to_string())
+            .env("SLURM_ARRAY_TASK_COUNT", "2")
+            .env("SLURM_ARRAY_TASK_MIN", "1")
+            .output()
+            .unwrap();
+        assert!(
+            status.status.success(),
+            "{}",
+            String::from_utf8_lossy(&status.stderr)
+        );
+        let (_, rows) = study::table::read(&dir.join("study.csv")).unwrap();
+        assert_eq!(rows.len(), 4);
+        assert!(rows.iter().all(|r| r.index % 2 == id - 1));
+        shards.push(dir);
+    }
+    let merged = base.join("all");
+    let out = std::process::Command::new(dda)
+        .args(["study", "--merge"])
+        .args(&shards)
+        .args(["--out", merged.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (_, rows) = study::table::read(&merged.join("study.csv")).unwrap();
+    assert_eq!(
+        rows.iter().map(|r| r.index).collect::<Vec<_>>(),
+        (0..8).collect::<Vec<_>>()
+    );
+    assert!(merged.join("charts").join("0_figure.png").is_file());
+}
