@@ -395,3 +395,60 @@ fn slurm_array_tasks_and_merge_through_the_command() {
     );
     assert!(merged.join("charts").join("0_figure.png").is_file());
 }
+
+/// The block kind swept by path (a field the scene does not write), with
+/// the contact force as the figure: the resting block's weight component
+/// normal to the 30° incline, ρ g a² cos 30°, whatever the kind.
+#[test]
+fn block_kind_sweep_and_contact_force() {
+    let dir = common::out_dir("study-kind");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("kind.ron");
+    std::fs::write(
+        &path,
+        format!(
+            "Study(scene: File({:?}), set: {{\"analysis.duration\": 0.5, \"analysis.contact_damping\": 1.0}}, \
+             sweep: [(field: \"materials.rock.kind\", values: [\"Rigid\", \"Deformable\"])], \
+             figure: ContactForce(blocks: (0, 1)), reference: Expression(\"2700 * 9.81 * cos(rad(30))\"), \
+             held: (block: 1, tolerance: 1e-4))",
+            common::example("resting_block_2d.ron").display().to_string()
+        ),
+    )
+    .unwrap();
+    let report = study::run(&path, &options(&dir.join("out"))).unwrap();
+    for row in &report.rows {
+        assert_eq!(row.outcome, Outcome::Held, "{row:?}");
+        // With critical contact damping the springs have settled by 0.5 s.
+        assert!(row.relative_error.unwrap() < 1e-6, "{row:?}");
+        let scene =
+            std::fs::read_to_string(dir.join("out/runs").join(&row.run).join("scene.ron")).unwrap();
+        assert!(
+            scene.contains(&format!("kind: {}", row.values[0])),
+            "{scene}"
+        );
+    }
+}
+
+#[test]
+fn an_inline_scene_and_a_search_that_does_not_flip() {
+    let dir = common::out_dir("study-inline");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::fs::read_to_string(common::example("free_fall_2d.ron")).unwrap();
+    let path = dir.join("inline.ron");
+    std::fs::write(
+        &path,
+        format!(
+            "Study(scene: Inline({scene:?}), search: Bisect(field: \"analysis.dt\", low: 0.001, high: 0.01, tolerance: 0.001), \
+             figure: Drift, held: (block: 0, tolerance: 1e-3))"
+        ),
+    )
+    .unwrap();
+    let e = format!(
+        "{:#}",
+        study::run(&path, &options(&dir.join("out"))).unwrap_err()
+    );
+    assert!(e.contains("both ends") && e.contains("slid"), "{e}");
+    // The two runs are in the table all the same.
+    let (_, rows) = study::table::read(&dir.join("out/study.csv")).unwrap();
+    assert_eq!(rows.len(), 2);
+}
