@@ -452,3 +452,60 @@ fn an_inline_scene_and_a_search_that_does_not_flip() {
     let (_, rows) = study::table::read(&dir.join("out/study.csv")).unwrap();
     assert_eq!(rows.len(), 2);
 }
+
+/// A study file of a few lines next to the output, on a shipped scene.
+fn small_study(name: &str, body: &str) -> (Report, PathBuf) {
+    let dir = common::out_dir(&format!("study-{name}"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.ron"));
+    std::fs::write(&path, format!("Study({body})")).unwrap();
+    let out = dir.join("out");
+    let report = study::run(&path, &options(&out)).unwrap_or_else(|e| panic!("{e:#}"));
+    (report, out)
+}
+
+#[test]
+fn finest_run_reference_and_energy_drift() {
+    let scene = common::example("sliding_block_2d.ron")
+        .display()
+        .to_string();
+    let (report, _) = small_study(
+        "finest",
+        &format!(
+            "scene: File({scene:?}), sweep: [(field: \"analysis.dt\", values: [0.004, 0.002, 0.001])], \
+             figure: Velocity(block: 1, time: 1.0), reference: Finest(\"analysis.dt\")"
+        ),
+    );
+    let finest = report.rows[2].figure.unwrap();
+    // v(1 s) = g (sin 30° − cos 30° tan 20°), within 0.1 %.
+    let a = 9.81 * (0.5 - 30f64.to_radians().cos() * 20f64.to_radians().tan());
+    assert!((finest - a).abs() < 1e-3 * a, "{finest} m/s against {a}");
+    assert_eq!(report.rows[2].error, Some(0.0));
+    for row in &report.rows {
+        assert_eq!(row.reference, Some(finest));
+    }
+
+    let scene = common::example("spinning_block_2d.ron")
+        .display()
+        .to_string();
+    let (report, _) = small_study(
+        "energy",
+        &format!(
+            "scene: File({scene:?}), sweep: [(field: \"analysis.rotation_update\", values: [\"Exact\", \"Linear\"])], \
+             figure: EnergyDrift"
+        ),
+    );
+    // A free spinning block keeps its kinetic energy with the exact
+    // update; the linear one inflates the block (6.5 % in area), and the
+    // energy with it.
+    assert!(
+        report.rows[0].figure.unwrap().abs() < 1e-9,
+        "{:?}",
+        report.rows[0]
+    );
+    assert!(
+        report.rows[1].figure.unwrap() > 0.05,
+        "{:?}",
+        report.rows[1]
+    );
+}
