@@ -173,7 +173,11 @@ where
             (y0, y1) = (y0.min(chart.y.at(*v)), y1.max(chart.y.at(*v)));
         }
     }
-    let (x0, x1) = chart.x_span.unwrap_or_else(|| pad(x0, x1, 0.06, 0.06));
+    let categories = chart.x.names.as_ref().map(|n| (-0.5, n.len() as f64 - 0.5));
+    let (x0, x1) = chart
+        .x_span
+        .or(categories)
+        .unwrap_or_else(|| pad(x0, x1, 0.06, 0.06));
     // Room at the top for the legend, above the marks.
     let (y0, y1) = pad(y0, y1, 0.08, 0.1 + 0.07 * legend_rows as f64);
     let mut c = ChartBuilder::on(&root)
@@ -409,14 +413,38 @@ pub fn error_vs_time(
     save(&chart, dir, stem)
 }
 
-/// A swept value as a number (its position among the values when it is text).
+/// The distinct texts of column `k` when any of them is not a number.
+fn categories(rows: &[Row], k: usize) -> Option<Vec<String>> {
+    if rows.iter().all(|r| r.values[k].parse::<f64>().is_ok()) {
+        return None;
+    }
+    let mut names: Vec<String> = Vec::new();
+    for r in rows {
+        if !names.contains(&r.values[k]) {
+            names.push(r.values[k].clone());
+        }
+    }
+    Some(names)
+}
+
+/// A swept value as a number (its position among the values when they
+/// are text).
 fn numeric(rows: &[Row], k: usize) -> impl Fn(&Row) -> f64 + '_ {
-    let mut texts: Vec<&str> = rows.iter().map(|r| r.values[k].as_str()).collect();
-    texts.dedup();
-    move |r: &Row| {
-        r.values[k]
-            .parse()
-            .unwrap_or_else(|_| texts.iter().position(|t| *t == r.values[k]).unwrap_or(0) as f64)
+    let names = categories(rows, k);
+    move |r: &Row| match &names {
+        Some(names) => names.iter().position(|n| *n == r.values[k]).unwrap_or(0) as f64,
+        None => r.values[k].parse().unwrap_or(f64::NAN),
+    }
+}
+
+/// The axis of a swept field: named positions for text values.
+fn field_axis(title: &str, rows: &[Row], k: usize) -> Axis {
+    match categories(rows, k) {
+        Some(names) => Axis {
+            names: Some(names),
+            ..Axis::linear(title.into())
+        },
+        None => Axis::new(title.into(), rows.iter().map(numeric(rows, k))),
     }
 }
 
@@ -476,8 +504,8 @@ pub fn stability_map(
     }
     let chart = Chart {
         title: title.into(),
-        x: Axis::new(x.into(), rows.iter().map(&fx)),
-        y: Axis::new(y.into(), rows.iter().map(&fy)),
+        x: field_axis(x, rows, kx),
+        y: field_axis(y, rows, ky),
         series,
         rules,
         x_span: None,
@@ -545,7 +573,10 @@ pub fn figure_against(
     }
     let chart = Chart {
         title: title.into(),
-        x: Axis::new(x.into(), xs.into_iter()),
+        x: match categories(rows, kx) {
+            Some(_) => field_axis(x, rows, kx),
+            None => Axis::new(x.into(), xs.into_iter()),
+        },
         y: Axis::linear(figure.into()),
         series: out,
         rules,
