@@ -119,6 +119,24 @@ enum Command {
         #[arg(long, short, value_name = "FOLDER")]
         out: Option<PathBuf>,
     },
+    /// Run a study: a scene swept over its fields (or bisected on one), each run judged, into DIR/study.csv, DIR/runs/ and DIR/charts/
+    Study {
+        /// The study file (RON); see docs/studies.md
+        #[arg(required_unless_present = "merge")]
+        study: Option<PathBuf>,
+        /// Output directory (created if missing); out/<study name> when left out
+        #[arg(long, short, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Runs at once (default: one per core)
+        #[arg(long, value_name = "N")]
+        jobs: Option<usize>,
+        /// Run only grid points i with i mod N = I (default from SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT)
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// Gather the study.csv of these shard folders into --out, with the charts
+        #[arg(long, value_name = "DIR", num_args = 1.., conflicts_with_all = ["study", "shard"])]
+        merge: Vec<PathBuf>,
+    },
     /// Load, validate and build a scene without running it
     Check {
         /// The scene file (RON)
@@ -248,6 +266,13 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 .collect();
             println!("wrote {} ({} frames)", list(&names), rendered.frames);
         }
+        Command::Study {
+            study,
+            out,
+            jobs,
+            shard,
+            merge,
+        } => crate::study::command(study, out, jobs, shard, merge, registry)?,
         Command::Check { scene: path } => {
             let scene = Scene::load(&path)?;
             let model = scene.build_any_with(registry)?;

@@ -55,6 +55,7 @@ pub mod progress;
 pub mod run;
 pub mod scene;
 pub mod simulation;
+pub mod study;
 pub mod summary;
 pub mod vtk;
 
