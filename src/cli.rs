@@ -213,6 +213,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 notes: true,
                 progress_lines: (!terminal).then_some(every),
                 vtk,
+                quiet: false,
                 checkpoint_every,
             };
             let (summary, out) = match (resume, scene) {

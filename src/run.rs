@@ -31,6 +31,8 @@ pub struct RunOptions {
     pub progress_lines: Option<Duration>,
     /// VTK frames for ParaView whatever the scene's `output.vtk` says.
     pub vtk: bool,
+    /// Leave the summary's warnings off stderr (they stay in summary.json).
+    pub quiet: bool,
     /// Simulated seconds between checkpoints (`DIR/checkpoint.bin`, at the
     /// first output time after each), none when `None`.
     pub checkpoint_every: Option<f64>,
@@ -160,6 +162,7 @@ pub fn run(scene_path: &Path, out_dir: &Path) -> anyhow::Result<Summary> {
             notes: terminal,
             progress_lines: None,
             vtk: false,
+            quiet: false,
             checkpoint_every: None,
         },
     )
@@ -245,10 +248,23 @@ pub fn resume(
 /// outputs are written on from where it found them.
 pub fn run_model<S: Simulation>(
     scene: &Scene,
+    model: Model<S>,
+    out_dir: &Path,
+    options: RunOptions,
+    resumed: Option<Checkpoint>,
+) -> anyhow::Result<Summary> {
+    run_model_observed(scene, model, out_dir, options, resumed, &mut [])
+}
+
+/// [`run_model`] with more observers, shown the run after the outputs and
+/// before the summary.
+pub fn run_model_observed<S: Simulation>(
+    scene: &Scene,
     mut model: Model<S>,
     out_dir: &Path,
     options: RunOptions,
     resumed: Option<Checkpoint>,
+    extra: &mut [&mut dyn Observer],
 ) -> anyhow::Result<Summary> {
     std::fs::create_dir_all(out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
@@ -333,6 +349,10 @@ pub fn run_model<S: Simulation>(
     if let Some(vtk) = &mut vtk {
         observers.push(vtk);
     }
+    for observer in extra.iter_mut() {
+        observers.push(&mut **observer);
+    }
+    summary.print_warnings = !options.quiet;
     observers.push(&mut summary);
 
     let mut keeper = options.checkpoint_every.map(|every| Keeper {

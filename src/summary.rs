@@ -118,6 +118,8 @@ pub struct SummaryWriter {
     started: Instant,
     /// Wall-clock seconds of the run before it was resumed.
     pub earlier_wall_time: f64,
+    /// Whether the warnings also go to stderr at the end (default true).
+    pub print_warnings: bool,
     /// When `summary.json` was last written.
     written: Option<Instant>,
     /// The last finite value of each number of the summary that a blown-up
@@ -148,6 +150,7 @@ impl SummaryWriter {
             started: Instant::now(),
             written: None,
             earlier_wall_time: 0.0,
+            print_warnings: true,
             known: Known::default(),
             summary: None,
         }
@@ -177,8 +180,10 @@ impl Observer for SummaryWriter {
         };
         let summary = self.snapshot(run, error, status);
         write_json(&self.path, &summary)?;
-        for warning in &summary.warnings {
-            eprintln!("warning: {warning}");
+        if self.print_warnings {
+            for warning in &summary.warnings {
+                eprintln!("warning: {warning}");
+            }
         }
         self.summary = Some(summary);
         Ok(())

@@ -39,7 +39,11 @@ fn numbers(text: &str) -> Vec<(usize, usize)> {
         let starts = bytes[i].is_ascii_digit()
             && (i == 0 || !(bytes[i - 1].is_ascii_alphanumeric() || bytes[i - 1] == b'_'));
         if starts {
-            let begin = if i > 0 && bytes[i - 1] == b'-' { i - 1 } else { i };
+            let begin = if i > 0 && bytes[i - 1] == b'-' {
+                i - 1
+            } else {
+                i
+            };
             let mut j = i;
             while j < bytes.len()
                 && (bytes[j].is_ascii_digit()
@@ -58,9 +62,30 @@ fn numbers(text: &str) -> Vec<(usize, usize)> {
 }
 
 const ODD: &[&str] = &[
-    "0", "0.0", "-0.0", "-1", "-1.0", "1e308", "-1e308", "1e-308", "5e-324", "NaN", "inf",
-    "-inf", "1e30", "1e-30", "3", "100000", "1000000", "4294967296", "18446744073709551616",
-    "0.5", "2", "-1e-9", "1e9", "7",
+    "0",
+    "0.0",
+    "-0.0",
+    "-1",
+    "-1.0",
+    "1e308",
+    "-1e308",
+    "1e-308",
+    "5e-324",
+    "NaN",
+    "inf",
+    "-inf",
+    "1e30",
+    "1e-30",
+    "3",
+    "100000",
+    "1000000",
+    "4294967296",
+    "18446744073709551616",
+    "0.5",
+    "2",
+    "-1e-9",
+    "1e9",
+    "7",
 ];
 
 /// One mutation of one example.

@@ -18,11 +18,11 @@ use super::spec::{Held, Value};
 use super::table::Row;
 use super::tree;
 use crate::observe::{Observer, RunView};
-use crate::output::{ContactWriter, HistoryWriter};
 use crate::pictures::RunData;
+use crate::run::{run_model_observed, RunOptions};
 use crate::scene::{AnyModel, Model, MotionSpec, Scene};
 use crate::simulation::Simulation;
-use crate::summary::{Summary, SummaryWriter};
+use crate::summary::Summary;
 
 /// The pseudo-field that runs a 2D scene as its extruded 3D prism model.
 pub const DIMENSION: &str = "dimension";
@@ -271,88 +271,27 @@ fn sizes(run: &dyn RunView) -> Vec<f64> {
 
 fn run_model<S: Simulation>(
     scene: &Scene,
-    mut model: Model<S>,
+    model: Model<S>,
     dir: &Path,
 ) -> anyhow::Result<(Summary, Measures)> {
-    let mut history = HistoryWriter::create(&dir.join("history.csv"), S::HISTORY_HEADER)?;
-    let mut outputs = vec!["history.csv".to_string()];
-    let mut contacts = None;
-    if model.write_contacts {
-        contacts = Some(ContactWriter::create(&dir.join("contacts.csv"))?);
-        outputs.push("contacts.csv".to_string());
-    }
-    outputs.push("summary.json".to_string());
-    let mut summary = SummaryWriter::new(
-        dir.join("summary.json"),
-        scene.origin().to_string(),
-        S::DIMENSION,
-        model.duration,
-        model.notes.clone(),
-        outputs,
-    );
     let mut measure = Measure {
         measures: Measures::default(),
     };
-    let mut observers: Vec<&mut dyn Observer> = vec![&mut history];
-    if let Some(contacts) = &mut contacts {
-        observers.push(contacts);
-    }
-    observers.push(&mut measure);
-    observers.push(&mut summary);
-    let result = advance(&mut model, &mut observers);
-    for observer in &mut observers {
-        observer.on_finish(&model.driver, result.as_ref().err())?;
-    }
-    drop(observers);
-    let written = summary
-        .summary
-        .context("the run's summary was not written")?;
-    Ok((written, measure.measures))
-}
-
-/// Steps to the end as `dda run` does: observers see every accepted step,
-/// time 0 and every output time.
-fn advance<S: Simulation>(
-    model: &mut Model<S>,
-    observers: &mut [&mut dyn Observer],
-) -> anyhow::Result<()> {
-    let duration = model.duration;
-    let driver = &mut model.driver;
-    output(driver, observers)?;
-    match model.output_interval {
-        Some(interval) => {
-            for k in 1.. {
-                let mut t = k as f64 * interval;
-                if t >= duration - 1e-9 * interval {
-                    t = duration;
-                }
-                driver.advance_observed(t, &mut |d| {
-                    observers.iter_mut().for_each(|o| o.on_step(d))
-                })?;
-                output(driver, observers)?;
-                if t == duration {
-                    break;
-                }
-            }
-        }
-        None => {
-            while duration - driver.time() > 1e-9 * driver.dt() {
-                driver.step(duration - driver.time())?;
-                observers.iter_mut().for_each(|o| o.on_step(driver));
-                output(driver, observers)?;
-            }
-        }
-    }
-    Ok(())
-}
-
-fn output(run: &dyn RunView, observers: &mut [&mut dyn Observer]) -> anyhow::Result<()> {
-    for i in 0..run.block_count() {
-        if !run.is_finite(i) {
-            bail!("block {i} has a non-finite position or velocity: the model is unstable");
-        }
-    }
-    observers.iter_mut().try_for_each(|o| o.on_output(run))
+    // Quiet: the study's own progress is on the terminal; the warnings
+    // stay in each run's summary.json.
+    let options = RunOptions {
+        quiet: true,
+        ..RunOptions::default()
+    };
+    let summary = match run_model_observed(scene, model, dir, options, None, &mut [&mut measure]) {
+        Ok(summary) => summary,
+        // A run that failed midway still wrote its summary.
+        Err(e) => match std::fs::read_to_string(dir.join("summary.json")) {
+            Ok(text) => serde_json::from_str(&text).context("the run's summary does not read")?,
+            Err(_) => return Err(e),
+        },
+    };
+    Ok((summary, measure.measures))
 }
 
 /// A run's folder name: its index and values, like `003_dt=0.001`.

@@ -1,12 +1,14 @@
-//! How a run ended, for stability maps and searches. The first that applies:
+//! How a run ended, for stability maps and searches. The first that applies
+//! (a run's guards stop it at the first of the three failures of the method,
+//! which then names its outcome):
 //!
-//! * `failed`: the run stopped with an error (or could not be built);
 //! * `penetrated`: a step ended with a contact deeper than the allowed
 //!   bound (`deep_penetration_steps > 0` in summary.json);
 //! * `energy grew`: the total energy rose although nothing did work on the
 //!   blocks (`energy_growth_steps > 0`);
 //! * `cut`: steps were cut down to the smallest time step and accepted
 //!   without open-close agreement (`unconverged_steps > 0`);
+//! * `failed`: the run stopped with another error (or could not be built);
 //! * with `held: (block, tolerance)` in the study: `held` when the block
 //!   ended within `tolerance` of its start, else `slid`;
 //! * otherwise `converged`.
@@ -68,14 +70,14 @@ impl Outcome {
     /// The outcome of a run from its summary and (for held/slid) the
     /// farthest its watched block moved, m.
     pub fn judge(summary: &Summary, moved: Option<(f64, f64)>) -> Outcome {
-        if summary.status == Status::Failed {
-            Outcome::Failed
-        } else if summary.deep_penetration_steps > 0 {
+        if summary.deep_penetration_steps > 0 {
             Outcome::Penetrated
         } else if summary.energy_growth_steps > 0 {
             Outcome::EnergyGrew
         } else if summary.unconverged_steps > 0 {
             Outcome::Cut
+        } else if summary.status == Status::Failed {
+            Outcome::Failed
         } else if let Some((moved, tolerance)) = moved {
             if moved < tolerance {
                 Outcome::Held
