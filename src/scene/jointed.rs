@@ -360,6 +360,9 @@ pub(crate) fn cut_3d(
         |(lo, hi), p| (lo.inf(p), hi.sup(p)),
     );
     let mut planes = Vec::new();
+    // Persistent sets cut a convex region into at most the product of
+    // (joints + 1): refused before the cutting, which grows with it.
+    let mut most = 1.0f64;
     for (k, set) in sets.iter().enumerate() {
         let n = plane_normal(set.dip, set.dip_direction);
         let origin = Vector3::new(set.origin.get(0), set.origin.get(1), set.origin.get(2));
@@ -373,6 +376,13 @@ pub(crate) fn cut_3d(
             Placement::Random { seed } => Some(Random(seed)),
         };
         let cs = offsets(set, n.dot(&origin), nlo, nhi, &mut random).ok_or_else(|| too_many(k))?;
+        most *= cs.len() as f64 + 1.0;
+        if most > super::generate::MAX_PARTS as f64 {
+            return Err(Failure::of_set(k, "spacing", format!(
+                "the sets would cut the region into up to {most:.3e} blocks, more than {}; give larger spacings or a smaller region",
+                super::generate::MAX_PARTS
+            )));
+        }
         planes.extend(cs.into_iter().enumerate().map(|(j, c)| JointPlane {
             normal: n,
             offset: c,
