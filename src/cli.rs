@@ -311,6 +311,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                     ""
                 },
             );
+            println!("needs about {} of memory", bytes_text(expected.memory));
             for note in model.notes() {
                 eprintln!("note: {note}");
             }

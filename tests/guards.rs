@@ -77,3 +77,37 @@ fn absurd_step_counts_are_refused_before_the_run() {
         assert!(!out.join("history.csv").exists());
     }
 }
+
+/// A scene that would need more memory than the run may use is refused
+/// before it starts, with the estimate and what to change; `dda check`
+/// gives the estimate.
+#[test]
+fn a_scene_too_big_for_the_memory_is_refused_up_front() {
+    let (path, out) = scene("memory", "interval: 0.1", "interval: 0.1");
+    let dda = |args: &[&str], limit: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_dda"))
+            .args(args)
+            .env("DDA_MEMORY_LIMIT", limit)
+            .output()
+            .unwrap()
+    };
+    let p = path.to_str().unwrap();
+    let refused = dda(&["run", p, "--out", out.to_str().unwrap()], "1e6");
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("needs about")
+            && stderr.contains("more than the 1.00 MB available (DDA_MEMORY_LIMIT)"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("kind: Rigid"), "{stderr}");
+    assert!(!out.join("history.csv").exists(), "nothing is written");
+    // The one-block scene needs 20 MB and change: enough room runs it.
+    assert!(dda(&["run", p, "--out", out.to_str().unwrap()], "1e9")
+        .status
+        .success());
+    let checked = dda(&["check", p], "1e9");
+    assert!(String::from_utf8_lossy(&checked.stdout).contains("needs about 20.04 MB of memory"));
+    // The estimate errs high of what a 4,936-block wall was measured to take (121 MB).
+    assert!(dda::run::memory_estimate(4936.0, 2) > 121e6);
+}
