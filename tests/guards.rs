@@ -84,6 +84,7 @@ fn absurd_step_counts_are_refused_before_the_run() {
 #[test]
 fn a_scene_too_big_for_the_memory_is_refused_up_front() {
     let (path, out) = scene("memory", "interval: 0.1", "interval: 0.1");
+    let _ = std::fs::remove_dir_all(&out);
     let dda = |args: &[&str], limit: &str| {
         std::process::Command::new(env!("CARGO_BIN_EXE_dda"))
             .args(args)

@@ -9,7 +9,7 @@ use nalgebra::{Point3, Rotation3, SVector, Vector3};
 use proptest::prelude::*;
 
 fn vector() -> impl Strategy<Value = Vector3<f64>> {
-    prop::array::uniform3(-1.0..1.0f64).prop_map(|v| Vector3::from(v))
+    prop::array::uniform3(-1.0..1.0f64).prop_map(Vector3::from)
 }
 
 /// A box and one plane through it, cut into two convex blocks.
@@ -82,5 +82,32 @@ proptest! {
         let exact = move_point(&p, &c, &(d * eps), RotationUpdate::Exact);
         let slope = (exact - p) / eps;
         prop_assert!((slope - t * d).norm() <= 1e-5 * (1.0 + (p - c).norm()), "{slope} vs {}", t * d);
+    }
+
+    /// A corner above (or in) a face has the signed distance to the face's
+    /// plane as its gap: positive apart, negative overlapping.
+    #[test]
+    fn a_corners_gap_is_its_signed_distance(x in -1.2..1.2f64, y in -1.2..1.2f64,
+                                            h in -0.02..0.05f64, axis in vector(), tilt in 0.0..0.4f64) {
+        let (base, faces) = cut(&Convex::cuboid(Point3::new(-2.0, -2.0, -1.0), Point3::new(2.0, 2.0, 0.0)).unwrap(), &[], 0.0)
+            .unwrap().blocks.remove(0);
+        // A tetrahedron standing on its tip at (x, y, h), tilted a little.
+        let tip = Point3::new(x, y, h);
+        let r = Rotation3::new(axis.try_normalize(1e-9).unwrap_or(Vector3::x()) * tilt);
+        let up = [Vector3::new(0.5, 0.0, 0.8), Vector3::new(-0.25, 0.43, 0.8), Vector3::new(-0.25, -0.43, 0.8)];
+        let mut corners = vec![tip];
+        corners.extend(up.iter().map(|u| tip + r * u));
+        let tetra_faces = vec![vec![0, 2, 1], vec![0, 3, 2], vec![0, 1, 3], vec![1, 2, 3]];
+        let blocks = vec![
+            dda_3d::Block::new(&base, &faces, 0, 2000.0).unwrap(),
+            dda_3d::Block::new(&corners, &tetra_faces, 0, 2000.0).unwrap(),
+        ];
+        let contacts = dda_3d::contact::pair_contacts(&blocks, 0, 1, 0.1, 0);
+        let at_tip: Vec<_> = contacts.iter()
+            .filter(|c| c.key.block_a == 1 && c.key.feature_a == 0)
+            .collect();
+        prop_assert_eq!(at_tip.len(), 1, "one contact at the tip: {:?}", contacts.iter().map(|c| c.key).collect::<Vec<_>>());
+        let gap = at_tip[0].entrances.iter().map(|e| e.gap).fold(f64::NEG_INFINITY, f64::max);
+        prop_assert!((gap - h).abs() <= 1e-12, "gap {} at height {}", gap, h);
     }
 }
