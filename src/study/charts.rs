@@ -108,6 +108,29 @@ impl Axis {
 }
 
 /// One set of marks on a chart.
+/// One series of squares per outcome, in its colour, at the points `at`
+/// gives each row (its index and the row).
+fn outcome_series(rows: &[Row], at: impl Fn(usize, &Row) -> Option<(f64, f64)>) -> Vec<Series> {
+    Outcome::ALL
+        .into_iter()
+        .filter_map(|o| {
+            let points: Vec<(f64, f64)> = (rows.iter().enumerate())
+                .filter(|(_, r)| r.outcome == o)
+                .filter_map(|(k, r)| at(k, r))
+                .collect();
+            let (r, g, b) = o.colour();
+            (!points.is_empty()).then(|| Series {
+                name: o.name().into(),
+                colour: RGBColor(r, g, b),
+                points,
+                line: false,
+                mark: Mark::Square,
+                dashed: false,
+            })
+        })
+        .collect()
+}
+
 struct Series {
     name: String,
     colour: RGBColor,
@@ -462,26 +485,7 @@ pub fn stability_map(
 ) -> anyhow::Result<Vec<PathBuf>> {
     let (kx, ky) = (column(fields, x)?, column(fields, y)?);
     let (fx, fy) = (numeric(rows, kx), numeric(rows, ky));
-    let mut series = Vec::new();
-    for o in Outcome::ALL {
-        let pts: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|r| r.outcome == o)
-            .map(|r| (fx(r), fy(r)))
-            .collect();
-        if pts.is_empty() {
-            continue;
-        }
-        let (r, g, b) = o.colour();
-        series.push(Series {
-            name: o.name().into(),
-            colour: RGBColor(r, g, b),
-            points: pts,
-            line: false,
-            mark: Mark::Square,
-            dashed: false,
-        });
-    }
+    let mut series = outcome_series(rows, |_, r| Some((fx(r), fy(r))));
     let mut rules = Vec::new();
     match boundary {
         Some(Boundary::FactorOfSafety { slope }) => {
@@ -622,26 +626,9 @@ pub fn bracket(
             dashed: true,
         });
     }
-    for o in Outcome::ALL {
-        let pts: Vec<(f64, f64)> = rows
-            .iter()
-            .enumerate()
-            .filter(|(_, r)| r.outcome == o)
-            .filter_map(|(k, r)| r.values[0].parse().ok().map(|v| (n(k), v)))
-            .collect();
-        if pts.is_empty() {
-            continue;
-        }
-        let (r, g, b) = o.colour();
-        series.push(Series {
-            name: o.name().into(),
-            colour: RGBColor(r, g, b),
-            points: pts,
-            line: false,
-            mark: Mark::Square,
-            dashed: false,
-        });
-    }
+    series.extend(outcome_series(rows, |k, r| {
+        r.values[0].parse().ok().map(|v| (n(k), v))
+    }));
     let rules = expected
         .map(|e| vec![(e, false, format!("expected {}", tick(e)))])
         .unwrap_or_default();
