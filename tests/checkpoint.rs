@@ -40,6 +40,14 @@ fn ok(output: std::process::Output) {
     );
 }
 
+/// The stderr of a `dda` command that must fail with exit code 1.
+fn refused(args: &[&str]) -> String {
+    let result = dda(args);
+    let stderr = String::from_utf8_lossy(&result.stderr).into_owned();
+    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    stderr
+}
+
 fn read(path: impl AsRef<Path>) -> Vec<u8> {
     std::fs::read(path.as_ref()).unwrap_or_else(|e| panic!("{}: {e}", path.as_ref().display()))
 }
@@ -182,9 +190,7 @@ fn a_torn_checkpoint_leaves_the_previous_one() {
     assert!(read(out.join("history.csv")) == read(whole.join("history.csv")));
 
     std::fs::write(out.join("checkpoint.bin"), &good[..good.len() / 2]).unwrap();
-    let result = dda(&["run", "--resume", out.to_str().unwrap()]);
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    let stderr = refused(&["run", "--resume", out.to_str().unwrap()]);
     assert!(stderr.contains("checkpoint.bin is damaged"), "{stderr}");
 }
 
@@ -218,9 +224,7 @@ fn a_checkpoint_of_another_version_or_scene_is_refused() {
         text.replace("friction_angle: 20.0", "friction_angle: 21.0"),
     )
     .unwrap();
-    let result = dda(&["run", "--resume", out.to_str().unwrap()]);
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    let stderr = refused(&["run", "--resume", out.to_str().unwrap()]);
     assert!(stderr.contains("was taken of another scene"), "{stderr}");
     // A comment is not a change.
     std::fs::write(&scene, format!("// a note\n{text}")).unwrap();
@@ -230,9 +234,7 @@ fn a_checkpoint_of_another_version_or_scene_is_refused() {
     // Another version.
     checkpoint.version = "0.0.1".into();
     checkpoint.write(&out).unwrap();
-    let result = dda(&["run", "--resume", out.to_str().unwrap()]);
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    let stderr = refused(&["run", "--resume", out.to_str().unwrap()]);
     assert!(
         stderr.contains("was written by dda 0.0.1") && stderr.contains("run the scene again"),
         "{stderr}"

@@ -27,6 +27,24 @@ fn scene(name: &str, replacements: &[(&str, &str)]) -> (PathBuf, PathBuf) {
     (path, dir.join("out"))
 }
 
+/// `dda run SCENE --out OUT`, which must fail with exit code 1 and no
+/// panic; its stderr.
+fn run_fails(scene: &Path, out: &Path) -> String {
+    let result = dda()
+        .args([
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr).into_owned();
+    assert_eq!(result.status.code(), Some(1), "stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    stderr
+}
+
 fn summary(out: &Path) -> Option<serde_json::Value> {
     let text = std::fs::read_to_string(out.join("summary.json")).ok()?;
     Some(serde_json::from_str(&text).expect("summary.json is always whole"))
@@ -117,18 +135,7 @@ fn a_full_disk_is_a_clear_error() {
     let (path, out) = scene("full", &[]);
     std::fs::create_dir_all(&out).unwrap();
     std::os::unix::fs::symlink("/dev/full", out.join("history.csv")).unwrap();
-    let result = dda()
-        .args([
-            "run",
-            path.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    assert_eq!(result.status.code(), Some(1), "stderr: {stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
+    let stderr = run_fails(&path, &out);
     assert!(
         stderr.contains("history.csv") && stderr.contains("No space left on device"),
         "{stderr}"
@@ -151,18 +158,7 @@ fn an_unwritable_folder_is_a_clear_error() {
     let (path, out) = scene("unwritable", &[]);
     std::fs::write(&out, "a file, not a folder").unwrap();
     let inside = out.join("run");
-    let result = dda()
-        .args([
-            "run",
-            path.to_str().unwrap(),
-            "--out",
-            inside.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    assert_eq!(result.status.code(), Some(1), "stderr: {stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
+    let stderr = run_fails(&path, &inside);
     assert!(
         stderr.contains(&format!("cannot create {}", inside.display())),
         "{stderr}"
