@@ -249,3 +249,17 @@ fn a_checkpoint_of_another_version_or_scene_is_refused() {
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert!(stderr.contains("--checkpoint-every"), "{stderr}");
 }
+
+/// The explicit integrator keeps half-step velocities and the last step's
+/// length: a resumed explicit run writes the same bytes too.
+#[test]
+fn a_resumed_explicit_run_writes_the_same_bytes() {
+    let dir = folder("explicit");
+    let scene = scene(
+        &dir,
+        "two_stage_friction_2d.ron",
+        "duration: 1.0",
+        "duration: 0.6, integrator: Explicit, contact_damping: 1.0",
+    );
+    killed_and_resumed_matches(&dir, &scene, &["history.csv", "contacts.csv"]);
+}

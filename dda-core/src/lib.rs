@@ -29,6 +29,6 @@ pub use driver::Driver;
 pub use error::DdaError;
 pub use loads::{FixedPoint, Force, PointLoad};
 pub use motion::{GroundMotion, Quantity, Record};
-pub use settings::Settings;
+pub use settings::{Integrator, Settings};
 pub use statistics::{Cycle, PhaseTimes, Statistics};
 pub use system::{BlockKind, BlockMatrix, BlockState, BlockSystem, SystemState};

@@ -68,6 +68,32 @@ pub struct Settings {
     /// its friction limit does not slide off during the first bounces;
     /// 0 gives Shi's undamped springs, whose rebound depends on the step.
     pub contact_damping: f64,
+    /// How each step is integrated in time; default `Implicit` (Shi's
+    /// Newmark steps with open-close iterations). `Explicit` is central
+    /// differences on the same blocks and contact laws, with steps below
+    /// the critical one.
+    pub integrator: Integrator,
+    /// Local (non-viscous) damping of the explicit integrator, as in
+    /// 3DEC/UDEC: each DOF's unbalanced force is reduced by this share of
+    /// its size, against the DOF's velocity; in [0, 1), default 0 (off).
+    /// 0.8 relaxes a model to rest (a static solution); dynamic runs keep 0.
+    /// The implicit integrator takes none.
+    pub local_damping: f64,
+}
+
+/// Time integration of a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Integrator {
+    /// Shi's Newmark (β = 1/2, γ = 1) step, solved with the contact states
+    /// held fixed and repeated until they agree (open-close iterations):
+    /// unconditionally stable, any step the displacement bound allows.
+    #[default]
+    Implicit,
+    /// Central differences (velocities at half steps): no matrix, no
+    /// iterations, but a step below the critical one, 2/ω_max, which the
+    /// driver bounds from the penalty springs and the block masses at every
+    /// step and enforces.
+    Explicit,
 }
 
 impl Default for Settings {
@@ -88,6 +114,8 @@ impl Default for Settings {
             length_scale: None,
             mass_damping: 0.0,
             contact_damping: 0.0,
+            integrator: Integrator::Implicit,
+            local_damping: 0.0,
         }
     }
 }
@@ -168,6 +196,27 @@ impl Settings {
             self.mass_damping,
             "it is a coefficient in 1/s: 0 off",
         )?;
+        non_negative(
+            "local_damping",
+            "local_damping",
+            self.local_damping,
+            "it is a share of the unbalanced force: 0 off, 0.8 to relax to rest",
+        )?;
+        if self.local_damping >= 1.0 {
+            return Err(invalid(
+                "local_damping",
+                format!(
+                    "local_damping must be below 1 (at 1 no unbalanced force would move a block), got {}; 0.8 relaxes a model to rest",
+                    self.local_damping
+                ),
+            ));
+        }
+        if self.local_damping > 0.0 && self.integrator == Integrator::Implicit {
+            return Err(invalid(
+                "local_damping",
+                "local damping belongs to the explicit integrator; write integrator: Explicit, or use contact_damping or mass damping with the implicit one".into(),
+            ));
+        }
         if let Some(p) = self.penalty {
             positive("penalty", "the penalty", p, auto)?;
         }

@@ -63,6 +63,12 @@ pub struct Statistics {
     pub symbolic_analyses: usize,
     /// Where the wall time went.
     pub times: PhaseTimes,
+    /// Explicit integration: the smallest critical time step bound seen,
+    /// 2/ω_max from the penalty springs and the block masses (s).
+    pub critical_dt: Option<f64>,
+    /// Explicit integration: steps shortened below the nominal dt to stay
+    /// under the critical one.
+    pub critical_limited_steps: usize,
 }
 
 /// How many cycling contacts the statistics name.

@@ -382,6 +382,8 @@ impl Scene {
             length_scale: a.length_scale,
             mass_damping: a.damping.map_or(0.0, |d| d.mass_coefficient()),
             contact_damping: a.contact_damping,
+            integrator: a.integrator,
+            local_damping: a.local_damping,
             ..Settings::default()
         }
     }

@@ -25,7 +25,7 @@ use serde::{Deserialize, Serialize};
 
 pub use dda_2d::{Plane, RotationUpdate};
 pub use dda_contact::{Coulomb, RateFriction, ThresholdBond, Weakening};
-pub use dda_core::{BlockKind, Quantity};
+pub use dda_core::{BlockKind, Integrator, Quantity};
 
 pub use build::{AnyModel, LawTable, Model, Model3};
 pub use error::{Location, SceneError};
@@ -130,6 +130,16 @@ pub struct Analysis {
     /// Contact damping, a share of critical; default 0 (off), 1 critical:
     /// see [`dda_core::Settings::contact_damping`].
     pub contact_damping: f64,
+    /// `Implicit` (default: Shi's Newmark steps with open-close
+    /// iterations) or `Explicit` (central differences below the critical
+    /// step): see [`dda_core::Settings::integrator`].
+    #[serde(skip_serializing_if = "is_implicit")]
+    pub integrator: Integrator,
+    /// Local damping of the explicit integrator, a share of each DOF's
+    /// unbalanced force; default 0 (off): see
+    /// [`dda_core::Settings::local_damping`].
+    #[serde(skip_serializing_if = "is_off")]
+    pub local_damping: f64,
     /// What a run does when a guard trips (energy growth in a scene nothing
     /// works on, a penetration past the bound or a step without open-close
     /// agreement, both at the smallest step): `Stop` (default) ends it,
@@ -140,6 +150,14 @@ pub struct Analysis {
 
 fn is_stop(on_failure: &crate::guard::OnFailure) -> bool {
     *on_failure == crate::guard::OnFailure::Stop
+}
+
+fn is_implicit(integrator: &Integrator) -> bool {
+    *integrator == Integrator::Implicit
+}
+
+fn is_off(value: &f64) -> bool {
+    *value == 0.0
 }
 
 fn is_plane_strain(plane: &Plane) -> bool {
@@ -185,6 +203,8 @@ impl Default for Analysis {
             fixed_penalty: None,
             damping: None,
             contact_damping: s.contact_damping,
+            integrator: s.integrator,
+            local_damping: s.local_damping,
             on_failure: crate::guard::OnFailure::Stop,
         }
     }

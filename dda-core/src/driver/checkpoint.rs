@@ -27,12 +27,14 @@ struct Saved {
     time_carry: f64,
     dt: f64,
     dt_next: f64,
+    last_dt: Option<f64>,
     penalty: f64,
     last_moved: f64,
     pattern_reach: f64,
     energy_floor: Option<f64>,
     first_potential: Option<f64>,
     velocity: Vec<Vec<f64>>,
+    half_velocity: Vec<Vec<f64>>,
     contacts: Vec<SavedContact>,
     pattern: Vec<(usize, usize)>,
     statistics: Statistics,
@@ -99,6 +101,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             time_carry: self.time_carry,
             dt: self.dt,
             dt_next: self.dt_next,
+            last_dt: self.last_dt,
             penalty: self.penalty,
             last_moved: self.last_moved,
             pattern_reach: self.pattern_reach,
@@ -107,6 +110,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             velocity: self
                 .velocity
                 .iter()
+                .map(|v| v.iter().copied().collect())
+                .collect(),
+            half_velocity: (self.half_velocity.iter())
                 .map(|v| v.iter().copied().collect())
                 .collect(),
             contacts,
@@ -129,6 +135,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             && saved.laws == self.laws.len()
             && saved.velocity.len() == blocks
             && saved.velocity.iter().all(|v| v.len() == N)
+            && [0, blocks].contains(&saved.half_velocity.len())
+            && saved.half_velocity.iter().all(|v| v.len() == N)
             && saved.pattern.iter().all(|&(a, b)| a < blocks && b < blocks)
             && saved.contacts.iter().all(|c| {
                 c.law < self.laws.len()
@@ -174,10 +182,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             .iter()
             .map(|v| BlockVector::<N>::from_column_slice(v))
             .collect();
+        self.half_velocity = (saved.half_velocity.iter())
+            .map(|v| BlockVector::<N>::from_column_slice(v))
+            .collect();
         self.time = saved.time;
         self.time_carry = saved.time_carry;
         self.dt = saved.dt;
         self.dt_next = saved.dt_next;
+        self.last_dt = saved.last_dt;
         self.penalty = saved.penalty;
         self.last_moved = saved.last_moved;
         self.pattern_reach = saved.pattern_reach;
