@@ -81,6 +81,9 @@ enum Command {
         /// Also write the results as JSON to this file
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
+        /// Time this study instead, on one core and on all: its wall time against the sum of its runs' times
+        #[arg(long, value_name = "STUDY.ron")]
+        study: Option<PathBuf>,
     },
     /// Charts of a run (DIR/history.csv, DIR/contacts.csv): displacement, speed and rotation of chosen blocks, contact forces; SVG and PNG into DIR/plots
     Plot {
@@ -320,11 +323,38 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             }
         }
         Command::Bench {
+            study: Some(study),
+            repeats,
+            json,
+            ..
+        } => {
+            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            let rows = crate::bench::bench_study(&study, &[1, cores], repeats)?;
+            println!(
+                "{}: median of {repeats} runs of the whole study",
+                study.display()
+            );
+            println!(
+                "{:>5} {:>5} {:>10} {:>12} {:>14}",
+                "jobs", "runs", "wall s", "sum of runs", "wall / sum"
+            );
+            for r in &rows {
+                println!(
+                    "{:>5} {:>5} {:>10.2} {:>12.2} {:>14.2}",
+                    r.jobs, r.runs, r.median_wall_s, r.run_sum_s, r.ratio
+                );
+            }
+            if let Some(path) = json {
+                crate::output::write_atomically(&path, serde_json::to_string_pretty(&rows)?.as_bytes())?;
+            }
+        }
+        Command::Bench {
             sizes,
             steps,
             repeats,
             rigid,
             json,
+            study: None,
         } => {
             let kind = if rigid {
                 crate::scene::BlockKind::Rigid

@@ -89,3 +89,19 @@ fn bench_command_times_rigid_bricks() {
         "{text}"
     );
 }
+
+/// `dda bench --study` times a study on one core and on more: one row per
+/// job count, each with the study's runs and the ratio of its wall time to
+/// the sum of their times (no timing is asserted: machines are shared).
+#[test]
+fn a_study_is_timed_on_one_core_and_on_two() {
+    let study = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/studies/twenty_short_runs.ron");
+    let rows = dda::bench::bench_study(&study, &[1, 2], 1).unwrap();
+    assert_eq!(rows.iter().map(|r| r.jobs).collect::<Vec<_>>(), [1, 2]);
+    for r in &rows {
+        assert_eq!(r.runs, 20);
+        assert!(r.median_wall_s > 0.0 && r.run_sum_s > 0.0);
+        assert!((r.ratio - r.median_wall_s / r.run_sum_s).abs() < 1e-12);
+    }
+}
