@@ -58,7 +58,7 @@ pub struct Scene {
     #[serde(default)]
     pub fixed_points: Vec<FixedPointSpec>,
     /// Points whose motion is written to `points.csv`; none by default.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(default)]
     pub measured_points: Vec<MeasuredPointSpec>,
     /// Shaking of fixed base blocks.
     #[serde(default, skip_serializing_if = "Option::is_none")]
