@@ -132,9 +132,12 @@ impl From<&SceneBlock3> for Slot {
 
 /// A block's shape, for the points that must lie on it.
 enum Shape {
-    Polygon(Vec<Point2<f64>>),
-    Polyhedron(Polyhedron),
+    Polygon(Outline),
+    Polyhedron(Box<Polyhedron>),
 }
+
+/// A polygon's corners.
+type Outline = Vec<Point2<f64>>;
 
 impl Shape {
     /// How far `p` lies outside, 0 inside or within a millionth of the
@@ -213,7 +216,7 @@ impl Scene {
         self.check_materials()?;
         let (blocks, shapes): (Vec<Slot>, Vec<Shape>) = if self.dimension == 3 {
             let (blocks, shapes) = self.check_blocks_3d()?;
-            let shapes = shapes.into_iter().map(Shape::Polyhedron);
+            let shapes = shapes.into_iter().map(|s| Shape::Polyhedron(Box::new(s)));
             (blocks.iter().map(Slot::from).collect(), shapes.collect())
         } else {
             let (blocks, outlines) = self.check_blocks()?;
@@ -545,7 +548,7 @@ impl Scene {
 
     /// Checks every entry, expands the generators and checks the blocks
     /// they make; returns the expanded blocks and their outlines.
-    fn check_blocks(&self) -> Result<(Vec<SceneBlock>, Vec<Vec<Point2<f64>>>)> {
+    fn check_blocks(&self) -> Result<(Vec<SceneBlock>, Vec<Outline>)> {
         if self.blocks.is_empty() {
             return Err(self.error(
                 &Place::root().field("blocks"),
