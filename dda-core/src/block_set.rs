@@ -1,8 +1,7 @@
 //! The block set both dimensions share: blocks with their materials, joint
 //! laws, gravity, point loads, fixed or driven points and measured points,
-//! written once over
-//! an [`Element`] that a dimension crate implements with its geometry,
-//! T-matrix, integrals, narrow phase and end-of-step motion.
+//! written once over an [`Element`] that a dimension crate implements with
+//! its geometry, T-matrix, integrals, narrow phase and end-of-step motion.
 
 use std::collections::HashMap;
 
