@@ -11,7 +11,7 @@
 //! * stress (σx, σy, τxy) becomes (σx, 0, σy, 0, τxy, 0) in the 3D order
 //!   (σx, σy, σz, τyz, τzx, τxy): the 2D σy is the 3D σz and τxy is τzx;
 //!   the out-of-plane σy starts at 0;
-//! * point loads and fixed points sit on the mid-plane y = 0. 2D forces are
+//! * point loads, fixed and measured points sit on the mid-plane y = 0. 2D forces are
 //!   per unit thickness, so a force (fx, fy) becomes (fx·depth, 0,
 //!   fy·depth), and stresses stay the same; fixed-point velocities and axes
 //!   map like points;
@@ -36,7 +36,8 @@ use dda_3d::polyhedron::prism;
 use nalgebra::Point2;
 
 use crate::scene::{
-    BlockSpec, Coords, FixedPointSpec, Load, MotionSpec, Scene, SceneBlock, SceneError,
+    BlockSpec, Coords, FixedPointSpec, Load, MeasuredPointSpec, MotionSpec, Scene, SceneBlock,
+    SceneError,
 };
 
 /// How to extrude.
@@ -174,6 +175,14 @@ pub fn extrude_with(scene: &Scene, how: &Extrusion) -> Result<Scene, ExtrudeErro
                 point(&fp.velocity)
             },
             axis: fp.axis.as_ref().map(point),
+        })
+        .collect();
+    out.measured_points = scene
+        .measured_points
+        .iter()
+        .map(|m| MeasuredPointSpec {
+            block: m.block,
+            point: point(&m.point),
         })
         .collect();
     if how.plane_strain {

@@ -59,9 +59,10 @@ pub mod study;
 pub mod summary;
 pub mod vtk;
 
-pub use observe::{BlockShape, Cursor, Observer, RunView};
+pub use observe::{BlockShape, Cursor, Observer, PointLine, RunView};
 pub use output::{
-    read_contacts, read_history, read_history_3d, ContactRow, HistoryRow, HistoryRow3,
+    read_contacts, read_history, read_history_3d, read_points, ContactRow, HistoryRow, HistoryRow3,
+    PointRow,
 };
 pub use run::{run, run_with_registry, Summary};
 pub use scene::{AnyModel, Coords, Model, Model3, Scene, SceneBlock, SceneBlock3, SceneError};

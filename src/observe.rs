@@ -1,6 +1,6 @@
 //! What a run shows its outputs: the driver hands each accepted step, each
 //! output time and the end to [`Observer`]s (`history.csv`, `contacts.csv`,
-//! `summary.json`, the progress bar), which see the run through a
+//! `points.csv`, `summary.json`, the progress bar), which see the run through a
 //! [`RunView`] and so never need the driver's type.
 
 use dda_core::{ContactState, Statistics};
@@ -23,6 +23,16 @@ pub struct ContactLine {
     /// Unit normal from block_b towards block_a, along which the normal
     /// force pushes block_a; zero if the contact has no entrance.
     pub normal: [f64; 3],
+}
+
+/// A measured point now, as `points.csv` writes it (z = 0 in 2D).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointLine {
+    pub block: usize,
+    /// Where it is, m.
+    pub position: [f64; 3],
+    /// How far it has moved since the start, m.
+    pub displacement: [f64; 3],
 }
 
 /// Where an output stood at a checkpoint, so a resumed run writes on from
@@ -87,6 +97,8 @@ pub trait RunView {
     fn contact_label(&self, key: &dda_core::ContactKey) -> String;
     /// A block's velocity (z = 0 in 2D), m/s.
     fn velocity(&self, block: usize) -> [f64; 3];
+    /// The scene's measured points, in order.
+    fn measured_points(&self) -> Vec<PointLine>;
 }
 
 /// Something a run tells about its progress: an output file, the progress

@@ -1,5 +1,6 @@
 //! Output files written as the run goes, as [`Observer`]s: `history.csv`
-//! and, when the scene asks, `contacts.csv`; and their readers.
+//! and, when the scene asks, `contacts.csv` and `points.csv`; and their
+//! readers.
 
 use std::fs::File;
 use std::io::{Seek, SeekFrom, Write};
@@ -295,6 +296,117 @@ impl Observer for ContactWriter {
             length: self.len(),
         })
     }
+}
+
+/// The header line of a 2D scene's `points.csv`: the time, the measured
+/// point's index and block, where it is and how far it has moved since the
+/// start (m).
+pub const POINTS_HEADER: &str = "time,point,block,x,y,dx,dy";
+
+/// The header line of a 3D scene's `points.csv`.
+pub const POINTS_HEADER_3D: &str = "time,point,block,x,y,z,dx,dy,dz";
+
+/// One row of `points.csv`: a measured point at an output time (z = 0 in
+/// 2D).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointRow {
+    pub time: f64,
+    /// Index into the scene's `measured_points`.
+    pub point: usize,
+    pub block: usize,
+    /// Where it is, m.
+    pub position: [f64; 3],
+    /// How far it has moved since the start, m.
+    pub displacement: [f64; 3],
+}
+
+/// Writes `points.csv` a time at a time: one row per measured point.
+pub struct PointsWriter {
+    out: CsvFile,
+    /// 2 or 3: the coordinates written.
+    dimension: usize,
+}
+
+impl PointsWriter {
+    /// A new file for a scene of `dimension` (2 or 3).
+    pub fn create(path: &Path, dimension: u32) -> anyhow::Result<Self> {
+        let header = if dimension == 3 {
+            POINTS_HEADER_3D
+        } else {
+            POINTS_HEADER
+        };
+        Ok(Self {
+            out: CsvFile::create(path, header)?,
+            dimension: dimension as usize,
+        })
+    }
+
+    /// Writes on after the first `length` bytes of `path`.
+    pub fn resume(path: &Path, length: u64, dimension: u32) -> anyhow::Result<Self> {
+        Ok(Self {
+            out: CsvFile::resume(path, length)?,
+            dimension: dimension as usize,
+        })
+    }
+
+    /// One row per measured point at the run's current time.
+    pub fn write(&mut self, run: &dyn RunView) -> anyhow::Result<()> {
+        let time = num(round_time(run.time()));
+        let d = self.dimension;
+        self.out.write_batch(|w| {
+            for (k, p) in run.measured_points().into_iter().enumerate() {
+                let row = [time.clone(), k.to_string(), p.block.to_string()];
+                let values = p.position[..d].iter().chain(&p.displacement[..d]);
+                w.write_record(row.into_iter().chain(values.copied().map(num)))?;
+            }
+            Ok(())
+        })
+    }
+}
+
+impl Observer for PointsWriter {
+    fn on_output(&mut self, run: &dyn RunView) -> anyhow::Result<()> {
+        self.write(run)
+    }
+
+    fn cursor(&self) -> Option<Cursor> {
+        Some(Cursor::File {
+            name: "points.csv".into(),
+            length: self.out.len(),
+        })
+    }
+}
+
+/// Reads a `points.csv` written by [`PointsWriter`], of either dimension.
+pub fn read_points(path: impl AsRef<Path>) -> anyhow::Result<Vec<PointRow>> {
+    let path = path.as_ref();
+    let mut first = String::new();
+    File::open(path)
+        .map(std::io::BufReader::new)
+        .and_then(|mut r| std::io::BufRead::read_line(&mut r, &mut first))
+        .with_context(|| format!("cannot open {}", path.display()))?;
+    let three = first.trim_end() == POINTS_HEADER_3D;
+    let (header, d) = if three {
+        (POINTS_HEADER_3D, 3)
+    } else {
+        (POINTS_HEADER, 2)
+    };
+    let rows: Vec<(f64, usize, usize, Vec<f64>)> = read_rows(path, "points", header)?;
+    let three = |v: &[f64]| {
+        let mut out = [0.0; 3];
+        out[..d].copy_from_slice(v);
+        out
+    };
+    Ok(rows
+        .into_iter()
+        .map(|(time, point, block, v)| PointRow {
+            time,
+            point,
+            block,
+            position: three(&v[..d]),
+            displacement: three(&v[d..]),
+        })
+        .collect())
 }
 
 /// A time as written: a sum of steps within two units of round-off of a

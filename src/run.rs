@@ -10,7 +10,7 @@ use dda_contact::LawRegistry;
 use crate::checkpoint::{Checkpoint, Schedule};
 use crate::guard::Guards;
 use crate::observe::{Cursor, Observer, RunView};
-use crate::output::{ContactWriter, HistoryWriter};
+use crate::output::{ContactWriter, HistoryWriter, PointsWriter};
 use crate::progress::Progress;
 use crate::scene::{AnyModel, Model, Scene};
 use crate::simulation::Simulation;
@@ -189,7 +189,8 @@ pub fn bytes_text(bytes: f64) -> String {
 }
 
 /// Runs a scene file, writing `history.csv` (and `contacts.csv` when the
-/// scene's output asks for it) and `summary.json` into `out_dir`; progress and notes appear only when stderr is a terminal.
+/// scene's output asks for it, `points.csv` when it has measured points)
+/// and `summary.json` into `out_dir`; progress and notes appear only when stderr is a terminal.
 pub fn run(scene_path: &Path, out_dir: &Path) -> anyhow::Result<Summary> {
     let terminal = std::io::stderr().is_terminal();
     run_with(
@@ -312,6 +313,10 @@ pub fn run_model_observed<S: Simulation>(
     if model.write_contacts {
         outputs.push("contacts.csv".to_string());
     }
+    let write_points = !model.driver.measured_points().is_empty();
+    if write_points {
+        outputs.push("points.csv".to_string());
+    }
     if vtk_wanted {
         outputs.extend(VtkWriter::outputs().map(String::from));
     }
@@ -328,6 +333,7 @@ pub fn run_model_observed<S: Simulation>(
     // A file that cannot be made fails the run before it starts, and says so
     // in summary.json when that can still be written.
     let contacts_path = out_dir.join("contacts.csv");
+    let points_path = out_dir.join("points.csv");
     let opened = (|| -> anyhow::Result<_> {
         let Some(checkpoint) = &resumed else {
             let history = HistoryWriter::create(&history_path, S::HISTORY_HEADER)?;
@@ -335,11 +341,15 @@ pub fn run_model_observed<S: Simulation>(
                 true => Some(ContactWriter::create(&contacts_path)?),
                 false => None,
             };
+            let points = match write_points {
+                true => Some(PointsWriter::create(&points_path, S::DIMENSION)?),
+                false => None,
+            };
             let vtk = match vtk_wanted {
                 true => Some(VtkWriter::create(out_dir)?),
                 false => None,
             };
-            return Ok((history, contacts, vtk));
+            return Ok((history, contacts, points, vtk));
         };
         let length = |name: &str| {
             match checkpoint.cursor(name) {
@@ -357,6 +367,14 @@ pub fn run_model_observed<S: Simulation>(
             )?),
             false => None,
         };
+        let points = match write_points {
+            true => Some(PointsWriter::resume(
+                &points_path,
+                length("points.csv")?,
+                S::DIMENSION,
+            )?),
+            false => None,
+        };
         let vtk = match (vtk_wanted, checkpoint.cursor("vtk")) {
             (false, _) => None,
             (true, Some(cursor)) => Some(VtkWriter::resume(out_dir, cursor)?),
@@ -364,9 +382,9 @@ pub fn run_model_observed<S: Simulation>(
                 bail!("the run was checkpointed without VTK frames; resume it without --vtk")
             }
         };
-        Ok((history, contacts, vtk))
+        Ok((history, contacts, points, vtk))
     })();
-    let (mut history, mut contacts, mut vtk) = match opened {
+    let (mut history, mut contacts, mut points, mut vtk) = match opened {
         Ok(files) => files,
         Err(e) => {
             let _ = summary.on_finish(&model.driver, Some(&e));
@@ -383,6 +401,9 @@ pub fn run_model_observed<S: Simulation>(
     let mut observers: Vec<&mut dyn Observer> = vec![&mut progress, &mut history];
     if let Some(contacts) = &mut contacts {
         observers.push(contacts);
+    }
+    if let Some(points) = &mut points {
+        observers.push(points);
     }
     if let Some(vtk) = &mut vtk {
         observers.push(vtk);

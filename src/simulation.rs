@@ -6,7 +6,7 @@ use dda_2d::Driver2d;
 use dda_3d::Driver3d;
 use dda_core::{ContactKey, DdaError, Statistics};
 
-use crate::observe::{BlockShape, ContactLine, RunView};
+use crate::observe::{BlockShape, ContactLine, PointLine, RunView};
 
 /// A driver a scene run can step and record.
 pub trait Simulation {
@@ -52,6 +52,8 @@ pub trait Simulation {
     fn contact_label(&self, key: &ContactKey) -> String;
     /// A block's velocity (z = 0 in 2D), m/s.
     fn velocity(&self, block: usize) -> [f64; 3];
+    /// The scene's measured points, in order.
+    fn measured_points(&self) -> Vec<PointLine>;
     /// The model's length scale w0, m.
     fn length_scale(&self) -> f64;
     /// The whole state, for a checkpoint.
@@ -106,6 +108,22 @@ macro_rules! delegate {
             let d = Self::DIMENSION as usize;
             out[..d].copy_from_slice(&v.as_slice()[..d]);
             out
+        }
+        fn measured_points(&self) -> Vec<PointLine> {
+            let three = |v: &[f64]| {
+                let mut out = [0.0; 3];
+                out[..v.len()].copy_from_slice(v);
+                out
+            };
+            self.system
+                .measured
+                .iter()
+                .map(|m| PointLine {
+                    block: m.block,
+                    position: three(m.point.coords.as_slice()),
+                    displacement: three(m.displacement().as_slice()),
+                })
+                .collect()
         }
         fn length_scale(&self) -> f64 {
             dda_core::Driver::length_scale(self)
@@ -289,5 +307,8 @@ impl<S: Simulation> RunView for S {
     }
     fn velocity(&self, block: usize) -> [f64; 3] {
         Simulation::velocity(self, block)
+    }
+    fn measured_points(&self) -> Vec<PointLine> {
+        Simulation::measured_points(self)
     }
 }

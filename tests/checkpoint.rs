@@ -95,7 +95,8 @@ fn killed_and_resumed_matches(dir: &Path, scene: &Path, outputs: &[&str]) {
 }
 
 /// 2D: the two-stage friction slide, whose contacts remember their slip
-/// path (the law weakens after 5 cm of it).
+/// path (the law weakens after 5 cm of it), with measured points on both
+/// blocks.
 #[test]
 fn a_resumed_2d_run_writes_the_same_bytes() {
     let dir = folder("2d");
@@ -105,7 +106,12 @@ fn a_resumed_2d_run_writes_the_same_bytes() {
         "duration: 1.0",
         "duration: 3.0",
     );
-    killed_and_resumed_matches(&dir, &scene, &["history.csv", "contacts.csv"]);
+    let text = std::fs::read_to_string(&scene).unwrap().replace(
+        "    blocks: [",
+        "    measured_points: [(block: 1, point: (-0.3, 0.95)), (block: 0, point: (2.0, 1.0))],\n    blocks: [",
+    );
+    std::fs::write(&scene, text).unwrap();
+    killed_and_resumed_matches(&dir, &scene, &["history.csv", "contacts.csv", "points.csv"]);
 }
 
 /// 3D: the wedge on two joints, with cohesion (its bonds are the Coulomb

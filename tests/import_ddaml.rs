@@ -150,9 +150,10 @@ fn block_on_an_incline_slides_as_the_native_scene() {
         &analysis(1000, 0.001, 2700.0, 1e10, &[20.0]),
     );
     assert_eq!(imported.scene.block_count(), 2);
-    assert!(imported
-        .text
-        .contains("Measured point (-0.5, 0.8660254037844386) lies in block 1"));
+    let measured = &imported.scene.measured_points;
+    assert_eq!(measured.len(), 1);
+    assert_eq!(measured[0].block, 1);
+    assert_eq!(measured[0].point.as_slice(), [-0.5, 0.8660254037844386]);
     let (theta, phi, g) = (30f64.to_radians(), 20f64.to_radians(), 9.81);
     let exact = 0.5 * g * (theta.sin() - theta.cos() * phi.tan());
     let along = |d: &Vector2<f64>| -(d.x * theta.cos() + d.y * theta.sin());
@@ -162,6 +163,42 @@ fn block_on_an_incline_slides_as_the_native_scene() {
     println!("slid {imported_slide:.6} m imported, {native_slide:.6} m native, exact {exact:.6} m");
     assert!(((imported_slide - exact) / exact).abs() < 0.01);
     assert!(((imported_slide - native_slide) / exact).abs() < 0.01);
+    // The measured point's track in points.csv is the native scene's, the
+    // same point written there.
+    let native_text = std::fs::read_to_string(common::example("sliding_block_2d.ron"))
+        .unwrap()
+        .replace(
+            "    blocks: [",
+            "    measured_points: [(block: 1, point: (-0.5, 0.8660254037844386))],\n    blocks: [",
+        );
+    let native = Scene::from_str(&native_text, "native").unwrap();
+    let track = |scene: &Scene, name: &str| {
+        let out = dir.join(name);
+        dda::run::run_scene(
+            scene,
+            &out,
+            Default::default(),
+            &dda_contact::LawRegistry::with_builtin(),
+        )
+        .unwrap_or_else(|e| panic!("{e:#}"));
+        dda::read_points(out.join("points.csv")).unwrap()
+    };
+    let (imported_track, native_track) =
+        (track(&imported.scene, "imported"), track(&native, "native"));
+    assert_eq!(imported_track.len(), native_track.len());
+    assert_eq!(imported_track.len(), 101, "every 10 steps of 0.001 s");
+    for (i, n) in imported_track.iter().zip(&native_track) {
+        assert!((i.time - n.time).abs() < 1e-12);
+        let gap =
+            (i.displacement[0] - n.displacement[0]).hypot(i.displacement[1] - n.displacement[1]);
+        assert!(gap < 0.01 * exact, "t = {}: {gap} m apart", i.time);
+    }
+    let last = imported_track.last().unwrap();
+    let slid = along(&Vector2::new(last.displacement[0], last.displacement[1]));
+    assert!(
+        (slid - imported_slide).abs() < 1e-9,
+        "{slid} vs {imported_slide}"
+    );
     // The file written by `dda import` reads back as the same scene.
     let path = dir.join("incline.ron");
     std::fs::write(&path, &imported.text).unwrap();
@@ -233,7 +270,12 @@ fn jointed_slope_cuts_and_slides_as_the_native_scene() {
             .unwrap()
     };
     let (wm, wt) = (holding(&mine), holding(&theirs));
-    assert!(imported.text.contains(&format!("lies in block {wm}")));
+    let measured = &imported.scene.measured_points;
+    assert_eq!(measured.len(), 1);
+    assert_eq!(
+        measured[0].block, wm,
+        "the measured point is on the crest wedge"
+    );
     let dip = 35f64.to_radians();
     let along = |d: &Vector2<f64>| d.x * dip.cos() - d.y * dip.sin();
     let exact = 0.5 * 9.81 * (dip.sin() - dip.cos() * 15f64.to_radians().tan()) * 0.25;

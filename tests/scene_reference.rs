@@ -192,6 +192,7 @@ fn every_field_of_the_format_is_documented() {
         "blocks",
         "loads",
         "fixed_points",
+        "measured_points",
         "ground_motion",
         "duration",
         "dt",

@@ -366,6 +366,18 @@ impl Polyhedron {
         }
     }
 
+    /// Distance from `p` to the surface, inside or out.
+    pub fn distance(&self, p: &Point3<f64>) -> f64 {
+        let mut nearest = f64::INFINITY;
+        for tris in &self.topology.triangles {
+            for t in tris {
+                let [a, b, c] = t.map(|i| self.vertices[i]);
+                nearest = nearest.min((closest_on_triangle(p, &a, &b, &c) - p).norm());
+            }
+        }
+        nearest
+    }
+
     /// Whether `p` lies inside, farther than `tol` from the surface.
     pub fn contains(&self, p: &Point3<f64>, tol: f64) -> bool {
         let mut solid_angle = 0.0;

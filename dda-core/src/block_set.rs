@@ -1,7 +1,7 @@
 //! The block set both dimensions share: blocks with their materials, joint
-//! laws, gravity, point loads and fixed or driven points, written once over
-//! an [`Element`] that a dimension crate implements with its geometry,
-//! T-matrix, integrals, narrow phase and end-of-step motion.
+//! laws, gravity, point loads, fixed or driven points and measured points,
+//! written once over an [`Element`] that a dimension crate implements with
+//! its geometry, T-matrix, integrals, narrow phase and end-of-step motion.
 
 use std::collections::HashMap;
 
@@ -10,7 +10,7 @@ use nalgebra::{Point, SMatrix, SVector};
 use crate::constitutive::ConstitutiveLaw;
 use crate::contacts::{BlockVector, Contact};
 use crate::error::DdaError;
-use crate::loads::{held_energy, FixedPoint, PointLoad};
+use crate::loads::{held_energy, FixedPoint, MeasuredPoint, PointLoad};
 use crate::system::{BlockKind, BlockMatrix, BlockState, BlockSystem, SystemState};
 
 /// Angle tolerance for parallel edges and faces and for wedge tests (Shi's
@@ -111,6 +111,8 @@ pub struct BlockSet<B, const D: usize, const N: usize, const T: usize, const S: 
     pub gravity: SVector<f64, D>,
     pub loads: Vec<PointLoad<D>>,
     pub fixed: Vec<FixedPoint<D>>,
+    /// Points whose motion is an output only.
+    pub measured: Vec<MeasuredPoint<D>>,
     /// Stiffness of the fixed-point springs (force per length); scenes take
     /// ten times the contact penalty unless they set it.
     pub fixed_penalty: f64,
@@ -135,6 +137,7 @@ where
             gravity: SVector::zeros(),
             loads: Vec::new(),
             fixed: Vec::new(),
+            measured: Vec::new(),
             fixed_penalty: stiffest,
             rotation_update: RotationUpdate::Exact,
             length_scale: None,
@@ -304,6 +307,11 @@ where
                 .collect(),
             fixed_points: self.fixed.iter().map(|f| coordinates(&f.point)).collect(),
             load_points: self.loads.iter().map(|l| coordinates(&l.point)).collect(),
+            measured_points: self
+                .measured
+                .iter()
+                .map(|m| coordinates(&m.point))
+                .collect(),
         })
     }
 
@@ -318,8 +326,9 @@ where
         }
         if state.fixed_points.len() != self.fixed.len()
             || state.load_points.len() != self.loads.len()
+            || state.measured_points.len() != self.measured.len()
         {
-            return Err(mismatch("fixed or load points"));
+            return Err(mismatch("fixed, load or measured points"));
         }
         let point = |c: &[f64]| Point::from(SVector::<f64, D>::from_column_slice(c));
         for (b, s) in self.blocks.iter().zip(&state.blocks) {
@@ -335,6 +344,7 @@ where
             .fixed_points
             .iter()
             .chain(&state.load_points)
+            .chain(&state.measured_points)
             .any(|p| p.len() != D)
         {
             return Err(mismatch("points"));
@@ -347,22 +357,22 @@ where
                 &s.rotation,
             );
         }
-        for (f, p) in self.fixed.iter_mut().zip(&state.fixed_points) {
-            f.point = point(p);
-        }
-        for (l, p) in self.loads.iter_mut().zip(&state.load_points) {
-            l.point = point(p);
+        let saved = state
+            .fixed_points
+            .iter()
+            .chain(&state.load_points)
+            .chain(&state.measured_points);
+        let points = carried(&mut self.fixed, &mut self.loads, &mut self.measured);
+        for ((_, p), s) in points.zip(saved) {
+            *p = point(s);
         }
         Ok(())
     }
 
     fn commit(&mut self, d: &[BlockVector<N>], _dt: f64, _time: f64) {
         let update = self.rotation_update;
-        for fp in &mut self.fixed {
-            fp.point = self.blocks[fp.block].move_point(&fp.point, &d[fp.block], update);
-        }
-        for load in &mut self.loads {
-            load.point = self.blocks[load.block].move_point(&load.point, &d[load.block], update);
+        for (block, point) in carried(&mut self.fixed, &mut self.loads, &mut self.measured) {
+            *point = self.blocks[block].move_point(point, &d[block], update);
         }
         let stresses: Vec<SVector<f64, S>> = self
             .blocks
@@ -374,4 +384,17 @@ where
             block.commit(di, stress, update);
         }
     }
+}
+
+/// The points that move with their blocks (fixed, load and measured, in
+/// that order), each with its block: one path for commit and restore.
+fn carried<'a, const D: usize>(
+    fixed: &'a mut [FixedPoint<D>],
+    loads: &'a mut [PointLoad<D>],
+    measured: &'a mut [MeasuredPoint<D>],
+) -> impl Iterator<Item = (usize, &'a mut Point<f64, D>)> {
+    let fixed = fixed.iter_mut().map(|f| (f.block, &mut f.point));
+    let loads = loads.iter_mut().map(|l| (l.block, &mut l.point));
+    let measured = measured.iter_mut().map(|m| (m.block, &mut m.point));
+    fixed.chain(loads).chain(measured)
 }

@@ -27,7 +27,7 @@ pub use contact::{ContactLaw, ContactResponse, ContactState, DynContactLaw, Loca
 pub use contacts::{BlockVector, Contact, ContactKey, ContactRecord, Entrance};
 pub use driver::Driver;
 pub use error::DdaError;
-pub use loads::{FixedPoint, Force, PointLoad};
+pub use loads::{FixedPoint, Force, MeasuredPoint, PointLoad};
 pub use motion::{GroundMotion, Quantity, Record};
 pub use settings::{Integrator, Settings};
 pub use statistics::{Cycle, PhaseTimes, Statistics};

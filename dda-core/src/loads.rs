@@ -1,4 +1,5 @@
-//! Point loads and fixed (or driven) points, in a space of `D` dimensions.
+//! Point loads, fixed (or driven) points and measured points, in a space of
+//! `D` dimensions.
 
 use std::sync::Arc;
 
@@ -94,6 +95,33 @@ impl<const D: usize> FixedPoint<D> {
     /// Whether the point is driven (moves with time), so it does work.
     pub fn is_driven(&self) -> bool {
         self.velocity != SVector::<f64, D>::zeros() || self.ground.is_some()
+    }
+}
+
+/// A point of a block whose motion is recorded; nothing acts there. It
+/// moves with its block as load and fixed points do.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasuredPoint<const D: usize> {
+    pub block: usize,
+    /// Where it was when the system was built.
+    pub start: Point<f64, D>,
+    /// Where it is now.
+    pub point: Point<f64, D>,
+}
+
+impl<const D: usize> MeasuredPoint<D> {
+    /// A point of `block` at `point`, not yet moved.
+    pub fn at(block: usize, point: Point<f64, D>) -> Self {
+        Self {
+            block,
+            start: point,
+            point,
+        }
+    }
+
+    /// How far it has moved since the start.
+    pub fn displacement(&self) -> SVector<f64, D> {
+        self.point - self.start
     }
 }
 

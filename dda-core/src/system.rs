@@ -152,11 +152,12 @@ pub struct BlockState {
 }
 
 /// What a block system's accepted steps have changed: the blocks, and the
-/// fixed and load points that move with them.
+/// fixed, load and measured points that move with them.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SystemState {
     pub blocks: Vec<BlockState>,
-    /// Coordinates of each fixed point, then of each load point.
+    /// Coordinates of each fixed, load and measured point, now.
     pub fixed_points: Vec<Vec<f64>>,
     pub load_points: Vec<Vec<f64>>,
+    pub measured_points: Vec<Vec<f64>>,
 }

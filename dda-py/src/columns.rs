@@ -59,7 +59,7 @@ pub fn read_columns(path: &Path) -> anyhow::Result<Vec<(String, Column)>> {
 fn is_count(name: &str) -> bool {
     matches!(
         name,
-        "step" | "steps" | "block" | "block_a" | "block_b" | "index" | "case" | "run"
+        "step" | "steps" | "block" | "block_a" | "block_b" | "point" | "index" | "case" | "run"
     ) || name.ends_with("_id")
         || name.ends_with("_count")
 }

@@ -99,3 +99,21 @@ fn a_change_is_checked_and_an_integer_stays_a_float() {
     );
     assert!(error.contains("dtt"), "{error}");
 }
+
+#[test]
+fn measured_points_are_set_by_path_and_checked() {
+    let mut scene = sliding();
+    let points = "[(block: 1, point: (-0.5, 0.8660254037844386))]";
+    scene
+        .set("measured_points", &Given::Str(points.into()))
+        .unwrap();
+    assert_eq!(scene.scene.measured_points.len(), 1);
+    assert_eq!(scene.scene.measured_points[0].block, 1);
+    let error = format!(
+        "{:#}",
+        scene
+            .set("measured_points.0.point", &Given::Str("(9.0, 9.0)".into()))
+            .unwrap_err()
+    );
+    assert!(error.contains("measured_points[0].point"), "{error}");
+}

@@ -15,16 +15,15 @@ use nalgebra::Point2;
 use roxmltree::{Document, Node};
 
 use crate::scene::{
-    BlockSpec, Coulomb, FixedPointSpec, Joint, JointLaw, Load, Material, Mode, Plane,
-    RotationUpdate, Scene,
+    BlockSpec, Coulomb, FixedPointSpec, Joint, JointLaw, Load, Material, MeasuredPointSpec, Mode,
+    Plane, RotationUpdate, Scene,
 };
 
 /// A scene made from DDAML files, with what was left out or changed.
 #[derive(Debug, Clone)]
 pub struct Imported {
     pub scene: Scene,
-    /// The scene as RON, with a header saying where it came from and where
-    /// the measured points are.
+    /// The scene as RON, with a header saying where it came from.
     pub text: String,
     pub notes: Vec<String>,
 }
@@ -682,6 +681,12 @@ pub fn import_ddaml(geo: &Path, ana: Option<&Path>) -> Result<Imported, ImportEr
             a.loads.len()
         )));
     }
+    for (p, line) in &g.measured {
+        scene.measured_points.push(MeasuredPointSpec {
+            block: block_of(p, *line, "measured point")?,
+            point: (*p).into(),
+        });
+    }
     for ((p, line), (history, _)) in g.loads.iter().zip(&a.loads) {
         scene.loads.push(Load::PointLoad {
             block: block_of(p, *line, "load point")?,
@@ -756,10 +761,6 @@ pub fn import_ddaml(geo: &Path, ana: Option<&Path>) -> Result<Imported, ImportEr
         header += &format!(" and {}", ana.display());
     }
     header += " (DDAML) by `dda import`; the units are the files'.\n";
-    for (p, line) in &g.measured {
-        let block = block_of(p, *line, "measured point")?;
-        header += &format!("// Measured point ({}, {}) lies in block {block}: its motion is that block's in history.csv.\n", p[0], p[1]);
-    }
     let text = format!("{header}{}\n", scene.to_ron());
     let scene = Scene::from_str(&text, &file)
         .map_err(|e| fail(format!("the imported scene is not valid: {e}")))?;

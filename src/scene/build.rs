@@ -7,7 +7,7 @@ use dda_3d::{Driver3d, IsotropicElastic, Polyhedra};
 use dda_contact::{LawRegistry, Params, SlipWeakening};
 use dda_core::{
     BlockSet, BlockSystem, ConstitutiveLaw, Driver, DynContactLaw, Element, FixedPoint, Force,
-    Settings,
+    MeasuredPoint, Settings,
 };
 use nalgebra::{Point3, SVector, Vector3, Vector6};
 
@@ -251,7 +251,7 @@ impl Scene {
 
     /// What a block set takes from the scene alike in 2D and 3D: gravity,
     /// rotation update, length scale, the fixed points' springs, joint
-    /// laws, loads, fixed and driven points; returns the ground motion's
+    /// laws, loads, fixed, driven and measured points; returns the ground motion's
     /// notes.
     fn equip<B, const D: usize, const N: usize, const T: usize, const S: usize>(
         &self,
@@ -277,6 +277,11 @@ impl Scene {
         system.pair_laws = table.pairs.clone();
         system.loads = self.point_loads();
         system.fixed = self.fixed_points();
+        system.measured = self
+            .measured_points
+            .iter()
+            .map(|m| MeasuredPoint::at(m.block, vector::<D>(&m.point).into()))
+            .collect();
         for (k, fixed) in fixed_blocks.enumerate() {
             if fixed {
                 system.fix_block(k);

@@ -57,6 +57,9 @@ pub struct Scene {
     pub loads: Vec<Load>,
     #[serde(default)]
     pub fixed_points: Vec<FixedPointSpec>,
+    /// Points whose motion is written to `points.csv`; none by default.
+    #[serde(default)]
+    pub measured_points: Vec<MeasuredPointSpec>,
     /// Shaking of fixed base blocks.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ground_motion: Option<GroundMotionSpec>,
@@ -1021,6 +1024,16 @@ pub struct FixedPointSpec {
     pub velocity: Coords,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis: Option<Coords>,
+}
+
+/// A point of a block whose position and displacement from the start are
+/// written to `points.csv` at every output time; nothing acts there. The
+/// point (one number per dimension, m) must lie inside or on the block.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeasuredPointSpec {
+    pub block: usize,
+    pub point: Coords,
 }
 
 /// Numbers written as a tuple, like `(0.0, -9.81)` or `(1.0, 2.0, 3.0)`: a

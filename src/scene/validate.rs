@@ -130,6 +130,50 @@ impl From<&SceneBlock3> for Slot {
     }
 }
 
+/// A block's shape, for the points that must lie on it.
+enum Shape {
+    Polygon(Outline),
+    Polyhedron(Box<Polyhedron>),
+}
+
+/// A polygon's corners.
+type Outline = Vec<Point2<f64>>;
+
+impl Shape {
+    /// How far `p` lies outside, 0 inside or within a millionth of the
+    /// block's size of its boundary (a point written on a corner keeps its
+    /// round-off).
+    fn outside(&self, p: &[f64]) -> f64 {
+        let (inside, distance, size) = match self {
+            Shape::Polygon(outline) => {
+                let q = Point2::new(p[0], p[1]);
+                let distance = (0..outline.len())
+                    .map(|i| {
+                        let next = &outline[(i + 1) % outline.len()];
+                        polygon::point_segment(&q, &outline[i], next).0
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                let (lo, hi) = bounds(outline);
+                (polygon::contains(outline, &q), distance, (hi - lo).norm())
+            }
+            Shape::Polyhedron(shape) => {
+                let q = Point3::new(p[0], p[1], p[2]);
+                let (lo, hi) = shape.bounds();
+                (
+                    shape.contains(&q, 0.0),
+                    shape.distance(&q),
+                    (hi - lo).norm(),
+                )
+            }
+        };
+        if inside || distance <= 1e-6 * size {
+            0.0
+        } else {
+            distance
+        }
+    }
+}
+
 /// Why a dimension is refused.
 pub(super) fn dimension_message(dimension: u32) -> String {
     format!(
@@ -170,13 +214,18 @@ impl Scene {
             }
         }
         self.check_materials()?;
-        let blocks: Vec<Slot> = if self.dimension == 3 {
-            self.check_blocks_3d()?.iter().map(Slot::from).collect()
+        let (blocks, shapes): (Vec<Slot>, Vec<Shape>) = if self.dimension == 3 {
+            let (blocks, shapes) = self.check_blocks_3d()?;
+            let shapes = shapes.into_iter().map(|s| Shape::Polyhedron(Box::new(s)));
+            (blocks.iter().map(Slot::from).collect(), shapes.collect())
         } else {
-            self.check_blocks()?.iter().map(Slot::from).collect()
+            let (blocks, outlines) = self.check_blocks()?;
+            let shapes = outlines.into_iter().map(Shape::Polygon);
+            (blocks.iter().map(Slot::from).collect(), shapes.collect())
         };
         self.check_joints(&blocks)?;
         self.check_loads(&blocks)?;
+        self.check_measured_points(&blocks, &shapes)?;
         if self.dimension == 3 {
             self.ground_motion::<3>(&blocks)?;
         } else {
@@ -498,8 +547,8 @@ impl Scene {
     }
 
     /// Checks every entry, expands the generators and checks the blocks
-    /// they make; returns the expanded blocks.
-    fn check_blocks(&self) -> Result<Vec<SceneBlock>> {
+    /// they make; returns the expanded blocks and their outlines.
+    fn check_blocks(&self) -> Result<(Vec<SceneBlock>, Vec<Outline>)> {
         if self.blocks.is_empty() {
             return Err(self.error(
                 &Place::root().field("blocks"),
@@ -550,7 +599,7 @@ impl Scene {
         self.check_overlaps(&places, &outlines, bounds, |a, b, tol| {
             polygon::overlap(a, b, tol)
         })?;
-        Ok(blocks)
+        Ok((blocks, outlines))
     }
 
     /// `blocks[k]`, with the part for a generated block.
@@ -601,8 +650,8 @@ impl Scene {
     }
 
     /// Checks every entry of a 3D scene and the polyhedra they make;
-    /// returns them.
-    fn check_blocks_3d(&self) -> Result<Vec<SceneBlock3>> {
+    /// returns them, as entries and as shapes.
+    fn check_blocks_3d(&self) -> Result<(Vec<SceneBlock3>, Vec<Polyhedron>)> {
         let root = Place::root().field("blocks");
         if self.blocks.is_empty() {
             return Err(self.error(
@@ -639,7 +688,7 @@ impl Scene {
             (lo.coords.into(), hi.coords.into())
         };
         self.check_overlaps(&places, &shapes, bounds, polyhedra::overlap)?;
-        Ok(blocks)
+        Ok((blocks, shapes))
     }
 
     /// A 3D entry's own values: material, sizes, initial state.
@@ -1212,6 +1261,36 @@ impl Scene {
                     ));
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// Each measured point names a block and lies inside or on it.
+    fn check_measured_points(&self, blocks: &[Slot], shapes: &[Shape]) -> Result {
+        for (k, m) in self.measured_points.iter().enumerate() {
+            let at = Place::root().field("measured_points").index(k);
+            self.check_block_index(&at.field("block"), m.block, blocks)?;
+            let at = at.field("point");
+            self.vector(&at, "the measured point", &m.point, "")?;
+            let p = m.point.as_slice();
+            let off = shapes[m.block].outside(p);
+            if off == 0.0 {
+                continue;
+            }
+            let shown: Vec<String> = p.iter().map(|x| x.to_string()).collect();
+            let hint = match shapes.iter().position(|s| s.outside(p) == 0.0) {
+                Some(other) => format!("it lies in block {other}: give block: {other}, or"),
+                None => "it lies in no block:".to_string(),
+            };
+            return Err(self.error(
+                &at,
+                format!(
+                    "the measured point ({}) is {} m outside block {}; {hint} move the point inside or onto the block",
+                    shown.join(", "),
+                    short(off),
+                    m.block
+                ),
+            ));
         }
         Ok(())
     }

@@ -152,6 +152,24 @@ def test_contacts_carry_the_weight_and_slide_at_the_friction_angle(tmp_path):
     assert slip.max() == pytest.approx(slide_distance(1.0), rel=5e-3)
 
 
+def test_a_measured_point_slides_with_its_block(tmp_path):
+    scene = dda.Scene.load(example("sliding_block_2d.ron"))
+    scene["measured_points"] = "[(block: 1, point: (-0.5, 0.8660254037844386))]"
+    run = scene.run(out=tmp_path / "points")
+    points = run.points
+    assert list(points.keys()) == ["time", "point", "block", "x", "y", "dx", "dy"]
+    assert set(column(points, "block")) == {1}
+    block = rows_of_block(run.history, 1)
+    # The point is the block's centroid: it moves as history.csv says.
+    assert np.allclose(column(points, "x"), block["x"], rtol=0, atol=1e-9)
+    assert np.allclose(column(points, "dy"), block["y"] - block["y"][0], rtol=0, atol=1e-9)
+    th = math.radians(30.0)
+    dx, dy = column(points, "dx")[-1], column(points, "dy")[-1]
+    along = -(dx * math.cos(th) + dy * math.sin(th))
+    assert along == pytest.approx(slide_distance(1.0), rel=0.01)
+    assert dda.run(example("free_fall_2d.ron"), out=tmp_path / "none").points is None
+
+
 def test_contacts_not_asked_for_say_how_to_get_them(tmp_path):
     run = dda.run(example("free_fall_2d.ron"), out=tmp_path / "fall")
     with pytest.raises(dda.DdaError, match="contacts: true"):

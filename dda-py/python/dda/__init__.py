@@ -35,11 +35,11 @@ __all__ = ["DdaError", "Run", "Scene", "run", "study", "read_table"]
 
 
 def read_table(path):
-    """Read a results CSV (history.csv, contacts.csv, study.csv) by its header.
+    """Read a results CSV (history.csv, contacts.csv, points.csv, study.csv) by its header.
 
     Returns a pandas DataFrame, or a dict of numpy arrays (column name to
     array) when pandas is not installed. Counts (step, block, block_a,
-    block_b) are integers, other numbers floats in the units the file
+    block_b, point) are integers, other numbers floats in the units the file
     states (m, s, rad, N, Pa), anything else text.
     """
     columns = _native.read_table(os.fspath(path))
@@ -69,6 +69,7 @@ class Run:
         self.summary = summary
         self._history = None
         self._contacts = None
+        self._points = None
 
     @property
     def dimension(self):
@@ -106,6 +107,22 @@ class Run:
                 )
             self._contacts = read_table(path)
         return self._contacts
+
+    @property
+    def points(self):
+        """points.csv: one row per measured point per output time.
+
+        Columns: time (s), point (its index in the scene's
+        ``measured_points``), block, x, y (m, where it is; x, y, z in 3D),
+        dx, dy (m, how far it has moved since the start; dx, dy, dz in
+        3D). None when the scene has no ``measured_points``.
+        """
+        if self._points is None:
+            path = os.path.join(self.out, "points.csv")
+            if not os.path.exists(path):
+                return None
+            self._points = read_table(path)
+        return self._points
 
     def __repr__(self):
         return (
