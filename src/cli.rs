@@ -140,6 +140,24 @@ enum Command {
         #[arg(long, value_name = "DIR", num_args = 1.., conflicts_with_all = ["study", "shard"])]
         merge: Vec<PathBuf>,
     },
+    /// Run the verification catalogue (every shipped example with an analytical answer) and compare: a table on stdout, DIR/validation.csv, exit code 1 if any case fails
+    Validate {
+        /// Only the cases that take a few seconds each
+        #[arg(long)]
+        quick: bool,
+        /// Where each case's run and validation.csv go
+        #[arg(long, short, value_name = "DIR", default_value = "out/validate")]
+        out: PathBuf,
+        /// Runs at once (default: one per core)
+        #[arg(long, value_name = "N")]
+        jobs: Option<usize>,
+        /// Run only these cases (comma separated names from the table's first column)
+        #[arg(long, value_name = "NAME", value_delimiter = ',')]
+        only: Vec<String>,
+        /// The folder of the shipped examples (default: ./examples, else the one dda was built from)
+        #[arg(long, value_name = "DIR")]
+        examples: Option<PathBuf>,
+    },
     /// Load, validate and build a scene without running it
     Check {
         /// The scene file (RON)
@@ -277,6 +295,22 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             shard,
             merge,
         } => crate::study::command(study, out, jobs, shard, merge, registry)?,
+        Command::Validate {
+            quick,
+            out,
+            jobs,
+            only,
+            examples,
+        } => {
+            use crate::validate;
+            let cases = validate::select(&validate::catalogue(), quick, &only)?;
+            let options = validate::Options {
+                out,
+                examples: examples.unwrap_or_else(validate::default_examples),
+                jobs,
+            };
+            validate::command(&cases, &options, registry)?;
+        }
         Command::Check { scene: path } => {
             let scene = Scene::load(&path)?;
             let model = scene.build_any_with(registry)?;

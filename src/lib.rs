@@ -57,6 +57,7 @@ pub mod scene;
 pub mod simulation;
 pub mod study;
 pub mod summary;
+pub mod validate;
 pub mod vtk;
 
 pub use observe::{BlockShape, Cursor, Observer, PointLine, RunView};

@@ -126,22 +126,14 @@ pub fn rate_friction_slide(t_end: f64) -> f64 {
 /// Two-stage friction on a 30° incline (25° until 0.05 m of slip, then
 /// 15°): the piecewise-parabolic distance at `t`.
 pub fn two_stage_slide(t: f64) -> f64 {
-    let (theta, g) = (30f64.to_radians(), 9.81);
-    let a = |phi: f64| g * (theta.sin() - theta.cos() * phi.to_radians().tan());
-    let (a1, a2, d1) = (a(25.0), a(15.0), 0.05);
-    let t1 = (2.0 * d1 / a1).sqrt();
-    if t <= t1 {
-        0.5 * a1 * t * t
-    } else {
-        d1 + a1 * t1 * (t - t1) + 0.5 * a2 * (t - t1).powi(2)
-    }
+    let deg = f64::to_radians;
+    dda::validate::formulas::two_stage_slide(9.81, deg(30.0), deg(25.0), deg(15.0), 0.05, t)
 }
 
 /// Upward unit normal of a plane of given dip and dip direction (degrees;
 /// x east, y north, z up).
 pub fn plane_normal(dip: f64, direction: f64) -> nalgebra::Vector3<f64> {
-    let (d, a) = (dip.to_radians(), direction.to_radians());
-    nalgebra::Vector3::new(d.sin() * a.sin(), d.sin() * a.cos(), d.cos())
+    dda::validate::formulas::plane_normal(dip, direction)
 }
 
 /// The vector solution for the reference wedge on planes 50/130 and 50/230
@@ -149,14 +141,7 @@ pub fn plane_normal(dip: f64, direction: f64) -> nalgebra::Vector3<f64> {
 /// weight along ŝ and the planes' normal reactions (N1 + N2)/W, so that
 /// a/g = ŵ·ŝ − (N1 + N2)/W · tan φ.
 pub fn reference_wedge() -> (nalgebra::Vector3<f64>, f64, f64) {
-    let (n1, n2) = (plane_normal(50.0, 130.0), plane_normal(50.0, 230.0));
-    let w = nalgebra::Vector3::new(0.0, 0.0, -1.0);
-    let m = n1.cross(&n2);
-    let s = if m.dot(&w) > 0.0 { m } else { -m }.normalize();
-    let m2 = m.norm_squared();
-    let r1 = -w.cross(&n2).dot(&m) / m2;
-    let r2 = -w.cross(&n1).dot(&n2.cross(&n1)) / m2;
-    (s, w.dot(&s), r1 + r2)
+    dda::validate::catalogue::reference_wedge()
 }
 
 /// Housner's rigid rocking block of half-width B and half-height H.
@@ -168,23 +153,9 @@ mod rocking {
         (B / H).atan()
     }
 
-    /// Time for the rigid block to rock from θ0 at rest down to θ = 0:
-    /// θ̈ = −p² sin(α − θ), p² = 3g / (4R), by fine RK4 steps.
+    /// Time for the rigid block to rock from θ0 at rest down to θ = 0.
     pub fn first_impact(theta0: f64) -> f64 {
-        let p2 = 3.0 * 9.81 / (4.0 * (B * B + H * H).sqrt());
-        let acc = |th: f64| -p2 * (alpha() - th).sin();
-        let h = 1e-6;
-        let (mut th, mut om, mut t) = (theta0, 0.0f64, 0.0);
-        while th > 0.0 {
-            let k1 = (om, acc(th));
-            let k2 = (om + 0.5 * h * k1.1, acc(th + 0.5 * h * k1.0));
-            let k3 = (om + 0.5 * h * k2.1, acc(th + 0.5 * h * k2.0));
-            let k4 = (om + h * k3.1, acc(th + h * k3.0));
-            th += h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
-            om += h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
-            t += h;
-        }
-        t
+        dda::validate::formulas::rocking_first_impact(B, H, 9.81, theta0)
     }
 
     /// Housner's amplitudes: cos(α − θ_{n+1}) = cos α + r² [cos(α − θ_n) − cos α].
