@@ -379,7 +379,10 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 );
             }
             if let Some(path) = json {
-                crate::output::write_atomically(&path, serde_json::to_string_pretty(&rows)?.as_bytes())?;
+                crate::output::write_atomically(
+                    &path,
+                    serde_json::to_string_pretty(&rows)?.as_bytes(),
+                )?;
             }
         }
         Command::Bench {

@@ -7,7 +7,7 @@
 //! count as on the plane, so a plane through a corner or along a face does
 //! not leave slivers or duplicate corners behind.
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 use nalgebra::{Point3, Vector3};
 
@@ -382,7 +382,9 @@ pub fn cut(region: &Convex, planes: &[JointPlane], min_volume: f64) -> Result<Cu
 /// Block pairs with faces on the same joint that overlap by more than
 /// tol², with the area they share.
 fn shared_joints(blocks: &[Convex], tol: f64) -> Vec<SharedJoint> {
-    let mut on_joint: HashMap<(usize, usize), Vec<(usize, &Face)>> = HashMap::new();
+    // Ordered maps: a pair of blocks on two joints takes the first joint's
+    // set, and the areas add up in one order, the same every run.
+    let mut on_joint: BTreeMap<(usize, usize), Vec<(usize, &Face)>> = BTreeMap::new();
     for (b, block) in blocks.iter().enumerate() {
         for face in &block.faces {
             if let Some(j) = face.joint {
@@ -390,7 +392,7 @@ fn shared_joints(blocks: &[Convex], tol: f64) -> Vec<SharedJoint> {
             }
         }
     }
-    let mut shared: HashMap<(usize, usize), (usize, f64)> = HashMap::new();
+    let mut shared: BTreeMap<(usize, usize), (usize, f64)> = BTreeMap::new();
     for (&(set, _), faces) in &on_joint {
         for (i, (a, fa)) in faces.iter().enumerate() {
             for (b, fb) in &faces[i + 1..] {
@@ -407,12 +409,10 @@ fn shared_joints(blocks: &[Convex], tol: f64) -> Vec<SharedJoint> {
             }
         }
     }
-    let mut out: Vec<SharedJoint> = shared
+    shared
         .into_iter()
         .map(|(blocks, (set, area))| SharedJoint { blocks, set, area })
-        .collect();
-    out.sort_by_key(|j| j.blocks);
-    out
+        .collect()
 }
 
 /// The area two convex faces in one plane share.

@@ -53,12 +53,12 @@ pub fn line(row: &Row) -> String {
     let number = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.6e}"));
     let error = row.error.map_or("-".to_string(), |e| format!("{e:.2e}"));
     let mut text = format!(
-        "{:<26} {:>13} {:>13} {:>9} {:>9.0e} {:>8.2}  {}",
+        "{:<26} {:>13} {:>13} {:>9} {:>9} {:>8.2}  {}",
         row.case,
         number(row.reference),
         number(row.dda),
         error,
-        row.tolerance,
+        format!("{:e}", row.tolerance),
         row.wall_time,
         row.result()
     );
