@@ -551,3 +551,43 @@ fn every_face_and_corner_error_is_an_error_not_a_panic() {
         }
     }
 }
+
+/// A ring of 100,000 staves from radius 9.5 to 10.5 m, each 0.3 mm thick
+/// along the ring and 1 m tall, listed one by one: slanted slivers whose
+/// boxes each meet those of thousands of others. The ring is checked (in
+/// seconds, where a check of the boxes' neighbours took minutes), and a
+/// stave reaching over its neighbour is found.
+#[test]
+fn a_hundred_thousand_slivers_are_checked() {
+    let n = 100_000;
+    let at = |r: f64, j: usize| {
+        let a = std::f64::consts::PI * j as f64 / n as f64;
+        format!("({}, {})", r * a.cos(), r * a.sin())
+    };
+    let ring = |wide: usize| {
+        let staves: String = (0..n)
+            .map(|k| {
+                let reach = if k == wide { 2 } else { 1 };
+                format!(
+                    "        Prism(outline: [{}, {}, {}, {}], z0: 0.0, z1: 1.0),\n",
+                    at(9.5, k),
+                    at(10.5, k),
+                    at(10.5, k + reach),
+                    at(9.5, k + 1)
+                )
+            })
+            .collect();
+        format!(
+            "Scene(\n    dimension: 3,\n    analysis: (duration: 0.01),\n    materials: {{\"stone\": (density: 2000.0, young: 1e9)}},\n    blocks: [\n{staves}    ],\n)"
+        )
+    };
+    let scene = Scene::from_str(&ring(n), "ring.ron").unwrap();
+    assert_eq!(scene.block_count(), n);
+    let message = Scene::from_str(&ring(43_210), "ring.ron")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains(": blocks[43211]: the block overlaps blocks[43210] at the start"),
+        "{message}"
+    );
+}

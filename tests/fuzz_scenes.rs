@@ -227,6 +227,14 @@ fn reproducers_stay_fixed() {
             "(8.0, 3.0, 0.0)",
             "(8.0, 3.0, 2600.0)",
         ),
+        // Cross joints 1 mm apart: 34,000 traces, every pair of which was
+        // tried for a crossing (90 s of CPU); parallel ones are no longer
+        // paired.
+        (
+            "examples/jointed_slope_2d.ron",
+            "(dip: -55.0, spacing: 2.0,",
+            "(dip: -55.0, spacing: 0.001,",
+        ),
     ];
     for (example, from, to) in cases {
         let text = std::fs::read_to_string(example).unwrap();

@@ -112,6 +112,102 @@ fn meetings(
     out
 }
 
+/// The pairs of segments (i < j, in order) that may meet within `tol`:
+/// those marking a common cell of a grid each segment is traced through,
+/// so a long slanted trace marks the cells it passes rather than its box.
+/// Within a cell, segments of one set (parallel joints) are paired only
+/// when their spans across the set's direction come within `tol`, so
+/// closely spaced joints are not all paired with each other.
+fn candidates(segments: &[([Point2<f64>; 2], Option<usize>)], tol: f64) -> Vec<(usize, usize)> {
+    if segments.is_empty() {
+        return Vec::new();
+    }
+    let first = segments[0].0[0];
+    let (lo, hi) = segments
+        .iter()
+        .flat_map(|(s, _)| s)
+        .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+    let mut lengths: Vec<f64> = segments.iter().map(|([a, b], _)| (b - a).norm()).collect();
+    let mean = lengths.iter().sum::<f64>() / lengths.len() as f64;
+    lengths.sort_by(f64::total_cmp);
+    // About the typical segment; coarse enough that the segments mark
+    // about 16 cells each on average and 8192 at most.
+    let cell = lengths[lengths.len() / 2]
+        .max(mean / 8.0)
+        .max((hi - lo).max() / 4096.0)
+        .max(4.0 * tol)
+        .max(f64::MIN_POSITIVE);
+    let index = |x: f64, o: f64| ((x - o) / cell).floor() as i64;
+    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    let mut marked = Vec::new();
+    for (i, ([a, b], _)) in segments.iter().enumerate() {
+        let d = b - a;
+        let steps = (d.abs().max() / (cell / 2.0)).ceil().clamp(1.0, 8192.0) as usize;
+        marked.clear();
+        for k in 0..steps {
+            let p = a + d * (k as f64 / steps as f64);
+            let q = a + d * ((k + 1) as f64 / steps as f64);
+            let (x0, x1) = (
+                index(p.x.min(q.x) - tol, lo.x),
+                index(p.x.max(q.x) + tol, lo.x),
+            );
+            let (y0, y1) = (
+                index(p.y.min(q.y) - tol, lo.y),
+                index(p.y.max(q.y) + tol, lo.y),
+            );
+            for x in x0..=x1 {
+                for y in y0..=y1 {
+                    marked.push((x, y));
+                }
+            }
+        }
+        marked.sort_unstable();
+        marked.dedup();
+        for c in &marked {
+            grid.entry(*c).or_default().push(i);
+        }
+    }
+    let mut pairs = Vec::new();
+    for list in grid.values_mut() {
+        list.sort_by_key(|&i| (segments[i].1, i));
+        let runs: Vec<&[usize]> = list
+            .chunk_by(|&i, &j| segments[i].1 == segments[j].1)
+            .collect();
+        for (r, run) in runs.iter().enumerate() {
+            for other in &runs[r + 1..] {
+                for &i in *run {
+                    pairs.extend(other.iter().map(|&j| (i.min(j), i.max(j))));
+                }
+            }
+            // One set: sweep the spans across the first one's direction.
+            let [a, b] = segments[run[0]].0;
+            let normal = Vector2::new(a.y - b.y, b.x - a.x).normalize();
+            let mut spans: Vec<(f64, f64, usize)> = run
+                .iter()
+                .map(|&i| {
+                    let [p, q] = segments[i].0;
+                    let (u, v) = (normal.dot(&p.coords), normal.dot(&q.coords));
+                    (u.min(v), u.max(v), i)
+                })
+                .collect();
+            spans.sort_by(|x, y| x.0.total_cmp(&y.0));
+            for (k, &(_, end, i)) in spans.iter().enumerate() {
+                for &(start, _, j) in &spans[k + 1..] {
+                    // A NaN span (a direction that would not normalise) pairs
+                    // with every later one: safe.
+                    if start > end + tol {
+                        break;
+                    }
+                    pairs.push((i.min(j), i.max(j)));
+                }
+            }
+        }
+    }
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs
+}
+
 /// Nodes merged within a tolerance, found through a hash grid.
 struct Nodes {
     points: Vec<Point2<f64>>,
@@ -247,13 +343,11 @@ fn arrange(
         .iter()
         .map(|([a, b], _)| vec![(0.0, *a), (1.0, *b)])
         .collect();
-    for i in 0..segments.len() {
-        for j in (i + 1)..segments.len() {
-            let ([a1, b1], [a2, b2]) = (segments[i].0, segments[j].0);
-            for (t, u, p) in meetings((a1, b1), (a2, b2), tol) {
-                splits[i].push((t, p));
-                splits[j].push((u, p));
-            }
+    for (i, j) in candidates(segments, tol) {
+        let ([a1, b1], [a2, b2]) = (segments[i].0, segments[j].0);
+        for (t, u, p) in meetings((a1, b1), (a2, b2), tol) {
+            splits[i].push((t, p));
+            splits[j].push((u, p));
         }
     }
     let mut nodes = Nodes::new(tol);
@@ -644,6 +738,78 @@ mod tests {
         }
         println!("{cuts} cut, {pinched} with a block touching itself");
         assert!(cuts > 250, "{cuts} cut, {pinched} pinched");
+    }
+
+    /// Every pair of segments that meets is a candidate: random segments in
+    /// sets of random directions, parallel families, pieces end to end.
+    #[test]
+    fn candidates_hold_every_meeting_pair() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..200 {
+            let tol = 1e-9 * 10.0;
+            let mut segments: Vec<([Point2<f64>; 2], Option<usize>)> = Vec::new();
+            for set in 0..3 {
+                let angle = next() * std::f64::consts::PI;
+                let t = Vector2::new(angle.cos(), angle.sin());
+                let n = Vector2::new(-t.y, t.x);
+                let spacing = if case % 2 == 0 { 0.001 } else { next() };
+                for k in 0..40 {
+                    let c = (k as f64 - 20.0) * spacing;
+                    let mut s = -5.0 + next();
+                    while s < 5.0 {
+                        let length = 2.0 * next();
+                        let at = |s: f64| Point2::from(n * c + t * s);
+                        segments.push(([at(s), at(s + length)], Some(set)));
+                        // End to end, or a bridge.
+                        s += length + if next() < 0.5 { 0.0 } else { next() };
+                    }
+                }
+            }
+            for _ in 0..10 {
+                let mut p = || Point2::new(10.0 * next() - 5.0, 10.0 * next() - 5.0);
+                segments.push(([p(), p()], None));
+            }
+            let found = candidates(&segments, tol);
+            for i in 0..segments.len() {
+                for j in i + 1..segments.len() {
+                    let ([a1, b1], [a2, b2]) = (segments[i].0, segments[j].0);
+                    if !meetings((a1, b1), (a2, b2), tol).is_empty() {
+                        assert!(
+                            found.binary_search(&(i, j)).is_ok(),
+                            "{i}, {j} in case {case}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// 10,000 traces 1 mm apart crossed by four joints: candidates are the
+    /// crossings and the traces' neighbours along their line, not pairs of
+    /// parallel traces.
+    #[test]
+    fn parallel_traces_are_not_paired() {
+        let mut traces: Vec<Trace> = (0..10_000)
+            .flat_map(|k| {
+                let x = k as f64 * 0.001;
+                [trace((x, 0.0), (x, 2.0), 0), trace((x, 2.5), (x, 4.5), 0)]
+            })
+            .collect();
+        traces.extend((0..4).map(|k| trace((-1.0, k as f64), (11.0, k as f64), 1)));
+        let segments: Vec<([Point2<f64>; 2], Option<usize>)> =
+            traces.iter().map(|t| ([t.a, t.b], Some(t.set))).collect();
+        let found = candidates(&segments, 1e-9 * 12.0);
+        assert!(
+            found.len() < 10 * segments.len(),
+            "{} candidates",
+            found.len()
+        );
     }
 
     /// A loop of traces joined to the boundary by a single trace is not a

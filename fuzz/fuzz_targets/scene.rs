@@ -1,6 +1,7 @@
 //! Any text through the scene parser, validation and building: errors are
-//! fine, panics are not. Seed the corpus with the shipped examples:
-//! `cargo +nightly fuzz run scene ../examples`.
+//! fine, panics and hangs are not. How to run it: `fuzz/README.md` (seed
+//! the corpus with a copy of the examples; libFuzzer writes new inputs into
+//! the corpus folder it is given).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

@@ -17,6 +17,7 @@ mod generate;
 mod jointed;
 mod locate;
 mod motion;
+mod overlap;
 mod validate;
 
 use std::path::{Path, PathBuf};

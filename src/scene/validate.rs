@@ -12,6 +12,7 @@ use nalgebra::{Point2, Point3, SVector};
 use super::generate::{self, MAX_PARTS};
 use super::locate::{locate_exact, Seg};
 use super::motion::{read_record, Layout};
+use super::overlap::{first_overlap_2d, first_overlap_3d};
 use super::{
     BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Region3, Scene,
     SceneBlock, SceneBlock3, SceneError,
@@ -153,8 +154,11 @@ impl Shape {
                         polygon::point_segment(&q, &outline[i], next).0
                     })
                     .fold(f64::INFINITY, f64::min);
-                let (lo, hi) = bounds(outline);
-                (polygon::contains(outline, &q), distance, (hi - lo).norm())
+                let size = outline
+                    .iter()
+                    .flat_map(|a| outline.iter().map(move |b| (a - b).norm()))
+                    .fold(0.0, f64::max);
+                (polygon::contains(outline, &q), distance, size)
             }
             Shape::Polyhedron(shape) => {
                 let q = Point3::new(p[0], p[1], p[2]);
@@ -592,13 +596,7 @@ impl Scene {
             }
         }
         let places: Vec<Place> = blocks.iter().map(|b| self.block_place(b)).collect();
-        let bounds = |o: &Vec<Point2<f64>>| {
-            let (lo, hi) = bounds(o);
-            ([lo.x, lo.y], [hi.x, hi.y])
-        };
-        self.check_overlaps(&places, &outlines, bounds, |a, b, tol| {
-            polygon::overlap(a, b, tol)
-        })?;
+        self.overlaps(&places, first_overlap_2d(&outlines))?;
         Ok((blocks, outlines))
     }
 
@@ -683,11 +681,7 @@ impl Scene {
             .iter()
             .map(|b| place_of(b.entry, b.part.as_deref()))
             .collect();
-        let bounds = |s: &Polyhedron| {
-            let (lo, hi) = s.bounds();
-            (lo.coords.into(), hi.coords.into())
-        };
-        self.check_overlaps(&places, &shapes, bounds, polyhedra::overlap)?;
+        self.overlaps(&places, first_overlap_3d(&shapes))?;
         Ok((blocks, shapes))
     }
 
@@ -1133,73 +1127,18 @@ impl Scene {
     }
 
     /// Blocks may touch at the start but not overlap (beyond 1e-6 of the
-    /// model size). Candidates share a cell of a grid of about the median
-    /// block's size, so the check is near linear in the number of blocks.
-    fn check_overlaps<S, const D: usize>(
-        &self,
-        places: &[Place],
-        shapes: &[S],
-        bounds: impl Fn(&S) -> ([f64; D], [f64; D]),
-        overlap: impl Fn(&S, &S, f64) -> bool,
-    ) -> Result {
-        let boxes: Vec<([f64; D], [f64; D])> = shapes.iter().map(bounds).collect();
-        let (mut lo, mut hi) = boxes[0];
-        for (l, h) in &boxes {
-            for k in 0..D {
-                lo[k] = lo[k].min(l[k]);
-                hi[k] = hi[k].max(h[k]);
-            }
+    /// model size): the first overlapping pair found, if any, is an error.
+    fn overlaps(&self, places: &[Place], first: Option<(usize, usize)>) -> Result {
+        match first {
+            Some((i, j)) => Err(self.error(
+                &places[i],
+                format!(
+                    "the block overlaps {} at the start; move or resize one of them so they touch at most",
+                    places[j]
+                ),
+            )),
+            None => Ok(()),
         }
-        let tol = 1e-6 * (0..D).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
-        let mut sizes: Vec<f64> = boxes.iter().map(|(l, h)| h[0] - l[0]).collect();
-        sizes.sort_by(f64::total_cmp);
-        let cell = sizes[sizes.len() / 2].max(tol).max(f64::MIN_POSITIVE);
-        let index = |x: f64, k: usize| ((x - lo[k]) / cell).floor().clamp(0.0, 1e9) as i64;
-        let mut grid: std::collections::HashMap<[i64; D], Vec<usize>> = Default::default();
-        // Blocks spanning many cells (a long base) are checked against all.
-        let mut large: Vec<usize> = Vec::new();
-        for (i, (l, h)) in boxes.iter().enumerate() {
-            let first: [i64; D] = std::array::from_fn(|k| index(l[k] - tol, k));
-            let last: [i64; D] = std::array::from_fn(|k| index(h[k] + tol, k));
-            let spanned: i64 = (0..D).map(|k| last[k] - first[k] + 1).product();
-            let mut candidates: Vec<usize> = large.clone();
-            if spanned > 64 {
-                candidates.extend(0..i);
-                large.push(i);
-            } else {
-                let mut at = first;
-                'cells: loop {
-                    let list = grid.entry(at).or_default();
-                    candidates.extend(list.iter().copied());
-                    list.push(i);
-                    for k in 0..D {
-                        if at[k] < last[k] {
-                            at[k] += 1;
-                            continue 'cells;
-                        }
-                        at[k] = first[k];
-                    }
-                    break;
-                }
-            }
-            // A pair sharing several cells is tested once.
-            candidates.sort_unstable();
-            candidates.dedup();
-            for j in candidates {
-                let apart =
-                    (0..D).any(|k| boxes[j].0[k] > h[k] + tol || l[k] > boxes[j].1[k] + tol);
-                if !apart && overlap(&shapes[j], &shapes[i], tol) {
-                    return Err(self.error(
-                        &places[i],
-                        format!(
-                            "the block overlaps {} at the start; move or resize one of them so they touch at most",
-                            places[j]
-                        ),
-                    ));
-                }
-            }
-        }
-        Ok(())
     }
 
     fn check_loads(&self, blocks: &[Slot]) -> Result {
@@ -1595,10 +1534,4 @@ fn polyhedron_place(at: &Place, e: &PolyhedronError) -> Place {
 
 pub(super) fn to_points(v: &[[f64; 2]]) -> Vec<Point2<f64>> {
     v.iter().map(|p| Point2::new(p[0], p[1])).collect()
-}
-
-fn bounds(points: &[Point2<f64>]) -> (Point2<f64>, Point2<f64>) {
-    points
-        .iter()
-        .fold((points[0], points[0]), |(lo, hi), p| (lo.inf(p), hi.sup(p)))
 }
