@@ -11,6 +11,9 @@
 //!   velocity within 0.5 %;
 //! * Housner's rocking block: the first impact within 3 %, the amplitude
 //!   ratios within 10 % (the implicit test's tolerances);
+//! * the resting block at a factor of safety of 1.01 holds (creep below
+//!   1e-7 m between 1 s and 2 s) and at 0.99 slides with the Coulomb
+//!   acceleration within 0.5 % once landed;
 //! * the critical step: printed, every step below 0.9 of it, a longer dt
 //!   shortened, and a block resting at that step gains no energy;
 //! * local damping relaxes the self-weight block to its static stress.
@@ -234,4 +237,44 @@ fn local_damping_is_refused_with_the_implicit_integrator() {
         message.contains("local_damping") && message.contains("Explicit"),
         "{message}"
     );
+}
+
+/// The resting block at a factor of safety of 1.01 and 0.99 (30° incline,
+/// contact damping 1, steps at the critical one): at 1.01 it creeps less
+/// than 1e-7 m between 1 s and 2 s (the implicit step's floor); at 0.99 it
+/// slides with g·sin θ·(1 − FS) within 0.5 %.
+#[test]
+fn near_its_friction_limit_the_block_holds_or_slides_as_coulomb_says() {
+    let theta = 30f64.to_radians();
+    for fs in [1.01, 0.99] {
+        let phi = (fs * theta.tan()).atan().to_degrees();
+        let (_, rows) = rows_2d("resting_block_2d.ron", |s| {
+            s.analysis.contact_damping = 1.0;
+            let dda::scene::JointLaw::Coulomb(law) = &mut s.default_joint else {
+                panic!("the example's joints are Coulomb's");
+            };
+            law.friction_angle = phi;
+        });
+        let (one, half, two) = (
+            common::at(&rows, 1, 1.0),
+            common::at(&rows, 1, 1.5),
+            common::at(&rows, 1, 2.0),
+        );
+        if fs > 1.0 {
+            let creep = common::distance(one, two);
+            assert!(
+                creep < 1e-7,
+                "FS {fs}: crept {creep:e} m between 1 s and 2 s"
+            );
+        } else {
+            // After the landing (which the limits tests leave out too): the
+            // second difference of the position over 1, 1.5 and 2 s.
+            let a = (two.x - 2.0 * half.x + one.x).hypot(two.y - 2.0 * half.y + one.y) / 0.25;
+            let exact = 9.81 * theta.sin() * (1.0 - fs);
+            assert!(
+                ((a - exact) / exact).abs() < 0.005,
+                "FS {fs}: {a} m/s², Coulomb {exact}"
+            );
+        }
+    }
 }
