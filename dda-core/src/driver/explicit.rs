@@ -47,7 +47,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             .map(|i| self.system.mass(i))
             .collect();
         self.invert(&masses);
-        let (critical, limiting) = self.critical_step(&masses);
+        let (critical, limiting) = self.critical_step(&masses, &self.at_rest());
         let share = CRITICAL_SHARE;
         let mut note = "explicit integration (central differences): ".to_string();
         if critical.is_finite() {
@@ -85,7 +85,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let nb = self.system.block_count();
         let masses: Vec<BlockMatrix<N>> = (0..nb).map(|i| self.system.mass(i)).collect();
         self.invert(&masses);
-        let (critical, _) = self.critical_step(&masses);
+        let mut trial = self.at_rest();
+        let (critical, _) = self.critical_step(&masses, &trial);
         let stats = &mut self.stats;
         stats.critical_dt = Some(stats.critical_dt.map_or(critical, |c| c.min(critical)));
         let mut dt = self.dt.min(dt_limit);
@@ -93,20 +94,6 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             dt = CRITICAL_SHARE * critical;
             stats.critical_limited_steps += 1;
         }
-        let tolerance = self.settings.contact_tolerance * self.length_scale;
-        let mut trial = Trial {
-            d: vec![0.0; nb * N],
-            states: self.contacts.iter().map(|c| c.record.state).collect(),
-            entrances: Vec::new(),
-            directions: (self.contacts.iter())
-                .map(|c| c.record.slip_direction)
-                .collect(),
-            converged: true,
-            unsettled: Vec::new(),
-        };
-        trial.entrances = (self.contacts.iter())
-            .map(|c| widest_entrance(c, &trial.d, c.record.entrance, tolerance))
-            .collect();
         // The states at the start of the step, where the forces act.
         let approach = self.approach(dt);
         self.decide(&mut trial, dt, Some(&approach));
@@ -183,6 +170,25 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         (d, (half, end))
     }
 
+    /// The trial of a step that has not moved the blocks: the records'
+    /// states, slip directions and widest entrances.
+    fn at_rest(&self) -> Trial<T> {
+        let d = vec![0.0; self.system.block_count() * N];
+        let tolerance = self.settings.contact_tolerance * self.length_scale;
+        Trial {
+            states: self.contacts.iter().map(|c| c.record.state).collect(),
+            entrances: (self.contacts.iter())
+                .map(|c| widest_entrance(c, &d, c.record.entrance, tolerance))
+                .collect(),
+            directions: (self.contacts.iter())
+                .map(|c| c.record.slip_direction)
+                .collect(),
+            d,
+            converged: true,
+            unsettled: Vec::new(),
+        }
+    }
+
     /// The velocities a step starts from: the last half step's, or the
     /// initial ones before the first step; times the velocity ratio.
     fn carried(&self) -> Vec<BlockVector<N>> {
@@ -211,7 +217,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// The critical step 2/ω_max (with the contact dashpots' shortening)
     /// from the bound in the module's note, and the block that sets it.
-    fn critical_step(&mut self, masses: &[BlockMatrix<N>]) -> (f64, usize) {
+    fn critical_step(&mut self, masses: &[BlockMatrix<N>], rest: &Trial<T>) -> (f64, usize) {
         if self.block_rates.len() != masses.len() {
             self.block_rates = (0..masses.len())
                 .map(|i| self.own_rate(i, &masses[i]))
@@ -224,24 +230,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let compliance = |a: usize, b: usize, [ga, gb]: &[BlockVector<N>; 2]| {
             ga.dot(&(self.inverse_masses[a] * ga)) + gb.dot(&(self.inverse_masses[b] * gb))
         };
-        for c in &self.contacts {
+        for (i, c) in self.contacts.iter().enumerate() {
             let history = c.record.history.as_ref().expect("history set at search");
             let [a, b] = c.blocks;
             let (mut spring, mut damper): (f64, f64) = (0.0, 0.0);
-            for e in &c.entrances {
-                let kin = crate::contact::LocalKinematics {
-                    gap: e.gap,
-                    gap_start: e.gap,
-                    shear: 0.0,
-                    slip: 0.0,
-                    slip_path: c.record.slip_path,
-                    slip_rate: 0.0,
-                    length: c.length,
-                    spring_length: c.spring_length,
-                    penalty: self.penalty,
-                    tolerance: self.settings.contact_tolerance * self.length_scale,
-                    dt: self.dt,
-                };
+            for (entrance, e) in c.entrances.iter().enumerate() {
+                let kin = self.kinematics(i, entrance, rest, self.dt);
                 let springs = self.laws[c.law].response(ContactState::Locked, &kin, history);
                 let rows = std::iter::once((&e.normal, springs.normal_stiffness))
                     .chain(e.tangents.iter().map(|t| (t, springs.shear_stiffness)));
