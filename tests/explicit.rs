@@ -77,18 +77,7 @@ fn free_flight_follows_the_parabola_to_round_off_in_2d_and_3d() {
     assert_eq!(rows.last().unwrap().time, 1.0);
 
     let (_, rows) = rows_3d("free_fall_3d.ron", |_| {});
-    let (x0, v0, g) = ([3.0, -2.0, 10.0], [1.0, 2.0, 3.0], [0.0, 0.0, -9.81]);
-    let norm = |v: [f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-    for row in &rows {
-        let t = row.time;
-        let x: [f64; 3] = [0, 1, 2].map(|k| x0[k] + v0[k] * t + g[k] * t * t / 2.0);
-        let v: [f64; 3] = [0, 1, 2].map(|k| v0[k] + g[k] * t);
-        let dx = norm([0, 1, 2].map(|k| row.position[k] - x[k]));
-        let dv = norm([0, 1, 2].map(|k| row.velocity[k] - v[k]));
-        assert!(dx < 1e-9 * norm(x), "t = {t}: {:?} vs {x:?}", row.position);
-        assert!(dv < 1e-9 * norm(v), "t = {t}: {:?} vs {v:?}", row.velocity);
-    }
-    assert_eq!(rows.last().unwrap().time, 1.0);
+    common::assert_thrown_box_follows_the_parabola(&rows);
 }
 
 /// d = ½ g (sin θ − cos θ tan φ) t² for θ = 30°, φ = 20°.

@@ -224,3 +224,20 @@ pub fn assert_rocks_like_housner(rows: &[HistoryRow]) {
         );
     }
 }
+
+/// The thrown box of `free_fall_3d.ron` follows x0 + v0 t + g t²/2 and
+/// v0 + g t to 1e-9 at every output time, to its end at 1 s.
+pub fn assert_thrown_box_follows_the_parabola(rows: &[dda::HistoryRow3]) {
+    let (x0, v0, g) = ([3.0, -2.0, 10.0], [1.0, 2.0, 3.0], [0.0, 0.0, -9.81]);
+    let norm = |v: [f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    for row in rows {
+        let t = row.time;
+        let x: [f64; 3] = [0, 1, 2].map(|k| x0[k] + v0[k] * t + g[k] * t * t / 2.0);
+        let v: [f64; 3] = [0, 1, 2].map(|k| v0[k] + g[k] * t);
+        let dx = norm([0, 1, 2].map(|k| row.position[k] - x[k]));
+        let dv = norm([0, 1, 2].map(|k| row.velocity[k] - v[k]));
+        assert!(dx < 1e-9 * norm(x), "t = {t}: {:?} vs {x:?}", row.position);
+        assert!(dv < 1e-9 * norm(v), "t = {t}: {:?} vs {v:?}", row.velocity);
+    }
+    assert_eq!(rows.last().expect("rows").time, 1.0);
+}
