@@ -57,6 +57,9 @@ pub struct Summary {
     /// settled by keeping each cycling contact sliding or closed.
     #[serde(default)]
     pub cycle_breaks: usize,
+    /// Contacts that struck and took an impulse (`analysis.restitution`).
+    #[serde(default)]
+    pub impacts: usize,
     /// The first contacts that cycled: when, which, between which states,
     /// and the state kept.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -265,6 +268,7 @@ impl SummaryWriter {
             penetration_cuts: stats.penetration_cuts,
             unconverged_steps: stats.unconverged_steps,
             cycle_breaks: stats.cycle_breaks,
+            impacts: stats.impacts,
             cycles: stats.cycles.iter().map(CycleReport::from).collect(),
             coupled_solves: stats.coupled_solves,
             newton_failures: stats.newton_failures,

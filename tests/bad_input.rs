@@ -324,6 +324,18 @@ fn analysis_values() {
     );
     let text = with("penalty: 1e9,", "penalty: 1e9, velocity_ratio: 1.5,");
     assert_error(&text, "velocity_ratio", "analysis.velocity_ratio", "[0, 1]");
+    let text = with("penalty: 1e9,", "penalty: 1e9, restitution: 1.2,");
+    assert_error(&text, "restitution", "analysis.restitution", "[0, 1]");
+    let text = with(
+        "penalty: 1e9,",
+        "penalty: 1e9, restitution: 0.0, integrator: Explicit,",
+    );
+    assert_error(
+        &text,
+        "restitution",
+        "analysis.restitution",
+        "implicit integrator",
+    );
     let text = with("interval: 0.01", "interval: -0.01");
     assert_error(&text, "interval", "output.interval", "must not be negative");
 }

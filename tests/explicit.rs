@@ -141,6 +141,9 @@ fn rocking_block_impacts_on_time_and_loses_housners_share_each_impact() {
     // the implicit run's steps.
     let (summary, rows) = rows_2d("rocking_column_2d.ron", |s| {
         s.output.interval = Some(5e-4);
+        // Impacts as impulses belong to the implicit step; the explicit
+        // run ends them with the contact dashpots alone.
+        s.analysis.restitution = None;
     });
     assert!(summary.critical_dt.unwrap() < 5e-4, "the step was limited");
     common::assert_rocks_like_housner(&rows);

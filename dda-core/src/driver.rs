@@ -24,6 +24,7 @@ use crate::system::{BlockMatrix, BlockSystem};
 
 mod checkpoint;
 mod explicit;
+mod impact;
 
 /// Sliding contacts beyond this many are solved with the symmetric tangent
 /// only (the coupled solve costs one back-substitution per contact).
@@ -65,6 +66,9 @@ struct Trial<const T: usize> {
     converged: bool,
     /// Contacts whose state or entrance the last pass changed.
     unsettled: Vec<usize>,
+    /// Contacts this step has opened because their dashpot pulled (the
+    /// spring alone still pushed): if they cycle, they stay open.
+    pulled: Vec<bool>,
 }
 
 /// Runs a [`BlockSystem`] in time.
@@ -96,6 +100,16 @@ pub struct Driver<S, const N: usize, const T: usize> {
     /// The held directions of fixed and driven points in the current step
     /// (only with contact damping).
     supports: Vec<Support<N>>,
+    /// The impulse's change to each block's start velocity in the current
+    /// pass (zero unless a contact strikes with `restitution` set).
+    struck: Vec<BlockVector<N>>,
+    /// The share of `struck` the step's motion feels: an impulse a share
+    /// τ into the step moves the blocks for the remaining 1 − τ.
+    struck_early: Vec<BlockVector<N>>,
+    /// The contacts struck in the current attempt.
+    striking: Vec<usize>,
+    /// The struck contacts friction cannot stop in the current attempt.
+    sliding_impact: Vec<usize>,
     time: f64,
     /// What rounding left out of `time` (a compensated sum, so thousands of
     /// steps of 0.001 s add up to 2 s, not 1.9999999999998905).
@@ -190,6 +204,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             block_size,
             inverse_masses: Vec::new(),
             supports: Vec::new(),
+            struck: Vec::new(),
+            struck_early: Vec::new(),
+            striking: Vec::new(),
+            sliding_impact: Vec::new(),
             time: 0.0,
             time_carry: 0.0,
             dt,
@@ -526,6 +544,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// Solves one step of length `dt` with open-close iterations.
     fn attempt(&mut self, dt: f64) -> Result<Trial<T>, DdaError> {
         let nb = self.system.block_count();
+        self.striking.clear();
+        self.sliding_impact.clear();
         let mut trial = Trial {
             d: vec![0.0; nb * N],
             states: self.contacts.iter().map(|c| c.record.state).collect(),
@@ -537,6 +557,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 .collect(),
             converged: false,
             unsettled: Vec::new(),
+            pulled: vec![false; self.contacts.len()],
         };
         let tolerance = self.settings.contact_tolerance * self.length_scale;
         trial.entrances = self
@@ -560,6 +581,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut before: Option<Vec<ContactState>> = None;
         for _ in 0..self.settings.open_close_limit {
             self.stats.open_close_iterations += 1;
+            let struck = self.striking.len();
+            self.strike(dt, &masses, &trial);
+            if self.striking.len() != struck {
+                // A new impulse makes a new step: states seen before it
+                // are no cycle.
+                before = None;
+            }
             self.newton(dt, &masses, &mut trial)?;
             let assumed = trial.states.clone();
             if !self.decide(&mut trial, dt, None) {
@@ -571,19 +599,30 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 // elastic work (sliding rather than locked, closed rather
                 // than open, so nothing passes through), and one more pass
                 // solves the step with it.
+                // A contact that opens only because its dashpot pulls, and
+                // closes again without it, stays open: it carries no force
+                // either way, and held closed its dashpot would pull.
                 for (i, (state, &other)) in trial.states.iter_mut().zip(&assumed).enumerate() {
+                    let kept = if trial.pulled[i]
+                        && (*state == ContactState::Open || other == ContactState::Open)
+                    {
+                        ContactState::Open
+                    } else {
+                        break_cycle(*state, other)
+                    };
                     if *state != other && self.stats.cycles.len() < CYCLES_KEPT {
                         self.stats.cycles.push(Cycle {
                             time: self.time + dt,
                             key: self.contacts[i].key,
                             between: [other, *state],
-                            kept: break_cycle(*state, other),
+                            kept,
                         });
                     }
-                    *state = break_cycle(*state, other);
+                    *state = kept;
                 }
                 self.stats.open_close_iterations += 1;
                 self.stats.cycle_breaks += 1;
+                self.strike(dt, &masses, &trial);
                 self.newton(dt, &masses, &mut trial)?;
                 trial.converged = true;
                 break;
@@ -610,7 +649,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let law = &self.laws[c.law];
             let history = c.record.history.as_ref().expect("history set at search");
             let state = trial.states[i];
-            if self.settings.contact_damping > 0.0 {
+            if self.damped(i) {
                 // Friction bounds the whole tangential force, the shear
                 // dashpot's too: test the spring stretch that carries
                 // it, so locked and sliding stay complementary.
@@ -630,7 +669,31 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     kin.shear = loaded.norm();
                 }
             }
-            let next = law.next_state(state, &kin, history);
+            let mut next = law.next_state(state, &kin, history);
+            if self.damped(i) && state.is_closed() && next.is_closed() {
+                // The normal dashpot pushes only: a contact whose spring
+                // and dashpot together pull (a corner leaving its base
+                // faster than its spring unloads) opens, as the spring
+                // alone would at that gap, instead of holding on.
+                let k = law
+                    .response(ContactState::Locked, &kin, history)
+                    .normal_stiffness;
+                if k > 0.0 {
+                    let entrance = &c.entrances[e];
+                    let [a, b] = c.blocks;
+                    let damper = self.dashpot(a, b, &entrance.normal, k);
+                    let approached =
+                        entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap;
+                    let loaded = LocalKinematics {
+                        gap: kin.gap + approached * damper / (k * dt),
+                        ..kin
+                    };
+                    if law.next_state(state, &loaded, history) == ContactState::Open {
+                        next = ContactState::Open;
+                        trial.pulled[i] = true;
+                    }
+                }
+            }
             // The slip direction is the trial spring stretch's (the
             // return map's), so a sliding contact's friction opposes
             // where the stretch points now, never a stale direction.
@@ -884,7 +947,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         for (i, m) in masses.iter().enumerate() {
             let d = block(&trial.d, i);
             let (mut k, mut r) = if implicit {
-                let v0 = self.velocity[i] * ratio;
+                let v0 = self.velocity[i] * ratio + self.struck_early[i];
                 // Inertia of Newmark β = 1/2, γ = 1: a = 2(d − v0·dt)/dt²,
                 // and mass-proportional damping −αM·v with v = 2d/dt − v0.
                 let alpha = self.settings.mass_damping;
@@ -929,7 +992,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             } else {
                 None
             };
-            if self.settings.contact_damping > 0.0 {
+            if self.damped(i) {
                 // A dashpot beside the normal spring, a share of critical
                 // for the contact's own effective mass: impacts end in a
                 // few steps instead of ringing on the penalty springs, and
@@ -974,7 +1037,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
                 let mut stiffness = response.shear_stiffness;
                 let mut force = -response.shear_force * direction[k];
-                if self.settings.contact_damping > 0.0 && state == ContactState::Locked {
+                if self.damped(i) && state == ContactState::Locked {
                     // The shear spring's dashpot, as the normal one's.
                     let c = self.dashpot(a, b, &[*ta, *tb], stiffness);
                     force -= c * step_shear[k] / dt;
@@ -1034,6 +1097,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         } else {
             SVector::zeros()
         }
+    }
+
+    /// Whether contact `i` has dashpots this pass: with contact damping,
+    /// unless it strikes (its impulse is the impact's loss).
+    fn damped(&self, i: usize) -> bool {
+        self.settings.contact_damping > 0.0 && !self.striking.contains(&i)
     }
 
     /// The coefficient of the dashpot beside a spring of stiffness `k`
@@ -1105,10 +1174,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     fn commit(&mut self, trial: Trial<T>, dt: f64) {
         let spring_energy = self.commit_contacts(&trial, dt);
+        self.stats.impacts += self.striking.len();
         let ratio = self.settings.velocity_ratio;
         for (i, v) in self.velocity.iter_mut().enumerate() {
             // Newmark β = 1/2, γ = 1: v1 = 2d/dt − v0.
-            *v = block(&trial.d, i) * (2.0 / dt) - *v * ratio;
+            // An impulse a share τ into the step: the motion took v0 +
+            // (1 − τ)Δv, the velocity leaves with v0 + Δv.
+            *v = block(&trial.d, i) * (2.0 / dt) - *v * ratio - self.struck_early[i] * 2.0
+                + self.struck[i];
         }
         self.finish_step(&trial.d, dt, spring_energy);
     }

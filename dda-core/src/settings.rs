@@ -68,6 +68,14 @@ pub struct Settings {
     /// its friction limit does not slide off during the first bounces;
     /// 0 gives Shi's undamped springs, whose rebound depends on the step.
     pub contact_damping: f64,
+    /// Coefficient of restitution e of impacts, in [0, 1]; default `None`
+    /// (off: the springs and dashpots alone decide a rebound, which then
+    /// follows dt and the penalty). With a value, a contact that closes in
+    /// a step strikes: before the step is solved, an impulse on the two
+    /// blocks turns its approach speed u into a rebound of e·u (and stops
+    /// its slip if it closes locked), as rigid-body impacts do. 0 is
+    /// Housner's inelastic impact; implicit integrator only.
+    pub restitution: Option<f64>,
     /// How each step is integrated in time; default `Implicit` (Shi's
     /// Newmark steps with open-close iterations). `Explicit` is central
     /// differences on the same blocks and contact laws, with steps below
@@ -114,6 +122,7 @@ impl Default for Settings {
             length_scale: None,
             mass_damping: 0.0,
             contact_damping: 0.0,
+            restitution: None,
             integrator: Integrator::Implicit,
             local_damping: 0.0,
         }
@@ -216,6 +225,20 @@ impl Settings {
                 "local_damping",
                 "local damping belongs to the explicit integrator; write integrator: Explicit, or use contact_damping or mass damping with the implicit one".into(),
             ));
+        }
+        if let Some(e) = self.restitution {
+            if !(0.0..=1.0).contains(&e) {
+                return Err(invalid(
+                    "restitution",
+                    format!("restitution must lie in [0, 1], got {e}; 0 is an inelastic impact (Housner's), 1 an elastic one"),
+                ));
+            }
+            if self.integrator == Integrator::Explicit {
+                return Err(invalid(
+                    "restitution",
+                    "impacts with a restitution coefficient belong to the implicit integrator; leave restitution out, or use contact_damping with the explicit one".into(),
+                ));
+            }
         }
         if let Some(p) = self.penalty {
             positive("penalty", "the penalty", p, auto)?;

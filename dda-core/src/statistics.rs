@@ -27,6 +27,9 @@ pub struct Statistics {
     /// before (a cycle), settled by keeping each cycling contact's sliding
     /// or closed state.
     pub cycle_breaks: usize,
+    /// Contacts that struck (closed with an approach speed while
+    /// `restitution` is set) and took an impulse.
+    pub impacts: usize,
     /// The first contacts that cycled (at most 20), each with the two
     /// states it cycled between and the one it kept.
     pub cycles: Vec<Cycle>,

@@ -387,6 +387,7 @@ impl Scene {
             length_scale: a.length_scale,
             mass_damping: a.damping.map_or(0.0, |d| d.mass_coefficient()),
             contact_damping: a.contact_damping,
+            restitution: a.restitution,
             integrator: a.integrator,
             local_damping: a.local_damping,
             ..Settings::default()

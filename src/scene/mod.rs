@@ -134,6 +134,10 @@ pub struct Analysis {
     /// Contact damping, a share of critical; default 0 (off), 1 critical:
     /// see [`dda_core::Settings::contact_damping`].
     pub contact_damping: f64,
+    /// Coefficient of restitution of impacts in [0, 1]; default none (the
+    /// springs decide): see [`dda_core::Settings::restitution`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<f64>,
     /// `Implicit` (default: Shi's Newmark steps with open-close
     /// iterations) or `Explicit` (central differences below the critical
     /// step): see [`dda_core::Settings::integrator`].
@@ -207,6 +211,7 @@ impl Default for Analysis {
             fixed_penalty: None,
             damping: None,
             contact_damping: s.contact_damping,
+            restitution: s.restitution,
             integrator: s.integrator,
             local_damping: s.local_damping,
             on_failure: crate::guard::OnFailure::Stop,

@@ -186,6 +186,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             d,
             converged: true,
             unsettled: Vec::new(),
+            pulled: vec![false; self.contacts.len()],
         }
     }
 
