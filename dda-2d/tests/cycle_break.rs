@@ -1,9 +1,12 @@
 //! Open-close passes that cycle between two sets of states are detected
 //! and broken: a law that always answers "the other state" for a closed
-//! contact (locked ↔ sliding) makes every step cycle. The driver keeps the
-//! sliding state after two passes, counts the break, and neither cuts the
-//! step nor accepts it unconverged; without the break every step would be
-//! cut down to the floor.
+//! contact (locked ↔ sliding) makes every step cycle where locking changes
+//! the forces (with contact damping, locking adds the shear dashpot). The
+//! driver keeps the sliding state after two passes, counts the break, and
+//! neither cuts the step nor accepts it unconverged; without the break every
+//! step would be cut down to the floor. Without damping a sliding contact
+//! that asks to lock already carried the locked force (the return map), so
+//! it costs no pass and commits locked: no cycle at all.
 
 use dda_2d::{Block, Driver2d, Plane, PlaneElastic, Polygons};
 use dda_contact::Coulomb;
@@ -38,8 +41,7 @@ impl ContactLaw for Flipping {
 mod common;
 use common::square;
 
-#[test]
-fn a_two_state_cycle_is_broken_by_sliding_and_counted() {
+fn flipping_driver(contact_damping: f64) -> Driver2d {
     let blocks = vec![
         Block::new(&square(0.0, -0.5, 4.0, 1.0), 0, 2700.0).unwrap(),
         Block::new(&square(0.0, 0.5, 1.0, 1.0), 0, 2700.0).unwrap(),
@@ -54,10 +56,27 @@ fn a_two_state_cycle_is_broken_by_sliding_and_counted() {
     system.fix_block(0);
     let settings = Settings {
         dt: Some(1e-3),
+        contact_damping,
         ..Settings::default()
     };
     let law = Flipping(Coulomb::frictional(30.0));
-    let mut driver = Driver2d::new(system, vec![Box::new(law)], settings).unwrap();
+    Driver2d::new(system, vec![Box::new(law)], settings).unwrap()
+}
+
+fn closed_states(driver: &Driver2d) -> Vec<ContactState> {
+    let closed: Vec<ContactState> = driver
+        .contacts()
+        .iter()
+        .map(|c| c.record.state)
+        .filter(|s| s.is_closed())
+        .collect();
+    assert!(!closed.is_empty());
+    closed
+}
+
+#[test]
+fn a_two_state_cycle_is_broken_by_sliding_and_counted() {
+    let mut driver = flipping_driver(1.0);
     driver.advance_to(0.05).unwrap();
     let stats = driver.statistics();
     assert!(stats.cycle_breaks > 0, "{stats:?}");
@@ -75,15 +94,32 @@ fn a_two_state_cycle_is_broken_by_sliding_and_counted() {
     }
     assert_eq!(stats.unconverged_steps, 0, "{stats:?}");
     assert_eq!(stats.open_close_cuts, 0, "{stats:?}");
-    let closed: Vec<ContactState> = driver
-        .contacts()
-        .iter()
-        .map(|c| c.record.state)
-        .filter(|s| s.is_closed())
-        .collect();
-    assert!(!closed.is_empty());
+    let closed = closed_states(&driver);
     assert!(
         closed.iter().all(|&s| s == ContactState::Sliding),
         "the cycling contacts kept sliding: {closed:?}"
+    );
+}
+
+#[test]
+fn without_damping_a_sliding_contact_within_its_strength_locks_at_no_cost() {
+    let mut driver = flipping_driver(0.0);
+    driver.advance_to(0.05).unwrap();
+    let stats = driver.statistics();
+    assert_eq!(stats.cycle_breaks, 0, "{stats:?}");
+    assert_eq!(stats.unconverged_steps, 0, "{stats:?}");
+    assert_eq!(stats.open_close_cuts, 0, "{stats:?}");
+    // Each step: the pass that unlocks them, and the one that finds them
+    // within their strength.
+    assert!(
+        stats.open_close_iterations <= 2 * stats.steps,
+        "{} passes in {} steps",
+        stats.open_close_iterations,
+        stats.steps
+    );
+    let closed = closed_states(&driver);
+    assert!(
+        closed.iter().all(|&s| s == ContactState::Locked),
+        "they commit locked: {closed:?}"
     );
 }

@@ -69,6 +69,10 @@ struct Trial<const T: usize> {
     /// Contacts this step has opened because their dashpot pulled (the
     /// spring alone still pushed): if they cycle, they stay open.
     pulled: Vec<bool>,
+    /// Contacts that slid in an earlier pass and are now within their
+    /// strength: they stay sliding for the passes (whose return map gives
+    /// them the locked spring's force and tangent) and commit locked.
+    within: Vec<bool>,
 }
 
 /// Runs a [`BlockSystem`] in time.
@@ -558,6 +562,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             converged: false,
             unsettled: Vec::new(),
             pulled: vec![false; self.contacts.len()],
+            within: vec![false; self.contacts.len()],
         };
         let tolerance = self.settings.contact_tolerance * self.length_scale;
         trial.entrances = self
@@ -699,6 +704,18 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // where the stretch points now, never a stale direction.
             if let Some(dir) = self.stretch(i, e, trial).try_normalize(1e-300) {
                 trial.directions[i] = dir;
+            }
+            // A sliding contact found within its strength carried the
+            // locked spring's force and tangent in this pass already (the
+            // return map's min(k_s·|s|, strength)): it stays sliding for the
+            // passes and commits locked, so no pass is spent locking it and
+            // it cannot flip back and forth between the two (a wall's head
+            // joints, at almost no normal force, would). Not so where
+            // locking adds its shear dashpot.
+            trial.within[i] =
+                state == ContactState::Sliding && next == ContactState::Locked && !self.damped(i);
+            if trial.within[i] {
+                next = ContactState::Sliding;
             }
             let entrance = widest_entrance(c, &trial.d, e, tolerance);
             if next != state || entrance != e {
@@ -1202,8 +1219,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let c = &self.contacts[i];
             let kin = self.kinematics(i, trial.entrances[i], trial, dt);
             let history = c.record.history.as_ref().expect("history set at search");
-            let response = if trial.states[i].is_closed() {
-                self.laws[c.law].response(trial.states[i], &kin, history)
+            let state = if trial.within[i] {
+                ContactState::Locked
+            } else {
+                trial.states[i]
+            };
+            let response = if state.is_closed() {
+                self.laws[c.law].response(state, &kin, history)
             } else {
                 ContactResponse::default()
             };
@@ -1211,7 +1233,6 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let ds = c.entrances[e]
                 .shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
             let shear = self.carried_shear(c, e) + ds;
-            let state = trial.states[i];
             let sliding_stiffness = if state == ContactState::Sliding {
                 self.laws[c.law]
                     .response(ContactState::Locked, &kin, history)

@@ -187,6 +187,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             converged: true,
             unsettled: Vec::new(),
             pulled: vec![false; self.contacts.len()],
+            within: vec![false; self.contacts.len()],
         }
     }
 
