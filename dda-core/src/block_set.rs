@@ -202,6 +202,11 @@ where
             .unwrap_or(1.0)
     }
 
+    fn motion_time(&self) -> Option<f64> {
+        let g = self.gravity.norm();
+        (g > 0.0).then(|| (self.block_size() / g).sqrt())
+    }
+
     fn stiffness_scale(&self) -> f64 {
         self.materials
             .iter()

@@ -26,6 +26,18 @@ mod checkpoint;
 mod explicit;
 mod impact;
 
+/// The automatic step's ceiling is sqrt(block size / g) over this: a block
+/// starting from rest moves 1/800 of its size in such a step.
+const AUTO_STEPS_PER_MOTION_TIME: f64 = 20.0;
+
+/// The automatic step keeps each block's points moving at most this share
+/// of the median block size in a step: a rocking column's rebounds then stay
+/// within about 1 % of Housner's, while a wall at rest steps at the ceiling.
+const AUTO_MOTION_SHARE: f64 = 2.5e-4;
+
+/// The automatic step never falls below this share of its ceiling.
+const AUTO_FLOOR: f64 = 1e-4;
+
 /// Sliding contacts beyond this many are solved with the symmetric tangent
 /// only (the coupled solve costs one back-substitution per contact).
 const COUPLED_SLIDING_LIMIT: usize = 64;
@@ -114,6 +126,10 @@ pub struct Driver<S, const N: usize, const T: usize> {
     striking: Vec<usize>,
     /// The struck contacts friction cannot stop in the current attempt.
     sliding_impact: Vec<usize>,
+    /// The automatic step's ceiling, with `dt` left out of the settings
+    /// (implicit integrator, scene under gravity): the nominal step then
+    /// follows the blocks' motion (see [`AUTO_MOTION_SHARE`]).
+    dt_cap: Option<f64>,
     time: f64,
     /// What rounding left out of `time` (a compensated sum, so thousands of
     /// steps of 0.001 s add up to 2 s, not 1.9999999999998905).
@@ -167,9 +183,19 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 "the automatic penalty is {penalty}: give the blocks a positive Young's modulus or set a penalty"
             )));
         }
-        let dt = match settings.dt {
-            Some(dt) => dt,
-            None => {
+        let motion_time = (settings.integrator == Integrator::Implicit)
+            .then(|| system.motion_time())
+            .flatten();
+        let (dt, dt_cap) = match (settings.dt, motion_time) {
+            (Some(dt), _) => (dt, None),
+            (None, Some(t)) => {
+                let cap = t / AUTO_STEPS_PER_MOTION_TIME;
+                notes.push(format!(
+                    "time step automatic, at most {cap:.4e} s (1/{AUTO_STEPS_PER_MOTION_TIME} of sqrt(block size / g)): each step as long as keeps every block's points moving less than {AUTO_MOTION_SHARE:e} of the median block size; give dt to fix it"
+                ));
+                (cap, Some(cap))
+            }
+            (None, None) => {
                 let lightest = (0..blocks)
                     .map(|i| system.mass(i)[(0, 0)])
                     .fold(f64::INFINITY, f64::min);
@@ -181,7 +207,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 notes.push(format!(
                     "time step {dt:.4e} s: 0.2 / sqrt(penalty / lightest block mass), so contact oscillations are resolved"
                 ));
-                dt
+                (dt, None)
             }
         };
         if settings.contact_damping == 0.0 && system.block_count() > 1 {
@@ -216,6 +242,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             time_carry: 0.0,
             dt,
             dt_next: dt,
+            dt_cap,
             penalty,
             length_scale,
             stats: Statistics::default(),
@@ -412,6 +439,18 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.last_moved = moved_by;
         self.pattern_reach =
             (PATTERN_REACH_MOTION * moved_by).max(PATTERN_REACH_SHARE * self.block_size);
+        if let Some(cap) = self.dt_cap {
+            // The automatic step: as long as keeps the motion per step
+            // within its share of the block size, never above the ceiling.
+            let target = AUTO_MOTION_SHARE * self.block_size;
+            let allowed = if moved_by > 0.0 {
+                dt * target / moved_by
+            } else {
+                cap
+            };
+            self.dt = allowed.clamp(cap * AUTO_FLOOR, cap);
+            self.dt_next = self.dt_next.min(self.dt);
+        }
         if cut {
             self.dt_next = (dt * 1.5).min(self.dt);
         } else if dt >= self.dt_next {

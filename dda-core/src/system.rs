@@ -54,6 +54,14 @@ pub trait BlockSystem<const N: usize, const T: usize> {
     /// root of the area (2D) or the cube root of the volume (3D).
     fn block_size(&self) -> f64;
 
+    /// The time (s) in which the scene's steady loads move a block by its
+    /// own size from rest: sqrt(block size / |g|) under gravity; `None`
+    /// where nothing but contacts and driven points moves the blocks. It
+    /// bounds the automatic time step.
+    fn motion_time(&self) -> Option<f64> {
+        None
+    }
+
     /// The automatic penalty per unit contact length (2D) or area (3D), in
     /// N/m³: twice the stiffest modulus over the typical block size, so a
     /// block's contacts are about as stiff as the block itself.
