@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use dda_core::Statistics;
+use dda_core::{Solver, Statistics};
 
 use crate::scene::{BlockKind, Scene};
 
@@ -23,6 +23,8 @@ pub struct BenchOptions {
     pub repeats: usize,
     /// The bricks' kind: rigid bricks solve for half the unknowns.
     pub kind: BlockKind,
+    /// The step's linear solver.
+    pub solver: Solver,
 }
 
 /// One size's result.
@@ -57,6 +59,10 @@ pub struct BenchRow {
     pub drift: f64,
     /// The process's peak resident memory so far, MB (Linux; 0 elsewhere).
     pub peak_memory_mb: f64,
+    /// Iterative solver: conjugate-gradient iterations per solve, and the
+    /// solves that reached the cap, over the timed steps of the median run.
+    pub iterations_per_solve: f64,
+    pub solver_fallbacks: usize,
 }
 
 /// A running-bond wall of `n` courses of `n` bricks (0.5 m × 0.25 m) on a
@@ -94,6 +100,7 @@ struct Run {
 fn run(n: usize, options: &BenchOptions) -> anyhow::Result<Run> {
     let mut scene = wall_scene(n);
     scene.materials[0].1.kind = options.kind;
+    scene.analysis.solver = options.solver;
     let mut model = scene.build()?;
     let start: Vec<_> = model
         .driver
@@ -144,6 +151,9 @@ fn difference(after: &Statistics, before: &Statistics) -> Statistics {
         penetration_cuts: after.penetration_cuts - before.penetration_cuts,
         unconverged_steps: after.unconverged_steps - before.unconverged_steps,
         times: after.times.since(&before.times),
+        iterative_solves: after.iterative_solves - before.iterative_solves,
+        iterative_iterations: after.iterative_iterations - before.iterative_iterations,
+        iterative_fallbacks: after.iterative_fallbacks - before.iterative_fallbacks,
         ..Statistics::default()
     }
 }
@@ -194,6 +204,9 @@ pub fn bench(options: &BenchOptions) -> anyhow::Result<Vec<BenchRow>> {
                 .collect(),
             drift: median.drift,
             peak_memory_mb: peak_memory_mb(),
+            iterations_per_solve: stats.iterative_iterations as f64
+                / stats.iterative_solves.max(1) as f64,
+            solver_fallbacks: stats.iterative_fallbacks,
         });
     }
     let baseline = rows.first().map(|r| r.median_ms_per_step).unwrap_or(1.0);

@@ -78,6 +78,9 @@ enum Command {
         /// Make the bricks rigid (3 DOF each instead of Shi's 6)
         #[arg(long)]
         rigid: bool,
+        /// The step's linear solver: direct (sparse Cholesky) or iterative (conjugate gradients, default tolerance and cap)
+        #[arg(long, default_value = "direct", value_parser = ["direct", "iterative"])]
+        solver: String,
         /// Also write the results as JSON to this file
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
@@ -390,9 +393,14 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             steps,
             repeats,
             rigid,
+            solver,
             json,
             study: None,
         } => {
+            let solver = match solver.as_str() {
+                "iterative" => dda_core::Solver::iterative(),
+                _ => dda_core::Solver::Direct,
+            };
             let kind = if rigid {
                 crate::scene::BlockKind::Rigid
             } else {
@@ -403,6 +411,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 steps,
                 repeats,
                 kind,
+                solver,
             })?;
             println!(
                 "walls of n × n {} bricks, {steps} steps timed per run, median of {repeats} runs",
@@ -431,6 +440,14 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                     r.analyses_per_step,
                     r.peak_memory_mb,
                 );
+            }
+            if solver != dda_core::Solver::Direct {
+                for r in &rows {
+                    println!(
+                        "{:>4}: {:.1} conjugate-gradient iterations per solve, {} solved directly at the cap",
+                        r.courses, r.iterations_per_solve, r.solver_fallbacks
+                    );
+                }
             }
             println!("where the time goes, ms per step (median run):");
             if let Some(first) = rows.first() {

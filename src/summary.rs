@@ -99,6 +99,14 @@ pub struct Summary {
     pub critical_dt: Option<f64>,
     #[serde(default, skip_serializing_if = "is_zero")]
     pub critical_limited_steps: usize,
+    /// Iterative solver (`analysis.solver`): systems solved, conjugate-
+    /// gradient iterations, and systems solved directly at the cap.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub iterative_solves: usize,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub iterative_iterations: usize,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub iterative_fallbacks: usize,
     /// Why automatic values were chosen.
     pub notes: Vec<String>,
     /// The files written in the output directory, this one included.
@@ -282,6 +290,9 @@ impl SummaryWriter {
             dt: driver.dt(),
             critical_dt: stats.critical_dt.filter(|c| c.is_finite()),
             critical_limited_steps: stats.critical_limited_steps,
+            iterative_solves: stats.iterative_solves,
+            iterative_iterations: stats.iterative_iterations,
+            iterative_fallbacks: stats.iterative_fallbacks,
             notes: driver.notes().iter().chain(&self.notes).cloned().collect(),
             outputs: self.outputs.clone(),
         }

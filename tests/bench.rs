@@ -1,7 +1,7 @@
 //! The `dda bench` command times walls of growing size against the smallest.
 
 use dda::bench::{bench, wall_scene, BenchOptions};
-use dda::scene::BlockKind;
+use dda::scene::{BlockKind, Solver};
 
 #[test]
 fn bench_reports_medians_and_ratios_to_the_smallest_wall() {
@@ -10,6 +10,7 @@ fn bench_reports_medians_and_ratios_to_the_smallest_wall() {
         steps: 2,
         repeats: 3,
         kind: BlockKind::Deformable,
+        solver: Solver::Direct,
     })
     .unwrap();
     assert_eq!(rows.len(), 2);
@@ -39,6 +40,7 @@ fn rigid_bricks_solve_for_half_the_unknowns() {
         steps: 1,
         repeats: 1,
         kind: BlockKind::Rigid,
+        solver: Solver::Direct,
     })
     .unwrap();
     assert_eq!(

@@ -269,3 +269,17 @@ fn a_resumed_explicit_run_writes_the_same_bytes() {
     );
     killed_and_resumed_matches(&dir, &scene, &["history.csv", "contacts.csv"]);
 }
+
+/// The iterative solver starts each step afresh, so a resumed run with it
+/// writes the same bytes too (the Heyman arch: some 35 iterations a solve).
+#[test]
+fn a_resumed_run_with_the_iterative_solver_writes_the_same_bytes() {
+    let dir = folder("iterative");
+    let scene = scene(
+        &dir,
+        "arch_heyman_2d.ron",
+        "duration: 2.0,",
+        "duration: 0.6, solver: Iterative(),",
+    );
+    killed_and_resumed_matches(&dir, &scene, &["history.csv"]);
+}

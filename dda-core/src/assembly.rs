@@ -20,6 +20,9 @@ pub struct CscPattern {
     pub dim: usize,
     pub col_ptr: Vec<usize>,
     pub row_idx: Vec<usize>,
+    /// Where each block's DOF start, then `dim`: block i's diagonal block
+    /// spans `blocks[i]..blocks[i + 1]` (empty when not known).
+    pub blocks: Vec<usize>,
 }
 
 /// The lower triangle of a symmetric block-sparse matrix.
@@ -180,6 +183,7 @@ impl<const N: usize> BlockSparse<N> {
             dim: self.dim(),
             col_ptr,
             row_idx,
+            blocks: offsets.clone(),
         }
     }
 

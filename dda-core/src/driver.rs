@@ -17,7 +17,7 @@ use crate::contacts::{transfer_records, BlockVector, Contact, ContactKey};
 use crate::error::DdaError;
 use crate::loads::Support;
 use crate::settings::{Integrator, Settings};
-use crate::solve::{LinearSolver, SparseCholesky};
+use crate::solve::{solver_for, LinearSolver};
 use crate::statistics::CYCLES_KEPT;
 pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
@@ -217,6 +217,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         }
         let dofs = (0..blocks).map(|i| system.dofs(i)).collect();
         let block_size = system.block_size();
+        let solver = solver_for(settings.solver);
         Ok(Self {
             velocity: vec![BlockVector::<N>::zeros(); blocks],
             matrix: BlockSparse::new(dofs, []),
@@ -224,7 +225,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             laws,
             contacts: Vec::new(),
             settings,
-            solver: Box::new(SparseCholesky::default()),
+            solver,
             values: Vec::new(),
             factored: None,
             analysed: false,
@@ -373,6 +374,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         if self.settings.integrator == Integrator::Explicit {
             return self.explicit_step(dt_limit);
         }
+        self.solver.start_step();
         let bound = self.displacement_bound();
         self.search(2.5 * bound);
         let found = Instant::now();
@@ -854,6 +856,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 self.correct(&couplings, &mut residual);
             }
             self.stats.times.solve += solving.elapsed();
+            self.stats.count_solves(self.solver.take_counts());
             if !couplings.is_empty() {
                 // The friction's direction turns fast with the stretch, so
                 // a full step can overshoot: halve it until the residual

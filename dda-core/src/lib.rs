@@ -29,6 +29,6 @@ pub use driver::Driver;
 pub use error::DdaError;
 pub use loads::{FixedPoint, Force, MeasuredPoint, PointLoad};
 pub use motion::{GroundMotion, Quantity, Record};
-pub use settings::{Integrator, Settings};
+pub use settings::{Integrator, Settings, Solver};
 pub use statistics::{Cycle, PhaseTimes, Statistics};
 pub use system::{BlockKind, BlockMatrix, BlockState, BlockSystem, SystemState};

@@ -92,6 +92,52 @@ pub struct Settings {
     /// 0.8 relaxes a model to rest (a static solution); dynamic runs keep 0.
     /// The implicit integrator takes none.
     pub local_damping: f64,
+    /// How the step's linear systems are solved; default `Direct` (sparse
+    /// Cholesky). `Iterative` is preconditioned conjugate gradients with a
+    /// tolerance and an iteration cap (`docs/solvers.md`).
+    pub solver: Solver,
+}
+
+/// The linear solver of the implicit step.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub enum Solver {
+    /// Sparse Cholesky with a fill-reducing ordering: exact to rounding,
+    /// one factorisation per change of the matrix.
+    #[default]
+    Direct,
+    /// Conjugate gradients preconditioned by each block's own diagonal
+    /// block (block Jacobi), started from the last solution.
+    Iterative {
+        /// Relative residual ‖b − Ax‖ / ‖b‖ at which the iterations stop,
+        /// in (0, 1); default 1e-11, a tenth of the Newton-Raphson
+        /// `residual_tolerance` default, so a linear pass still converges
+        /// in one Newton-Raphson iteration.
+        #[serde(default = "default_iterative_tolerance")]
+        tolerance: f64,
+        /// Iterations, at most, before the system is solved by sparse
+        /// Cholesky instead (counted in the statistics); at least 1,
+        /// default 1000.
+        #[serde(default = "default_iterative_cap")]
+        max_iterations: usize,
+    },
+}
+
+impl Solver {
+    /// `Iterative` with its default tolerance and iteration cap.
+    pub fn iterative() -> Self {
+        Solver::Iterative {
+            tolerance: default_iterative_tolerance(),
+            max_iterations: default_iterative_cap(),
+        }
+    }
+}
+
+fn default_iterative_tolerance() -> f64 {
+    1e-11
+}
+
+fn default_iterative_cap() -> usize {
+    1000
 }
 
 /// Time integration of a step.
@@ -130,6 +176,7 @@ impl Default for Settings {
             restitution: None,
             integrator: Integrator::Implicit,
             local_damping: 0.0,
+            solver: Solver::Direct,
         }
     }
 }
@@ -242,6 +289,31 @@ impl Settings {
                 return Err(invalid(
                     "restitution",
                     "impacts with a restitution coefficient belong to the implicit integrator; leave restitution out, or use contact_damping with the explicit one".into(),
+                ));
+            }
+        }
+        if let Solver::Iterative {
+            tolerance,
+            max_iterations,
+        } = self.solver
+        {
+            finite("solver", "the solver's tolerance", tolerance)?;
+            if !(tolerance > 0.0 && tolerance < 1.0) {
+                return Err(invalid(
+                    "solver",
+                    format!("the iterative solver's tolerance is a relative residual in (0, 1), got {tolerance}; 1e-11 is the default"),
+                ));
+            }
+            if max_iterations == 0 {
+                return Err(invalid(
+                    "solver",
+                    "the iterative solver's max_iterations must be at least 1 (1000 is the default)".into(),
+                ));
+            }
+            if self.integrator == Integrator::Explicit {
+                return Err(invalid(
+                    "solver",
+                    "the explicit integrator solves no system; leave solver out, or use integrator: Implicit".into(),
                 ));
             }
         }

@@ -1,4 +1,5 @@
-//! Sparse direct solve. The only module that names faer.
+//! The step's linear solve: sparse direct (the only module that names
+//! faer) or preconditioned conjugate gradients (`pcg`).
 
 use std::cell::RefCell;
 
@@ -9,6 +10,11 @@ use faer::{Conj, MatMut, Par, Side};
 
 use crate::assembly::CscPattern;
 use crate::error::DdaError;
+use crate::settings::Solver;
+
+mod pcg;
+
+pub use pcg::ConjugateGradient;
 
 /// Solves symmetric positive definite systems given by their lower triangle.
 pub trait LinearSolver: Send {
@@ -21,6 +27,39 @@ pub trait LinearSolver: Send {
 
     /// Solves in place with the last factorization.
     fn solve(&self, rhs: &mut [f64]);
+
+    /// A new step begins: forget what earlier systems left behind (an
+    /// iterative solver's start), so a step solves the same whether the
+    /// run went on or was resumed from a checkpoint before it.
+    fn start_step(&mut self) {}
+
+    /// What an iterative solver did since it was last asked (nothing for
+    /// a direct one).
+    fn take_counts(&self) -> SolveCounts {
+        SolveCounts::default()
+    }
+}
+
+/// Work of an iterative solver.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SolveCounts {
+    /// Systems solved.
+    pub solves: usize,
+    /// Conjugate-gradient iterations over them.
+    pub iterations: usize,
+    /// Systems that reached the iteration cap and were solved directly.
+    pub fallbacks: usize,
+}
+
+/// The solver a scene's settings ask for.
+pub fn solver_for(solver: Solver) -> Box<dyn LinearSolver> {
+    match solver {
+        Solver::Direct => Box::new(SparseCholesky::default()),
+        Solver::Iterative {
+            tolerance,
+            max_iterations,
+        } => Box::new(ConjugateGradient::new(tolerance, max_iterations)),
+    }
 }
 
 /// Sparse Cholesky (LLᵀ) from faer with a fill-reducing ordering. The
@@ -136,6 +175,7 @@ mod tests {
             dim: 3,
             col_ptr: vec![0, 2, 4, 5],
             row_idx: vec![0, 1, 1, 2, 2],
+            blocks: Vec::new(),
         };
         let mut s = SparseCholesky::default();
         s.analyse(&pattern).unwrap();
@@ -160,6 +200,7 @@ mod tests {
             dim: 2,
             col_ptr: vec![0, 2, 3],
             row_idx: vec![0, 1, 1],
+            blocks: Vec::new(),
         };
         let mut s = SparseCholesky::default();
         s.analyse(&pattern).unwrap();

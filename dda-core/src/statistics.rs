@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::contact::ContactState;
 use crate::contacts::ContactKey;
+use crate::solve::SolveCounts;
 
 /// Counters of a run, reported in the summary.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -72,6 +73,21 @@ pub struct Statistics {
     /// Explicit integration: steps shortened below the nominal dt to stay
     /// under the critical one.
     pub critical_limited_steps: usize,
+    /// Iterative solver (`Settings::solver`): systems solved,
+    /// conjugate-gradient iterations over them, and systems that reached
+    /// the iteration cap and were solved by sparse Cholesky instead.
+    pub iterative_solves: usize,
+    pub iterative_iterations: usize,
+    pub iterative_fallbacks: usize,
+}
+
+impl Statistics {
+    /// Adds an iterative solver's work.
+    pub(crate) fn count_solves(&mut self, counts: SolveCounts) {
+        self.iterative_solves += counts.solves;
+        self.iterative_iterations += counts.iterations;
+        self.iterative_fallbacks += counts.fallbacks;
+    }
 }
 
 /// How many cycling contacts the statistics name.

@@ -390,6 +390,7 @@ impl Scene {
             restitution: a.restitution,
             integrator: a.integrator,
             local_damping: a.local_damping,
+            solver: a.solver,
             ..Settings::default()
         }
     }

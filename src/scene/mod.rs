@@ -26,7 +26,7 @@ use serde::{Deserialize, Serialize};
 
 pub use dda_2d::{Plane, RotationUpdate};
 pub use dda_contact::{Coulomb, RateFriction, ThresholdBond, Weakening};
-pub use dda_core::{BlockKind, Integrator, Quantity};
+pub use dda_core::{BlockKind, Integrator, Quantity, Solver};
 
 pub use build::{AnyModel, LawTable, Model, Model3};
 pub use error::{Location, SceneError};
@@ -148,6 +148,11 @@ pub struct Analysis {
     /// [`dda_core::Settings::local_damping`].
     #[serde(skip_serializing_if = "is_off")]
     pub local_damping: f64,
+    /// The step's linear solver: `Direct` (default, sparse Cholesky) or
+    /// `Iterative(tolerance, max_iterations)` (preconditioned conjugate
+    /// gradients): see [`dda_core::Settings::solver`].
+    #[serde(skip_serializing_if = "is_direct")]
+    pub solver: Solver,
     /// What a run does when a guard trips (energy growth in a scene nothing
     /// works on, a penetration past the bound or a step without open-close
     /// agreement, both at the smallest step): `Stop` (default) ends it,
@@ -162,6 +167,10 @@ fn is_stop(on_failure: &crate::guard::OnFailure) -> bool {
 
 fn is_implicit(integrator: &Integrator) -> bool {
     *integrator == Integrator::Implicit
+}
+
+fn is_direct(solver: &Solver) -> bool {
+    *solver == Solver::Direct
 }
 
 fn is_off(value: &f64) -> bool {
@@ -214,6 +223,7 @@ impl Default for Analysis {
             restitution: s.restitution,
             integrator: s.integrator,
             local_damping: s.local_damping,
+            solver: s.solver,
             on_failure: crate::guard::OnFailure::Stop,
         }
     }
