@@ -287,6 +287,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         &self.stats
     }
 
+    /// The shortest nominal step the run may take: `dt`, or with the
+    /// automatic step following the motion, its floor.
+    pub fn shortest_dt(&self) -> f64 {
+        self.dt_cap.map_or(self.dt, |cap| cap * AUTO_FLOOR)
+    }
+
     /// Why automatic values were chosen, for the user.
     pub fn notes(&self) -> &[String] {
         &self.notes

@@ -359,7 +359,9 @@ impl Scene {
         for (k, v) in velocities.enumerate() {
             driver.set_velocity(k, v);
         }
-        let (output_interval, note) = self.output_interval(driver.dt());
+        // An automatic step shortens itself to land on the output times, so
+        // only an interval below its floor means every step.
+        let (output_interval, note) = self.output_interval(driver.shortest_dt());
         notes.extend(note);
         Ok(Model {
             driver,
