@@ -6,6 +6,7 @@
 //! An impulse never adds energy: it takes (1 − e²) of the kinetic energy.
 
 use dda::scene::Scene;
+use dda_core::{BlockSystem, Driver};
 
 /// Drop height of the block's underside above the base, m.
 const DROP: f64 = 0.05;
@@ -58,19 +59,25 @@ struct Drop {
     energy_rise: f64,
 }
 
-/// Runs a driver step by step; `state` gives (vertical velocity, number of
-/// closed contacts of block 1, impacts so far, total energy).
-fn drop<D>(
-    driver: &mut D,
-    mut step: impl FnMut(&mut D),
-    state: impl Fn(&D) -> (f64, usize, usize, f64),
-    time: impl Fn(&D) -> f64,
+/// Runs a driver to 0.3 s step by step, reading the dropped block's
+/// (block 1) velocity along `up` (1 in 2D, 2 in 3D).
+fn drop<S: BlockSystem<N, T>, const N: usize, const T: usize>(
+    driver: &mut Driver<S, N, T>,
+    up: usize,
 ) -> Drop {
+    // (vertical velocity, closed contacts, impacts so far, total energy)
+    let state = |d: &Driver<S, N, T>| {
+        let closed = (d.contacts().iter())
+            .filter(|c| c.record.state.is_closed())
+            .count();
+        let stats = d.statistics();
+        (d.velocities()[1][up], closed, stats.impacts, stats.energy)
+    };
     let (mut before, mut after) = (None, None);
     let mut last = state(driver);
     let (mut changes_after, mut energy_rise) = (0, 0.0);
-    while time(driver) < 0.3 - 1e-9 {
-        step(driver);
+    while driver.time() < 0.3 - 1e-9 {
+        driver.step(0.3 - driver.time()).unwrap();
         let now = state(driver);
         if now.2 > last.2 && before.is_none() {
             before = Some(last.0);
@@ -92,49 +99,13 @@ fn drop<D>(
 }
 
 fn drop_2d(e: f64, dt: f64) -> Drop {
-    let mut model = Scene::from_str(&scene_2d(e, dt), "drop_2d.ron")
-        .unwrap()
-        .build()
-        .unwrap();
-    drop(
-        &mut model.driver,
-        |d| d.step(0.3 - d.time()).unwrap(),
-        |d| {
-            let closed = (d.contacts().iter())
-                .filter(|c| c.record.state.is_closed())
-                .count();
-            (
-                d.velocities()[1][1],
-                closed,
-                d.statistics().impacts,
-                d.statistics().energy,
-            )
-        },
-        |d| d.time(),
-    )
+    let scene = Scene::from_str(&scene_2d(e, dt), "drop_2d.ron").unwrap();
+    drop(&mut scene.build().unwrap().driver, 1)
 }
 
 fn drop_3d(e: f64, dt: f64) -> Drop {
-    let mut model = Scene::from_str(&scene_3d(e, dt), "drop_3d.ron")
-        .unwrap()
-        .build_3d()
-        .unwrap();
-    drop(
-        &mut model.driver,
-        |d| d.step(0.3 - d.time()).unwrap(),
-        |d| {
-            let closed = (d.contacts().iter())
-                .filter(|c| c.record.state.is_closed())
-                .count();
-            (
-                d.velocities()[1][2],
-                closed,
-                d.statistics().impacts,
-                d.statistics().energy,
-            )
-        },
-        |d| d.time(),
-    )
+    let scene = Scene::from_str(&scene_3d(e, dt), "drop_3d.ron").unwrap();
+    drop(&mut scene.build_3d().unwrap().driver, 2)
 }
 
 #[test]
