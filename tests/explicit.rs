@@ -25,18 +25,10 @@ mod common;
 
 /// Runs a shipped example with the explicit integrator, after `edit`.
 fn run(name: &str, edit: impl FnOnce(&mut Scene)) -> (Summary, std::path::PathBuf) {
-    let mut scene = Scene::load(common::example(name)).unwrap();
-    scene.analysis.integrator = Integrator::Explicit;
-    edit(&mut scene);
-    let out = common::out_dir(&format!("explicit-{}", name.trim_end_matches(".ron")));
-    let summary = dda::run::run_scene(
-        &scene,
-        &out,
-        Default::default(),
-        &dda_contact::LawRegistry::with_builtin(),
-    )
-    .unwrap();
-    (summary, out)
+    common::run_edited(name, "explicit", |scene| {
+        scene.analysis.integrator = Integrator::Explicit;
+        edit(scene);
+    })
 }
 
 fn rows_2d(name: &str, edit: impl FnOnce(&mut Scene)) -> (Summary, Vec<HistoryRow>) {

@@ -25,21 +25,12 @@ mod common;
 /// Runs a shipped example with `solver` and returns history.csv's header
 /// and rows, and the summary.
 fn history(name: &str, solver: Solver) -> (Vec<String>, Vec<Vec<f64>>, dda::Summary) {
-    let mut scene = Scene::load(common::example(name)).unwrap();
-    scene.analysis.solver = solver;
     let tag = if solver == Solver::Direct {
-        "direct"
+        "solver-direct"
     } else {
-        "iterative"
+        "solver-iterative"
     };
-    let out = common::out_dir(&format!("solver-{tag}-{}", name.trim_end_matches(".ron")));
-    let summary = dda::run::run_scene(
-        &scene,
-        &out,
-        Default::default(),
-        &dda_contact::LawRegistry::with_builtin(),
-    )
-    .unwrap();
+    let (summary, out) = common::run_edited(name, tag, |scene| scene.analysis.solver = solver);
     let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
     let _ = std::fs::remove_dir_all(&out);
     let mut lines = text.lines();

@@ -28,6 +28,26 @@ pub fn run_example(name: &str) -> Vec<HistoryRow> {
     rows
 }
 
+/// Runs a shipped example after `edit`, as `dda run` does, into a fresh
+/// folder named by `tag`; returns the summary and the folder.
+pub fn run_edited(
+    name: &str,
+    tag: &str,
+    edit: impl FnOnce(&mut dda::Scene),
+) -> (dda::Summary, PathBuf) {
+    let mut scene = dda::Scene::load(example(name)).unwrap();
+    edit(&mut scene);
+    let out = out_dir(&format!("{tag}-{}", name.trim_end_matches(".ron")));
+    let summary = dda::run::run_scene(
+        &scene,
+        &out,
+        Default::default(),
+        &dda_contact::LawRegistry::with_builtin(),
+    )
+    .unwrap();
+    (summary, out)
+}
+
 /// The row of `block` at the output time closest to `time`.
 pub fn at(rows: &[HistoryRow], block: usize, time: f64) -> &HistoryRow {
     rows.iter()
