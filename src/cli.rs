@@ -64,7 +64,7 @@ enum Command {
         #[arg(long, value_name = "DIR", conflicts_with = "out")]
         resume: Option<PathBuf>,
     },
-    /// Time steps of running-bond walls of growing size: median milliseconds per step and ratio to the smallest wall
+    /// Time steps of running-bond walls of growing size: median milliseconds per step, where the time goes, and how it grows with the blocks
     Bench {
         /// Wall sizes (n courses of n bricks), comma separated
         #[arg(long, value_delimiter = ',', default_values_t = [10usize, 20, 40])]
@@ -78,11 +78,14 @@ enum Command {
         /// Make the bricks rigid (3 DOF each instead of Shi's 6)
         #[arg(long)]
         rigid: bool,
+        /// Also draw time per step against blocks, log-log with the N^1 line, into this file (.png or .svg)
+        #[arg(long, value_name = "FILE")]
+        chart: Option<PathBuf>,
         /// Also write the results as JSON to this file
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
         /// Time this study instead, on one core and on all: its wall time against the sum of its runs' times
-        #[arg(long, value_name = "STUDY.ron")]
+        #[arg(long, value_name = "STUDY.ron", conflicts_with_all = ["chart", "rigid"])]
         study: Option<PathBuf>,
     },
     /// Charts of a run (DIR/history.csv, DIR/contacts.csv): displacement, speed and rotation of chosen blocks, contact forces; SVG and PNG into DIR/plots
@@ -390,6 +393,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             steps,
             repeats,
             rigid,
+            chart,
             json,
             study: None,
         } => {
@@ -398,65 +402,14 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             } else {
                 crate::scene::BlockKind::Deformable
             };
-            let rows = crate::bench::bench(&crate::bench::BenchOptions {
+            crate::bench::command(&crate::bench::Command {
                 sizes,
                 steps,
                 repeats,
-                kind,
+                kinds: vec![kind],
+                chart,
+                json,
             })?;
-            println!(
-                "walls of n × n {} bricks, {steps} steps timed per run, median of {repeats} runs",
-                if rigid { "rigid" } else { "deformable" }
-            );
-            println!(
-                "{:>4} {:>7} {:>9} {:>8} {:>10} {:>7} {:>8} {:>7} {:>7} {:>7} {:>5} {:>9} {:>9} {:>7}",
-                "n", "blocks", "contacts", "unknowns", "ms/step", "× base", "s/sim s", "passes",
-                "newton", "factor.", "cuts", "drift m", "analyses", "MB"
-            );
-            for r in &rows {
-                println!(
-                    "{:>4} {:>7} {:>9} {:>8} {:>10.2} {:>7.2} {:>8.2} {:>7.2} {:>7.2} {:>7.2} {:>5} {:>9.2e} {:>9.2} {:>7.0}",
-                    r.courses,
-                    r.blocks,
-                    r.contacts,
-                    r.unknowns,
-                    r.median_ms_per_step,
-                    r.ratio_to_baseline,
-                    r.seconds_per_simulated_second,
-                    r.passes_per_step,
-                    r.newton_per_step,
-                    r.factorizations_per_step,
-                    r.cuts,
-                    r.drift,
-                    r.analyses_per_step,
-                    r.peak_memory_mb,
-                );
-            }
-            println!("where the time goes, ms per step (median run):");
-            if let Some(first) = rows.first() {
-                let names: Vec<&str> = first
-                    .phase_ms_per_step
-                    .iter()
-                    .map(|(name, _)| name.as_str())
-                    .collect();
-                println!(
-                    "{:>4} {}",
-                    "n",
-                    names.iter().map(|n| format!("{n:>13}")).collect::<String>()
-                );
-            }
-            for r in &rows {
-                let cells: String = r
-                    .phase_ms_per_step
-                    .iter()
-                    .map(|(_, ms)| format!("{ms:>13.3}"))
-                    .collect();
-                println!("{:>4} {cells}", r.courses);
-            }
-            if let Some(path) = json {
-                std::fs::write(&path, serde_json::to_string_pretty(&rows)?)
-                    .with_context(|| format!("cannot write {}", path.display()))?;
-            }
         }
         Command::Extrude {
             scene: path,

@@ -9,7 +9,8 @@ fn bench_reports_medians_and_ratios_to_the_smallest_wall() {
         sizes: vec![3, 6],
         steps: 2,
         repeats: 3,
-        kind: BlockKind::Deformable,
+        kinds: vec![BlockKind::Deformable],
+        dimensions: vec![2],
     })
     .unwrap();
     assert_eq!(rows.len(), 2);
@@ -38,7 +39,8 @@ fn rigid_bricks_solve_for_half_the_unknowns() {
         sizes: vec![3],
         steps: 1,
         repeats: 1,
-        kind: BlockKind::Rigid,
+        kinds: vec![BlockKind::Rigid],
+        dimensions: vec![2],
     })
     .unwrap();
     assert_eq!(
@@ -62,7 +64,8 @@ fn bench_command_prints_a_table() {
     assert!(
         text.contains("ms/step")
             && text.contains("where the time goes")
-            && text.lines().count() == 6,
+            && text.lines().count() == 6
+            && !text.contains("N^p"),
         "{text}"
     );
 }
@@ -85,7 +88,7 @@ fn bench_command_times_rigid_bricks() {
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains("rigid bricks") && text.contains("unknowns"),
+        text.contains("rigid 2D") && text.contains("unknowns"),
         "{text}"
     );
 }
@@ -103,5 +106,81 @@ fn a_study_is_timed_on_one_core_and_on_two() {
         assert_eq!(r.runs, 20);
         assert!(r.median_wall_s > 0.0 && r.run_sum_s > 0.0);
         assert!((r.ratio - r.median_wall_s / r.run_sum_s).abs() < 1e-12);
+    }
+}
+
+fn dda(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_dda"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn a_chart_of_time_per_step_against_blocks() {
+    let dir = std::env::temp_dir().join(format!("dda-bench-chart-{}", std::process::id()));
+    let png = dir.join("scaling.png");
+    let out = dda(&[
+        "bench",
+        "--sizes",
+        "2,3",
+        "--steps",
+        "1",
+        "--repeats",
+        "1",
+        "--chart",
+        png.to_str().unwrap(),
+        "--json",
+        dir.join("bench.json").to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("deformable 2D: p = "), "{text}");
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png).unwrap()));
+    let info = decoder.read_info().unwrap().info().clone();
+    assert_eq!((info.width, info.height), (900, 600));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("bench.json")).unwrap()).unwrap();
+    assert_eq!(json["mode"], "steps");
+    assert_eq!(json["rows"].as_array().unwrap().len(), 2);
+    assert_eq!(json["fits"].as_array().unwrap().len(), 1);
+    let svg = dir.join("scaling.svg");
+    let out = dda(&[
+        "bench",
+        "--sizes",
+        "2,3",
+        "--steps",
+        "1",
+        "--repeats",
+        "1",
+        "--chart",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let drawn = std::fs::read_to_string(&svg).unwrap();
+    assert!(drawn.contains("N^1 through deformable 2D") && drawn.contains("blocks"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_bench_options_are_clear_errors() {
+    for (args, says) in [
+        (vec!["--chart", "out.txt"], "name a .png or .svg file"),
+        (vec!["--sizes", "0"], "1 to 1000 courses"),
+        (vec!["--steps", "0"], "--steps must be at least 1"),
+    ] {
+        let mut all = vec!["bench"];
+        all.extend(args.iter().copied());
+        let out = dda(&all);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(says),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
     }
 }

@@ -1,0 +1,92 @@
+//! `dda bench` on walls: options checked up front, the runs, the tables,
+//! the exponents, then the chart and the JSON.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use serde::Serialize;
+
+use super::report::{print_fits, print_steps};
+use super::scaling::{self, Fit, Point};
+use super::{bench, BenchOptions, BenchRow};
+use crate::scene::BlockKind;
+
+/// Everything `dda bench` takes, but `--study`.
+#[derive(Debug, Clone)]
+pub struct Command {
+    /// Wall sizes: `n` courses of `n` bricks.
+    pub sizes: Vec<usize>,
+    /// Steps timed per run (without `simulate`).
+    pub steps: usize,
+    /// Runs per size; the median is reported.
+    pub repeats: usize,
+    pub kinds: Vec<BlockKind>,
+    /// The scaling chart's file, `.png` or `.svg`.
+    pub chart: Option<PathBuf>,
+    pub json: Option<PathBuf>,
+}
+
+/// What `--json` writes.
+#[derive(Serialize)]
+struct Report<'a, R: Serialize> {
+    /// "steps": a number of steps at dt 1 ms.
+    mode: &'static str,
+    rows: &'a [R],
+    fits: &'a [Fit],
+}
+
+/// The chart's file must be one it can be written as, before the runs.
+fn check_chart(path: &Path) -> anyhow::Result<()> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    anyhow::ensure!(
+        ext.eq_ignore_ascii_case("png") || ext.eq_ignore_ascii_case("svg"),
+        "--chart {}: the chart is written as PNG or SVG; name a .png or .svg file",
+        path.display()
+    );
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("--chart: cannot create {}", dir.display()))?;
+    }
+    Ok(())
+}
+
+/// Runs `dda bench` on walls and prints its tables.
+pub fn command(c: &Command) -> anyhow::Result<()> {
+    if let Some(path) = &c.chart {
+        check_chart(path)?;
+    }
+    super::check_walls(&c.sizes, &[2])?;
+    let repeats = c.repeats;
+    let rows = bench(&BenchOptions {
+        sizes: c.sizes.clone(),
+        steps: c.steps,
+        repeats,
+        kinds: c.kinds.clone(),
+        dimensions: vec![2],
+    })?;
+    print_steps(&rows, c.steps, repeats);
+    let points: Vec<Point> = rows.iter().map(BenchRow::point).collect();
+    let fits = scaling::fits(&points);
+    print_fits(&fits);
+    let json = serde_json::to_string_pretty(&Report {
+        mode: "steps",
+        rows: &rows,
+        fits: &fits,
+    })?;
+    let title = format!(
+        "Walls at dt 1 ms: median time per step of {}",
+        if repeats == 1 {
+            "one run".to_string()
+        } else {
+            format!("{repeats} runs")
+        }
+    );
+    if let Some(path) = &c.chart {
+        scaling::chart(&points, &title, path)?;
+        println!("wrote {}", path.display());
+    }
+    if let Some(path) = &c.json {
+        std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(())
+}

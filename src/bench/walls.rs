@@ -1,0 +1,56 @@
+//! The walls `dda bench` times: running bond, 0.5 m × 0.25 m bricks on a
+//! fixed base, in 2D or as their 3D prism model.
+
+use serde::Serialize;
+
+use crate::scene::{BlockKind, Scene};
+
+/// How a wall's time step and penalty are chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Stepping {
+    /// dt 1 ms and a penalty of 1e9 (N/m per m of contact in 2D, N/m per
+    /// m² in 3D): every size steps alike, for time per step.
+    Fixed,
+}
+
+/// The running-bond wall of `n` courses of `n` bricks (0.5 m × 0.25 m,
+/// density 1800 kg/m³, E 5 GPa, ν 0.2, friction angle 35°) on a fixed base,
+/// at rest under gravity, dt 1 ms and penalty 1e9: the wall `dda bench`
+/// times by default.
+pub fn wall_scene(n: usize) -> Scene {
+    wall(n, 2, Stepping::Fixed, BlockKind::Deformable).expect("the benchmark wall is a valid scene")
+}
+
+/// The wall of `n` courses of `n` bricks in `dimension` 2, its bricks of
+/// `kind`, stepped as `stepping` says. The duration is 1 s.
+pub fn wall(
+    n: usize,
+    dimension: u32,
+    stepping: Stepping,
+    kind: BlockKind,
+) -> anyhow::Result<Scene> {
+    anyhow::ensure!(n >= 1, "a wall needs at least one course of one brick");
+    let length = 0.5 * n as f64;
+    let fixed = match stepping {
+        Stepping::Fixed => "dt: 0.001, penalty: 1e9, ",
+    };
+    let text = format!(
+        r#"Scene(
+    analysis: (duration: 1.0, {fixed}gravity: (0.0, -9.81)),
+    materials: {{ "brick": (density: 1800.0, young: 5e9, poisson: 0.2) }},
+    default_joint: Coulomb(friction_angle: 35.0),
+    blocks: [
+        Rectangle(center: ({c:?}, -0.5), width: {w:?}, height: 1.0, fixed: true),
+        Wall(origin: (0.0, 0.0), length: {length:?}, courses: {n}, brick_length: 0.5, brick_height: 0.25, bond: Running),
+    ],
+)"#,
+        c = length / 2.0,
+        w = length + 2.0,
+    );
+    let mut scene = Scene::from_str(&text, &format!("wall_{n}x{n}.ron"))?;
+    scene.materials[0].1.kind = kind;
+    match dimension {
+        2 => Ok(scene),
+        d => anyhow::bail!("a wall is 2D, not {d}D"),
+    }
+}
