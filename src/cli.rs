@@ -75,9 +75,15 @@ enum Command {
         /// Runs per size (the median is reported)
         #[arg(long, default_value_t = 3)]
         repeats: usize,
-        /// Make the bricks rigid (3 DOF each instead of Shi's 6)
+        /// The bricks' kinds, each timed in turn, comma separated
+        #[arg(long, value_enum, value_delimiter = ',', default_values_t = [KindArg::Deformable], conflicts_with = "rigid")]
+        kinds: Vec<KindArg>,
+        /// Make the bricks rigid (3 DOF each instead of Shi's 6): --kinds rigid
         #[arg(long)]
         rigid: bool,
+        /// Dimensions, comma separated: 2, or 3 for the walls' prism models, 0.25 m (one brick) deep
+        #[arg(long, value_delimiter = ',', default_values_t = [2u32])]
+        dimension: Vec<u32>,
         /// Also draw time per step against blocks, log-log with the N^1 line, into this file (.png or .svg)
         #[arg(long, value_name = "FILE")]
         chart: Option<PathBuf>,
@@ -85,7 +91,7 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
         /// Time this study instead, on one core and on all: its wall time against the sum of its runs' times
-        #[arg(long, value_name = "STUDY.ron", conflicts_with_all = ["chart", "rigid"])]
+        #[arg(long, value_name = "STUDY.ron", conflicts_with_all = ["chart", "rigid", "kinds", "dimension"])]
         study: Option<PathBuf>,
     },
     /// Charts of a run (DIR/history.csv, DIR/contacts.csv): displacement, speed and rotation of chosen blocks, contact forces; SVG and PNG into DIR/plots
@@ -392,21 +398,24 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             sizes,
             steps,
             repeats,
+            kinds,
             rigid,
+            dimension,
             chart,
             json,
             study: None,
         } => {
-            let kind = if rigid {
-                crate::scene::BlockKind::Rigid
+            let kinds: Vec<crate::scene::BlockKind> = if rigid {
+                vec![crate::scene::BlockKind::Rigid]
             } else {
-                crate::scene::BlockKind::Deformable
+                kinds.into_iter().map(KindArg::kind).collect()
             };
             crate::bench::command(&crate::bench::Command {
                 sizes,
                 steps,
                 repeats,
-                kinds: vec![kind],
+                kinds,
+                dimensions: dimension,
                 chart,
                 json,
             })?;
@@ -478,6 +487,22 @@ fn keep_record_found(solid: &mut Scene, scene: &Scene, out: &std::path::Path) {
         let file = scene.resolve(path.as_str());
         let file = std::fs::canonicalize(&file).unwrap_or(file);
         *path = file.display().to_string();
+    }
+}
+
+/// A brick kind on the command line.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum KindArg {
+    Rigid,
+    Deformable,
+}
+
+impl KindArg {
+    fn kind(self) -> crate::scene::BlockKind {
+        match self {
+            KindArg::Rigid => crate::scene::BlockKind::Rigid,
+            KindArg::Deformable => crate::scene::BlockKind::Deformable,
+        }
     }
 }
 

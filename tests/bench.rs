@@ -1,6 +1,6 @@
 //! The `dda bench` command times walls of growing size against the smallest.
 
-use dda::bench::{bench, wall_scene, BenchOptions};
+use dda::bench::{bench, wall, wall_scene, BenchOptions, Stepping};
 use dda::scene::BlockKind;
 
 #[test]
@@ -116,6 +116,77 @@ fn dda(args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
+/// One run times both kinds in 2D and 3D: a row per dimension, kind and
+/// size, each ratio against its own series' smallest wall.
+#[test]
+fn both_kinds_in_both_dimensions_in_one_run() {
+    let rows = bench(&BenchOptions {
+        sizes: vec![2, 3],
+        steps: 1,
+        repeats: 1,
+        kinds: vec![BlockKind::Rigid, BlockKind::Deformable],
+        dimensions: vec![2, 3],
+    })
+    .unwrap();
+    let keys: Vec<(u32, BlockKind, usize)> = rows
+        .iter()
+        .map(|r| (r.dimension, r.kind, r.courses))
+        .collect();
+    use BlockKind::{Deformable, Rigid};
+    assert_eq!(
+        keys,
+        [
+            (2, Rigid, 2),
+            (2, Rigid, 3),
+            (2, Deformable, 2),
+            (2, Deformable, 3),
+            (3, Rigid, 2),
+            (3, Rigid, 3),
+            (3, Deformable, 2),
+            (3, Deformable, 3),
+        ]
+    );
+    for r in &rows {
+        // The 3D wall is the 2D wall's prism model: the same blocks, with
+        // 6 DOF (rigid) or 12 (deformable) each.
+        let dofs = match (r.dimension, r.kind) {
+            (2, Rigid) => 3,
+            (2, Deformable) => 6,
+            (3, Rigid) => 6,
+            _ => 12,
+        };
+        assert_eq!(r.blocks, 1 + r.courses * r.courses + r.courses / 2);
+        assert_eq!(r.unknowns, dofs * r.blocks, "{r:?}");
+        if r.courses == 2 {
+            assert_eq!(r.ratio_to_baseline, 1.0);
+        }
+    }
+    let fits = dda::bench::scaling::fits(&rows.iter().map(|r| r.point()).collect::<Vec<_>>());
+    assert_eq!(fits.len(), 4);
+    for f in &fits {
+        let t = |n: usize| {
+            rows.iter()
+                .find(|r| r.dimension == f.dimension && r.kind == f.kind && r.blocks == n)
+                .unwrap()
+                .median_ms_per_step
+        };
+        let expected = (t(f.to_blocks) / t(f.from_blocks)).ln()
+            / (f.to_blocks as f64 / f.from_blocks as f64).ln();
+        assert!((f.exponent - expected).abs() < 1e-9 && (f.least_squares - expected).abs() < 1e-9);
+    }
+}
+
+/// The 3D wall is built through the scene path and stands.
+#[test]
+fn the_3d_wall_is_a_scene_of_boxes_that_stands() {
+    let scene = wall(3, 3, Stepping::Fixed, BlockKind::Deformable).unwrap();
+    assert_eq!(scene.dimension, 3);
+    let mut model = scene.build_3d().unwrap();
+    assert_eq!(model.driver.system.blocks.len(), 1 + 9 + 1);
+    model.driver.advance_to(0.02).unwrap();
+    assert_eq!(model.driver.statistics().unconverged_steps, 0);
+}
+
 #[test]
 fn a_chart_of_time_per_step_against_blocks() {
     let dir = std::env::temp_dir().join(format!("dda-bench-chart-{}", std::process::id()));
@@ -128,6 +199,8 @@ fn a_chart_of_time_per_step_against_blocks() {
         "1",
         "--repeats",
         "1",
+        "--kinds",
+        "rigid,deformable",
         "--chart",
         png.to_str().unwrap(),
         "--json",
@@ -139,15 +212,18 @@ fn a_chart_of_time_per_step_against_blocks() {
         String::from_utf8_lossy(&out.stderr)
     );
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("deformable 2D: p = "), "{text}");
+    assert!(
+        text.contains("rigid 2D: p = ") && text.contains("deformable 2D: p = "),
+        "{text}"
+    );
     let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png).unwrap()));
     let info = decoder.read_info().unwrap().info().clone();
     assert_eq!((info.width, info.height), (900, 600));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("bench.json")).unwrap()).unwrap();
     assert_eq!(json["mode"], "steps");
-    assert_eq!(json["rows"].as_array().unwrap().len(), 2);
-    assert_eq!(json["fits"].as_array().unwrap().len(), 1);
+    assert_eq!(json["rows"].as_array().unwrap().len(), 4);
+    assert_eq!(json["fits"].as_array().unwrap().len(), 2);
     let svg = dir.join("scaling.svg");
     let out = dda(&[
         "bench",
@@ -171,7 +247,13 @@ fn bad_bench_options_are_clear_errors() {
     for (args, says) in [
         (vec!["--chart", "out.txt"], "name a .png or .svg file"),
         (vec!["--sizes", "0"], "1 to 1000 courses"),
+        (vec!["--dimension", "4"], "2D or 3D, not 4"),
         (vec!["--steps", "0"], "--steps must be at least 1"),
+        (
+            vec!["--kinds", "soft"],
+            "possible values: rigid, deformable",
+        ),
+        (vec!["--rigid", "--kinds", "rigid"], "cannot be used with"),
     ] {
         let mut all = vec!["bench"];
         all.extend(args.iter().copied());

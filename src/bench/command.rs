@@ -21,6 +21,7 @@ pub struct Command {
     /// Runs per size; the median is reported.
     pub repeats: usize,
     pub kinds: Vec<BlockKind>,
+    pub dimensions: Vec<u32>,
     /// The scaling chart's file, `.png` or `.svg`.
     pub chart: Option<PathBuf>,
     pub json: Option<PathBuf>,
@@ -55,14 +56,18 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
     if let Some(path) = &c.chart {
         check_chart(path)?;
     }
-    super::check_walls(&c.sizes, &[2])?;
+    super::check_walls(&c.sizes, &c.dimensions)?;
+    anyhow::ensure!(
+        !c.kinds.is_empty(),
+        "--kinds needs rigid, deformable or both"
+    );
     let repeats = c.repeats;
     let rows = bench(&BenchOptions {
         sizes: c.sizes.clone(),
         steps: c.steps,
         repeats,
         kinds: c.kinds.clone(),
-        dimensions: vec![2],
+        dimensions: c.dimensions.clone(),
     })?;
     print_steps(&rows, c.steps, repeats);
     let points: Vec<Point> = rows.iter().map(BenchRow::point).collect();

@@ -37,7 +37,8 @@ pub struct BenchOptions {
     /// The bricks' kinds, each timed in turn: rigid bricks solve for half
     /// the unknowns.
     pub kinds: Vec<BlockKind>,
-    /// Dimensions, each timed in turn: 2.
+    /// Dimensions, each timed in turn: 2, or 3 for the walls' prism models
+    /// ([`walls::DEPTH_3D`] deep).
     pub dimensions: Vec<u32>,
 }
 

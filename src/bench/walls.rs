@@ -5,6 +5,9 @@ use serde::Serialize;
 
 use crate::scene::{BlockKind, Scene};
 
+/// The bricks' depth in the 3D wall (one brick deep), m.
+pub const DEPTH_3D: f64 = 0.25;
+
 /// How a wall's time step and penalty are chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum Stepping {
@@ -21,8 +24,9 @@ pub fn wall_scene(n: usize) -> Scene {
     wall(n, 2, Stepping::Fixed, BlockKind::Deformable).expect("the benchmark wall is a valid scene")
 }
 
-/// The wall of `n` courses of `n` bricks in `dimension` 2, its bricks of
-/// `kind`, stepped as `stepping` says. The duration is 1 s.
+/// The wall of `n` courses of `n` bricks in `dimension` 2 or 3 (the 2D
+/// wall's prism model, [`DEPTH_3D`] deep: 2D (x, y) is 3D (x, 0, y)), its
+/// bricks of `kind`, stepped as `stepping` says. The duration is 1 s.
 pub fn wall(
     n: usize,
     dimension: u32,
@@ -51,6 +55,7 @@ pub fn wall(
     scene.materials[0].1.kind = kind;
     match dimension {
         2 => Ok(scene),
-        d => anyhow::bail!("a wall is 2D, not {d}D"),
+        3 => Ok(crate::extrude::extrude(&scene, DEPTH_3D)?),
+        d => anyhow::bail!("a wall is 2D or 3D, not {d}D"),
     }
 }
