@@ -72,9 +72,9 @@ enum Command {
         /// Steps timed per run
         #[arg(long, default_value_t = 20)]
         steps: usize,
-        /// Runs per size (the median is reported)
-        #[arg(long, default_value_t = 3)]
-        repeats: usize,
+        /// Runs per size, the median reported (default 3; 1 with --simulate)
+        #[arg(long)]
+        repeats: Option<usize>,
         /// The bricks' kinds, each timed in turn, comma separated
         #[arg(long, value_enum, value_delimiter = ',', default_values_t = [KindArg::Deformable], conflicts_with = "rigid")]
         kinds: Vec<KindArg>,
@@ -84,6 +84,18 @@ enum Command {
         /// Dimensions, comma separated: 2, or 3 for the walls' prism models, 0.25 m (one brick) deep
         #[arg(long, value_delimiter = ',', default_values_t = [2u32])]
         dimension: Vec<u32>,
+        /// Run each wall for this simulated time, in s, with the scene's automatic dt and penalty, instead of a number of steps
+        #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+        simulate: Option<f64>,
+        /// With --simulate: stop a run after this much wall-clock time, in s, and report how far it got
+        #[arg(
+            long,
+            value_name = "SECONDS",
+            default_value_t = 600.0,
+            requires = "simulate",
+            allow_negative_numbers = true
+        )]
+        max_wall: f64,
         /// Also draw time per step against blocks, log-log with the N^1 line, into this file (.png or .svg)
         #[arg(long, value_name = "FILE")]
         chart: Option<PathBuf>,
@@ -91,7 +103,7 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
         /// Time this study instead, on one core and on all: its wall time against the sum of its runs' times
-        #[arg(long, value_name = "STUDY.ron", conflicts_with_all = ["chart", "rigid", "kinds", "dimension"])]
+        #[arg(long, value_name = "STUDY.ron", conflicts_with_all = ["simulate", "chart", "rigid", "kinds", "dimension"])]
         study: Option<PathBuf>,
     },
     /// Charts of a run (DIR/history.csv, DIR/contacts.csv): displacement, speed and rotation of chosen blocks, contact forces; SVG and PNG into DIR/plots
@@ -371,6 +383,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             json,
             ..
         } => {
+            let repeats = repeats.unwrap_or(3);
             let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
             let rows = crate::bench::bench_study(&study, &[1, cores], repeats)?;
             println!(
@@ -401,6 +414,8 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             kinds,
             rigid,
             dimension,
+            simulate,
+            max_wall,
             chart,
             json,
             study: None,
@@ -416,6 +431,8 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 repeats,
                 kinds,
                 dimensions: dimension,
+                simulate,
+                max_wall,
                 chart,
                 json,
             })?;

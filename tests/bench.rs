@@ -1,5 +1,6 @@
 //! The `dda bench` command times walls of growing size against the smallest.
 
+use dda::bench::simulate::{simulate, SimulateOptions};
 use dda::bench::{bench, wall, wall_scene, BenchOptions, Stepping};
 use dda::scene::BlockKind;
 
@@ -185,6 +186,9 @@ fn the_3d_wall_is_a_scene_of_boxes_that_stands() {
     assert_eq!(model.driver.system.blocks.len(), 1 + 9 + 1);
     model.driver.advance_to(0.02).unwrap();
     assert_eq!(model.driver.statistics().unconverged_steps, 0);
+    // Automatic stepping leaves dt and the penalty to the scene.
+    let auto = wall(3, 2, Stepping::Automatic, BlockKind::Rigid).unwrap();
+    assert!(auto.analysis.dt.is_none() && auto.analysis.penalty.is_none());
 }
 
 #[test]
@@ -243,17 +247,73 @@ fn a_chart_of_time_per_step_against_blocks() {
 }
 
 #[test]
+fn a_wall_runs_for_simulated_time_with_automatic_dt() {
+    let rows = simulate(&SimulateOptions {
+        sizes: vec![2],
+        kinds: vec![BlockKind::Rigid],
+        dimensions: vec![2],
+        seconds: 0.002,
+        max_wall: 600.0,
+        repeats: 1,
+        progress_every: None,
+    })
+    .unwrap();
+    let r = &rows[0];
+    assert!(r.completed && (r.reached - 0.002).abs() < 1e-12, "{r:?}");
+    assert!(
+        r.dt < 1e-3 && r.penalty > 1e9,
+        "automatic dt and penalty: {r:?}"
+    );
+    assert!(r.steps as f64 >= 0.002 / r.dt - 1.0);
+    assert!((r.seconds_per_simulated_second - r.wall_s / r.reached).abs() < 1e-9);
+    assert!(r.drift >= 0.0 && r.drift < 1e-3);
+}
+
+/// A run past its wall-clock cap stops and says how far it got.
+#[test]
+fn a_simulated_run_stops_at_its_wall_clock_cap() {
+    let out = dda(&[
+        "bench",
+        "--sizes",
+        "3",
+        "--simulate",
+        "10",
+        "--max-wall",
+        "0.2",
+        "--json",
+        std::env::temp_dir()
+            .join(format!("dda-bench-cap-{}.json", std::process::id()))
+            .to_str()
+            .unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("s/sim s") && text.contains("stopped at the wall-clock cap, at t = "),
+        "{text}"
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("wall-clock cap"));
+}
+
+#[test]
 fn bad_bench_options_are_clear_errors() {
     for (args, says) in [
         (vec!["--chart", "out.txt"], "name a .png or .svg file"),
         (vec!["--sizes", "0"], "1 to 1000 courses"),
         (vec!["--dimension", "4"], "2D or 3D, not 4"),
+        (vec!["--simulate", "-1"], "more than 0, got -1"),
+        (vec!["--simulate", "1", "--max-wall", "0"], "--max-wall"),
         (vec!["--steps", "0"], "--steps must be at least 1"),
         (
             vec!["--kinds", "soft"],
             "possible values: rigid, deformable",
         ),
         (vec!["--rigid", "--kinds", "rigid"], "cannot be used with"),
+        (vec!["--max-wall", "5"], "--simulate"),
     ] {
         let mut all = vec!["bench"];
         all.extend(args.iter().copied());

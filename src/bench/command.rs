@@ -2,12 +2,14 @@
 //! the exponents, then the chart and the JSON.
 
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 use anyhow::Context;
 use serde::Serialize;
 
-use super::report::{print_fits, print_steps};
+use super::report::{print_fits, print_simulate, print_steps};
 use super::scaling::{self, Fit, Point};
+use super::simulate::{simulate, SimulateOptions, SimulateRow};
 use super::{bench, BenchOptions, BenchRow};
 use crate::scene::BlockKind;
 
@@ -18,10 +20,14 @@ pub struct Command {
     pub sizes: Vec<usize>,
     /// Steps timed per run (without `simulate`).
     pub steps: usize,
-    /// Runs per size; the median is reported.
-    pub repeats: usize,
+    /// Runs per size; default 3, or 1 with `simulate`.
+    pub repeats: Option<usize>,
     pub kinds: Vec<BlockKind>,
     pub dimensions: Vec<u32>,
+    /// Simulated seconds per run, with automatic dt and penalty.
+    pub simulate: Option<f64>,
+    /// Wall-clock cap per simulated run, s.
+    pub max_wall: f64,
     /// The scaling chart's file, `.png` or `.svg`.
     pub chart: Option<PathBuf>,
     pub json: Option<PathBuf>,
@@ -30,7 +36,7 @@ pub struct Command {
 /// What `--json` writes.
 #[derive(Serialize)]
 struct Report<'a, R: Serialize> {
-    /// "steps": a number of steps at dt 1 ms.
+    /// "steps" (a number of steps at dt 1 ms) or "simulate".
     mode: &'static str,
     rows: &'a [R],
     fits: &'a [Fit],
@@ -61,31 +67,59 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
         !c.kinds.is_empty(),
         "--kinds needs rigid, deformable or both"
     );
-    let repeats = c.repeats;
-    let rows = bench(&BenchOptions {
-        sizes: c.sizes.clone(),
-        steps: c.steps,
-        repeats,
-        kinds: c.kinds.clone(),
-        dimensions: c.dimensions.clone(),
-    })?;
-    print_steps(&rows, c.steps, repeats);
-    let points: Vec<Point> = rows.iter().map(BenchRow::point).collect();
-    let fits = scaling::fits(&points);
-    print_fits(&fits);
-    let json = serde_json::to_string_pretty(&Report {
-        mode: "steps",
-        rows: &rows,
-        fits: &fits,
-    })?;
-    let title = format!(
-        "Walls at dt 1 ms: median time per step of {}",
-        if repeats == 1 {
-            "one run".to_string()
-        } else {
-            format!("{repeats} runs")
+    let (points, json, title) = match c.simulate {
+        Some(seconds) => {
+            let repeats = c.repeats.unwrap_or(1);
+            let rows = simulate(&SimulateOptions {
+                sizes: c.sizes.clone(),
+                kinds: c.kinds.clone(),
+                dimensions: c.dimensions.clone(),
+                seconds,
+                max_wall: c.max_wall,
+                repeats,
+                progress_every: Some(Duration::from_secs(5)),
+            })?;
+            print_simulate(&rows, repeats);
+            let points: Vec<Point> = rows.iter().map(SimulateRow::point).collect();
+            let fits = scaling::fits(&points);
+            print_fits(&fits);
+            let json = serde_json::to_string_pretty(&Report {
+                mode: "simulate",
+                rows: &rows,
+                fits: &fits,
+            })?;
+            let title = format!("Walls, {seconds} s simulated: mean time per step");
+            (points, json, title)
         }
-    );
+        None => {
+            let repeats = c.repeats.unwrap_or(3);
+            let rows = bench(&BenchOptions {
+                sizes: c.sizes.clone(),
+                steps: c.steps,
+                repeats,
+                kinds: c.kinds.clone(),
+                dimensions: c.dimensions.clone(),
+            })?;
+            print_steps(&rows, c.steps, repeats);
+            let points: Vec<Point> = rows.iter().map(BenchRow::point).collect();
+            let fits = scaling::fits(&points);
+            print_fits(&fits);
+            let json = serde_json::to_string_pretty(&Report {
+                mode: "steps",
+                rows: &rows,
+                fits: &fits,
+            })?;
+            let title = format!(
+                "Walls at dt 1 ms: median time per step of {}",
+                if repeats == 1 {
+                    "one run".to_string()
+                } else {
+                    format!("{repeats} runs")
+                }
+            );
+            (points, json, title)
+        }
+    };
     if let Some(path) = &c.chart {
         scaling::chart(&points, &title, path)?;
         println!("wrote {}", path.display());

@@ -3,12 +3,14 @@
 //! The machines are shared and noisy, so each size is run several times and
 //! reported by its median, and as a ratio to the smallest wall of the same
 //! kind and dimension measured in the same run (the baseline). Walls are
-//! built by [`walls`] and timed by fixed step counts here; [`scaling`] fits how time per step grows with the
+//! built by [`walls`], timed by fixed step counts here or over a simulated
+//! time by [`simulate`]; [`scaling`] fits how time per step grows with the
 //! blocks and draws it; [`study`] times a study's use of the cores.
 
 pub mod command;
 pub mod report;
 pub mod scaling;
+pub mod simulate;
 pub mod study;
 pub mod walls;
 

@@ -1,6 +1,7 @@
 //! The tables `dda bench` prints.
 
 use super::scaling::{series_name, Fit};
+use super::simulate::SimulateRow;
 use super::BenchRow;
 
 /// The step-timing table, then where each step's time goes.
@@ -53,6 +54,60 @@ pub fn print_steps(rows: &[BenchRow], steps: usize, repeats: usize) {
             "{:>4} {:>15} {cells}",
             r.courses,
             series_name(r.dimension, r.kind)
+        );
+    }
+}
+
+/// The simulated-time table.
+pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
+    let seconds = rows.first().map_or(0.0, |r| r.seconds);
+    println!(
+        "running-bond walls of n × n bricks, {seconds} s simulated with automatic dt and penalty, median of {}",
+        runs(repeats)
+    );
+    println!(
+        "{:>4} {:>15} {:>7} {:>10} {:>9} {:>9} {:>9} {:>10} {:>8} {:>9} {:>6} {:>11} {:>10} {:>7}",
+        "n",
+        "bricks",
+        "blocks",
+        "dt s",
+        "penalty",
+        "reached",
+        "wall s",
+        "s/sim s",
+        "steps",
+        "ms/step",
+        "cuts",
+        "unconverged",
+        "drift m",
+        "MB"
+    );
+    for r in rows {
+        println!(
+            "{:>4} {:>15} {:>7} {:>10.3e} {:>9.2e} {:>9.4} {:>9.2} {:>10.3} {:>8} {:>9.2} {:>6} {:>11} {:>10.3e} {:>7.0}",
+            r.courses,
+            series_name(r.dimension, r.kind),
+            r.blocks,
+            r.dt,
+            r.penalty,
+            r.reached,
+            r.wall_s,
+            r.seconds_per_simulated_second,
+            r.steps,
+            r.ms_per_step,
+            r.cuts,
+            r.unconverged_steps,
+            r.drift,
+            r.peak_memory_mb,
+        );
+    }
+    for r in rows.iter().filter(|r| !r.completed) {
+        println!(
+            "the {n} × {n} {} wall stopped at the wall-clock cap, at t = {:.4} of {} s",
+            series_name(r.dimension, r.kind),
+            r.reached,
+            r.seconds,
+            n = r.courses,
         );
     }
 }

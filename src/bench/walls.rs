@@ -14,6 +14,9 @@ pub enum Stepping {
     /// dt 1 ms and a penalty of 1e9 (N/m per m of contact in 2D, N/m per
     /// m² in 3D): every size steps alike, for time per step.
     Fixed,
+    /// Both left out of the scene, so the scene's automatic choice applies
+    /// (dt = 0.2·√(m/k), penalty 2E over the median block size).
+    Automatic,
 }
 
 /// The running-bond wall of `n` courses of `n` bricks (0.5 m × 0.25 m,
@@ -37,6 +40,7 @@ pub fn wall(
     let length = 0.5 * n as f64;
     let fixed = match stepping {
         Stepping::Fixed => "dt: 0.001, penalty: 1e9, ",
+        Stepping::Automatic => "",
     };
     let text = format!(
         r#"Scene(
