@@ -64,7 +64,7 @@ enum Command {
         #[arg(long, value_name = "DIR", conflicts_with = "out")]
         resume: Option<PathBuf>,
     },
-    /// Time steps of running-bond walls of growing size: median milliseconds per step and ratio to the smallest wall
+    /// Time steps of running-bond walls of growing size: median milliseconds per step, where the time goes, and how it grows with the blocks
     Bench {
         /// Wall sizes (n courses of n bricks), comma separated
         #[arg(long, value_delimiter = ',', default_values_t = [10usize, 20, 40])]
@@ -72,20 +72,41 @@ enum Command {
         /// Steps timed per run
         #[arg(long, default_value_t = 20)]
         steps: usize,
-        /// Runs per size (the median is reported)
-        #[arg(long, default_value_t = 3)]
-        repeats: usize,
-        /// Make the bricks rigid (3 DOF each instead of Shi's 6)
+        /// Runs per size, the median reported (default 3; 1 with --simulate)
+        #[arg(long)]
+        repeats: Option<usize>,
+        /// The bricks' kinds, each timed in turn, comma separated
+        #[arg(long, value_enum, value_delimiter = ',', default_values_t = [KindArg::Deformable], conflicts_with = "rigid")]
+        kinds: Vec<KindArg>,
+        /// Make the bricks rigid (3 DOF each instead of Shi's 6): --kinds rigid
         #[arg(long)]
         rigid: bool,
-        /// The step's linear solver: direct (sparse Cholesky) or iterative (conjugate gradients, default tolerance and cap)
-        #[arg(long, default_value = "direct", value_parser = ["direct", "iterative"])]
-        solver: String,
+        /// Dimensions, comma separated: 2, or 3 for the walls' prism models, 0.25 m (one brick) deep
+        #[arg(long, value_delimiter = ',', default_values_t = [2u32])]
+        dimension: Vec<u32>,
+        /// Run each wall for this simulated time, in s, with the scene's automatic dt and penalty, instead of a number of steps
+        #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+        simulate: Option<f64>,
+        /// With --simulate: stop a run after this much wall-clock time, in s, and report how far it got
+        #[arg(
+            long,
+            value_name = "SECONDS",
+            default_value_t = 600.0,
+            requires = "simulate",
+            allow_negative_numbers = true
+        )]
+        max_wall: f64,
+        /// Also draw time per step against blocks, log-log with the N^1 line, into this file (.png or .svg)
+        #[arg(long, value_name = "FILE")]
+        chart: Option<PathBuf>,
         /// Also write the results as JSON to this file
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
+        /// The step's linear solver: direct (sparse Cholesky) or iterative (conjugate gradients, default tolerance and cap)
+        #[arg(long, default_value = "direct", value_parser = ["direct", "iterative"])]
+        solver: String,
         /// Time this study instead, on one core and on all: its wall time against the sum of its runs' times
-        #[arg(long, value_name = "STUDY.ron")]
+        #[arg(long, value_name = "STUDY.ron", conflicts_with_all = ["simulate", "chart", "rigid", "kinds", "dimension"])]
         study: Option<PathBuf>,
     },
     /// Charts of a run (DIR/history.csv, DIR/contacts.csv): displacement, speed and rotation of chosen blocks, contact forces; SVG and PNG into DIR/plots
@@ -365,6 +386,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             json,
             ..
         } => {
+            let repeats = repeats.unwrap_or(3);
             let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
             let rows = crate::bench::bench_study(&study, &[1, cores], repeats)?;
             println!(
@@ -392,88 +414,37 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             sizes,
             steps,
             repeats,
+            kinds,
             rigid,
-            solver,
+            dimension,
+            simulate,
+            max_wall,
+            chart,
             json,
+            solver,
             study: None,
         } => {
             let solver = match solver.as_str() {
                 "iterative" => dda_core::Solver::iterative(),
                 _ => dda_core::Solver::Direct,
             };
-            let kind = if rigid {
-                crate::scene::BlockKind::Rigid
+            let kinds: Vec<crate::scene::BlockKind> = if rigid {
+                vec![crate::scene::BlockKind::Rigid]
             } else {
-                crate::scene::BlockKind::Deformable
+                kinds.into_iter().map(KindArg::kind).collect()
             };
-            let rows = crate::bench::bench(&crate::bench::BenchOptions {
+            crate::bench::command(&crate::bench::Command {
                 sizes,
                 steps,
                 repeats,
-                kind,
+                kinds,
+                dimensions: dimension,
+                simulate,
+                max_wall,
+                chart,
+                json,
                 solver,
             })?;
-            println!(
-                "walls of n × n {} bricks, {steps} steps timed per run, median of {repeats} runs",
-                if rigid { "rigid" } else { "deformable" }
-            );
-            println!(
-                "{:>4} {:>7} {:>9} {:>8} {:>10} {:>7} {:>8} {:>7} {:>7} {:>7} {:>5} {:>9} {:>9} {:>7}",
-                "n", "blocks", "contacts", "unknowns", "ms/step", "× base", "s/sim s", "passes",
-                "newton", "factor.", "cuts", "drift m", "analyses", "MB"
-            );
-            for r in &rows {
-                println!(
-                    "{:>4} {:>7} {:>9} {:>8} {:>10.2} {:>7.2} {:>8.2} {:>7.2} {:>7.2} {:>7.2} {:>5} {:>9.2e} {:>9.2} {:>7.0}",
-                    r.courses,
-                    r.blocks,
-                    r.contacts,
-                    r.unknowns,
-                    r.median_ms_per_step,
-                    r.ratio_to_baseline,
-                    r.seconds_per_simulated_second,
-                    r.passes_per_step,
-                    r.newton_per_step,
-                    r.factorizations_per_step,
-                    r.cuts,
-                    r.drift,
-                    r.analyses_per_step,
-                    r.peak_memory_mb,
-                );
-            }
-            if solver != dda_core::Solver::Direct {
-                for r in &rows {
-                    println!(
-                        "{:>4}: {:.1} conjugate-gradient iterations per solve, {} solved directly at the cap",
-                        r.courses, r.iterations_per_solve, r.solver_fallbacks
-                    );
-                }
-            }
-            println!("where the time goes, ms per step (median run):");
-            if let Some(first) = rows.first() {
-                let names: Vec<&str> = first
-                    .phase_ms_per_step
-                    .iter()
-                    .map(|(name, _)| name.as_str())
-                    .collect();
-                println!(
-                    "{:>4} {}",
-                    "n",
-                    names.iter().map(|n| format!("{n:>13}")).collect::<String>()
-                );
-            }
-            for r in &rows {
-                let cells: String = r
-                    .phase_ms_per_step
-                    .iter()
-                    .map(|(_, ms)| format!("{ms:>13.3}"))
-                    .collect();
-                println!("{:>4} {cells}", r.courses);
-            }
-            if let Some(path) = json {
-                std::fs::write(&path, serde_json::to_string_pretty(&rows)?)
-                    .with_context(|| format!("cannot write {}", path.display()))?;
-            }
         }
         Command::Extrude {
             scene: path,
@@ -542,6 +513,22 @@ fn keep_record_found(solid: &mut Scene, scene: &Scene, out: &std::path::Path) {
         let file = scene.resolve(path.as_str());
         let file = std::fs::canonicalize(&file).unwrap_or(file);
         *path = file.display().to_string();
+    }
+}
+
+/// A brick kind on the command line.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum KindArg {
+    Rigid,
+    Deformable,
+}
+
+impl KindArg {
+    fn kind(self) -> crate::scene::BlockKind {
+        match self {
+            KindArg::Rigid => crate::scene::BlockKind::Rigid,
+            KindArg::Deformable => crate::scene::BlockKind::Deformable,
+        }
     }
 }
 

@@ -1,6 +1,7 @@
 //! The `dda bench` command times walls of growing size against the smallest.
 
-use dda::bench::{bench, wall_scene, BenchOptions};
+use dda::bench::simulate::{simulate, SimulateOptions};
+use dda::bench::{bench, wall, wall_scene, BenchOptions, Stepping};
 use dda::scene::{BlockKind, Solver};
 
 #[test]
@@ -9,7 +10,8 @@ fn bench_reports_medians_and_ratios_to_the_smallest_wall() {
         sizes: vec![3, 6],
         steps: 2,
         repeats: 3,
-        kind: BlockKind::Deformable,
+        kinds: vec![BlockKind::Deformable],
+        dimensions: vec![2],
         solver: Solver::Direct,
     })
     .unwrap();
@@ -39,7 +41,8 @@ fn rigid_bricks_solve_for_half_the_unknowns() {
         sizes: vec![3],
         steps: 1,
         repeats: 1,
-        kind: BlockKind::Rigid,
+        kinds: vec![BlockKind::Rigid],
+        dimensions: vec![2],
         solver: Solver::Direct,
     })
     .unwrap();
@@ -64,7 +67,8 @@ fn bench_command_prints_a_table() {
     assert!(
         text.contains("ms/step")
             && text.contains("where the time goes")
-            && text.lines().count() == 6,
+            && text.lines().count() == 6
+            && !text.contains("N^p"),
         "{text}"
     );
 }
@@ -87,7 +91,7 @@ fn bench_command_times_rigid_bricks() {
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains("rigid bricks") && text.contains("unknowns"),
+        text.contains("rigid 2D") && text.contains("unknowns"),
         "{text}"
     );
 }
@@ -105,5 +109,224 @@ fn a_study_is_timed_on_one_core_and_on_two() {
         assert_eq!(r.runs, 20);
         assert!(r.median_wall_s > 0.0 && r.run_sum_s > 0.0);
         assert!((r.ratio - r.median_wall_s / r.run_sum_s).abs() < 1e-12);
+    }
+}
+
+fn dda(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_dda"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// One run times both kinds in 2D and 3D: a row per dimension, kind and
+/// size, each ratio against its own series' smallest wall.
+#[test]
+fn both_kinds_in_both_dimensions_in_one_run() {
+    let rows = bench(&BenchOptions {
+        sizes: vec![2, 3],
+        steps: 1,
+        repeats: 1,
+        kinds: vec![BlockKind::Rigid, BlockKind::Deformable],
+        dimensions: vec![2, 3],
+        solver: Solver::Direct,
+    })
+    .unwrap();
+    let keys: Vec<(u32, BlockKind, usize)> = rows
+        .iter()
+        .map(|r| (r.dimension, r.kind, r.courses))
+        .collect();
+    use BlockKind::{Deformable, Rigid};
+    assert_eq!(
+        keys,
+        [
+            (2, Rigid, 2),
+            (2, Rigid, 3),
+            (2, Deformable, 2),
+            (2, Deformable, 3),
+            (3, Rigid, 2),
+            (3, Rigid, 3),
+            (3, Deformable, 2),
+            (3, Deformable, 3),
+        ]
+    );
+    for r in &rows {
+        // The 3D wall is the 2D wall's prism model: the same blocks, with
+        // 6 DOF (rigid) or 12 (deformable) each.
+        let dofs = match (r.dimension, r.kind) {
+            (2, Rigid) => 3,
+            (2, Deformable) => 6,
+            (3, Rigid) => 6,
+            _ => 12,
+        };
+        assert_eq!(r.blocks, 1 + r.courses * r.courses + r.courses / 2);
+        assert_eq!(r.unknowns, dofs * r.blocks, "{r:?}");
+        if r.courses == 2 {
+            assert_eq!(r.ratio_to_baseline, 1.0);
+        }
+    }
+    let fits = dda::bench::scaling::fits(&rows.iter().map(|r| r.point()).collect::<Vec<_>>());
+    assert_eq!(fits.len(), 4);
+    for f in &fits {
+        let t = |n: usize| {
+            rows.iter()
+                .find(|r| r.dimension == f.dimension && r.kind == f.kind && r.blocks == n)
+                .unwrap()
+                .median_ms_per_step
+        };
+        let expected = (t(f.to_blocks) / t(f.from_blocks)).ln()
+            / (f.to_blocks as f64 / f.from_blocks as f64).ln();
+        assert!((f.exponent - expected).abs() < 1e-9 && (f.least_squares - expected).abs() < 1e-9);
+    }
+}
+
+/// The 3D wall is built through the scene path and stands.
+#[test]
+fn the_3d_wall_is_a_scene_of_boxes_that_stands() {
+    let scene = wall(3, 3, Stepping::Fixed, BlockKind::Deformable).unwrap();
+    assert_eq!(scene.dimension, 3);
+    let mut model = scene.build_3d().unwrap();
+    assert_eq!(model.driver.system.blocks.len(), 1 + 9 + 1);
+    model.driver.advance_to(0.02).unwrap();
+    assert_eq!(model.driver.statistics().unconverged_steps, 0);
+    // Automatic stepping leaves dt and the penalty to the scene.
+    let auto = wall(3, 2, Stepping::Automatic, BlockKind::Rigid).unwrap();
+    assert!(auto.analysis.dt.is_none() && auto.analysis.penalty.is_none());
+}
+
+#[test]
+fn a_chart_of_time_per_step_against_blocks() {
+    let dir = std::env::temp_dir().join(format!("dda-bench-chart-{}", std::process::id()));
+    let png = dir.join("scaling.png");
+    let out = dda(&[
+        "bench",
+        "--sizes",
+        "2,3",
+        "--steps",
+        "1",
+        "--repeats",
+        "1",
+        "--kinds",
+        "rigid,deformable",
+        "--chart",
+        png.to_str().unwrap(),
+        "--json",
+        dir.join("bench.json").to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("rigid 2D: p = ") && text.contains("deformable 2D: p = "),
+        "{text}"
+    );
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png).unwrap()));
+    let info = decoder.read_info().unwrap().info().clone();
+    assert_eq!((info.width, info.height), (900, 600));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("bench.json")).unwrap()).unwrap();
+    assert_eq!(json["mode"], "steps");
+    assert_eq!(json["rows"].as_array().unwrap().len(), 4);
+    assert_eq!(json["fits"].as_array().unwrap().len(), 2);
+    let svg = dir.join("scaling.svg");
+    let out = dda(&[
+        "bench",
+        "--sizes",
+        "2,3",
+        "--steps",
+        "1",
+        "--repeats",
+        "1",
+        "--chart",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let drawn = std::fs::read_to_string(&svg).unwrap();
+    assert!(drawn.contains("N^1 through deformable 2D") && drawn.contains("blocks"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_wall_runs_for_simulated_time_with_automatic_dt() {
+    let rows = simulate(&SimulateOptions {
+        sizes: vec![2],
+        kinds: vec![BlockKind::Rigid],
+        dimensions: vec![2],
+        seconds: 0.002,
+        max_wall: 600.0,
+        repeats: 1,
+        progress_every: None,
+        solver: Solver::Direct,
+    })
+    .unwrap();
+    let r = &rows[0];
+    assert!(r.completed && (r.reached - 0.002).abs() < 1e-12, "{r:?}");
+    assert!(
+        r.dt < 1e-3 && r.penalty > 1e9,
+        "automatic dt and penalty: {r:?}"
+    );
+    assert!(r.steps as f64 >= 0.002 / r.dt - 1.0);
+    assert!((r.seconds_per_simulated_second - r.wall_s / r.reached).abs() < 1e-9);
+    assert!(r.drift >= 0.0 && r.drift < 1e-3);
+}
+
+/// A run past its wall-clock cap stops and says how far it got.
+#[test]
+fn a_simulated_run_stops_at_its_wall_clock_cap() {
+    let out = dda(&[
+        "bench",
+        "--sizes",
+        "3",
+        "--simulate",
+        "10",
+        "--max-wall",
+        "0.2",
+        "--json",
+        std::env::temp_dir()
+            .join(format!("dda-bench-cap-{}.json", std::process::id()))
+            .to_str()
+            .unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("s/sim s") && text.contains("stopped at the wall-clock cap, at t = "),
+        "{text}"
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("wall-clock cap"));
+}
+
+#[test]
+fn bad_bench_options_are_clear_errors() {
+    for (args, says) in [
+        (vec!["--chart", "out.txt"], "name a .png or .svg file"),
+        (vec!["--sizes", "0"], "1 to 1000 courses"),
+        (vec!["--dimension", "4"], "2D or 3D, not 4"),
+        (vec!["--simulate", "-1"], "more than 0, got -1"),
+        (vec!["--simulate", "1", "--max-wall", "0"], "--max-wall"),
+        (vec!["--steps", "0"], "--steps must be at least 1"),
+        (
+            vec!["--kinds", "soft"],
+            "possible values: rigid, deformable",
+        ),
+        (vec!["--rigid", "--kinds", "rigid"], "cannot be used with"),
+        (vec!["--max-wall", "5"], "--simulate"),
+    ] {
+        let mut all = vec!["bench"];
+        all.extend(args.iter().copied());
+        let out = dda(&all);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(says),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
     }
 }

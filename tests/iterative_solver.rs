@@ -167,7 +167,8 @@ fn the_bench_times_the_iterative_solver() {
         sizes: vec![3],
         steps: 2,
         repeats: 1,
-        kind: dda::scene::BlockKind::Deformable,
+        kinds: vec![dda::scene::BlockKind::Deformable],
+        dimensions: vec![2],
         solver: Solver::iterative(),
     })
     .unwrap();

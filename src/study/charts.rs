@@ -43,6 +43,14 @@ impl Axis {
         }
     }
 
+    fn logarithmic(title: String) -> Self {
+        Self {
+            title,
+            log: true,
+            names: None,
+        }
+    }
+
     fn linear(title: String) -> Self {
         Self {
             title,
@@ -149,6 +157,8 @@ enum Mark {
     Ring,
     /// A bar from zero, 0.6 wide in x.
     Bar,
+    /// None: a line alone, named in the legend by its stroke.
+    None,
 }
 
 struct Chart {
@@ -170,6 +180,23 @@ fn save(chart: &Chart, dir: &Path, stem: &str) -> anyhow::Result<Vec<PathBuf>> {
     let png = dir.join(format!("{stem}.png"));
     draw(BitMapBackend::new(&png, SIZE).into_drawing_area(), chart)?;
     Ok(vec![svg, png])
+}
+
+/// Draws `chart` into `path`, SVG or PNG by its extension.
+fn save_as(chart: &Chart, path: &Path) -> anyhow::Result<()> {
+    register_font();
+    match path.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("svg") => {
+            draw(SVGBackend::new(path, SIZE).into_drawing_area(), chart)
+        }
+        Some(e) if e.eq_ignore_ascii_case("png") => {
+            draw(BitMapBackend::new(path, SIZE).into_drawing_area(), chart)
+        }
+        _ => Err(anyhow!(
+            "{}: a chart is written as .png or .svg; name the file so",
+            path.display()
+        )),
+    }
 }
 
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &Chart) -> anyhow::Result<()>
@@ -242,22 +269,31 @@ where
             .filter(|p| p.0.is_finite() && p.1.is_finite())
             .collect();
         let colour = s.colour;
+        let name = s.name.as_str();
         if s.line && at.len() > 1 {
-            if s.dashed {
-                c.draw_series(DashedLineSeries::new(
-                    at.clone(),
-                    6,
-                    4,
-                    colour.stroke_width(2),
-                ))
-                .map_err(fail)?;
+            let style = colour.stroke_width(2);
+            let drawn = if s.dashed {
+                c.draw_series(DashedLineSeries::new(at.clone(), 6, 4, style))
+                    .map_err(fail)?
             } else {
-                c.draw_series(LineSeries::new(at.clone(), colour.stroke_width(2)))
-                    .map_err(fail)?;
+                c.draw_series(LineSeries::new(at.clone(), style))
+                    .map_err(fail)?
+            };
+            if s.mark == Mark::None {
+                let dashes = if s.dashed {
+                    [(0, 6), (9, 15)]
+                } else {
+                    [(0, 10), (10, 20)]
+                };
+                drawn.label(name).legend(move |(x, y)| {
+                    EmptyElement::at((x, y))
+                        + PathElement::new(vec![(dashes[0].0, 0), (dashes[0].1, 0)], style)
+                        + PathElement::new(vec![(dashes[1].0, 0), (dashes[1].1, 0)], style)
+                });
             }
         }
-        let name = s.name.as_str();
         match s.mark {
+            Mark::None => {}
             Mark::Bar => {
                 let bars = at
                     .iter()
@@ -701,4 +737,44 @@ pub fn bars(
     let mut chart = chart;
     chart.x_span = Some((-0.6, n as f64 - 0.4));
     save(&chart, dir, stem)
+}
+
+/// One line of a [`log_log`] chart: its legend name, points (x, y), both
+/// positive, and colour; `dashed` lines carry no marks.
+pub struct Line {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+    pub colour: (u8, u8, u8),
+    pub dashed: bool,
+}
+
+/// A chart of `lines` with both axes logarithmic, into `path` (`.png` or
+/// `.svg`, by its extension).
+pub fn log_log(
+    title: &str,
+    x_title: &str,
+    y_title: &str,
+    lines: Vec<Line>,
+    path: &Path,
+) -> anyhow::Result<()> {
+    let series = lines
+        .into_iter()
+        .map(|l| Series {
+            name: l.name,
+            colour: RGBColor(l.colour.0, l.colour.1, l.colour.2),
+            points: l.points,
+            line: true,
+            mark: if l.dashed { Mark::None } else { Mark::Dot },
+            dashed: l.dashed,
+        })
+        .collect();
+    let chart = Chart {
+        title: title.into(),
+        x: Axis::logarithmic(x_title.into()),
+        y: Axis::logarithmic(y_title.into()),
+        series,
+        rules: Vec::new(),
+        x_span: None,
+    };
+    save_as(&chart, path)
 }

@@ -1,0 +1,299 @@
+//! `dda bench`: step time of running-bond walls of growing size.
+//!
+//! The machines are shared and noisy, so each size is run several times and
+//! reported by its median, and as a ratio to the smallest wall of the same
+//! kind and dimension measured in the same run (the baseline). Walls are
+//! built by [`walls`], timed by fixed step counts here or over a simulated
+//! time by [`simulate`]; [`scaling`] fits how time per step grows with the
+//! blocks and draws it; [`study`] times a study's use of the cores.
+
+pub mod command;
+pub mod report;
+pub mod scaling;
+pub mod simulate;
+pub mod study;
+pub mod walls;
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use dda_core::{Solver, Statistics};
+
+use crate::scene::{AnyModel, BlockKind};
+use crate::simulation::Simulation;
+
+pub use command::{command, Command};
+pub use study::{bench_study, StudyBenchRow};
+pub use walls::{wall, wall_scene, Stepping};
+
+/// What to measure.
+#[derive(Debug, Clone)]
+pub struct BenchOptions {
+    /// Wall sizes: `n` courses of `n` bricks.
+    pub sizes: Vec<usize>,
+    /// Steps timed per run (after one untimed step).
+    pub steps: usize,
+    /// Runs per size; the median is reported.
+    pub repeats: usize,
+    /// The bricks' kinds, each timed in turn: rigid bricks solve for half
+    /// the unknowns.
+    pub kinds: Vec<BlockKind>,
+    /// Dimensions, each timed in turn: 2, or 3 for the walls' prism models
+    /// ([`walls::DEPTH_3D`] deep).
+    pub dimensions: Vec<u32>,
+    /// The step's linear solver.
+    pub solver: Solver,
+}
+
+/// One size's result.
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchRow {
+    pub courses: usize,
+    pub dimension: u32,
+    pub kind: BlockKind,
+    pub blocks: usize,
+    pub contacts: usize,
+    /// Unknowns of the step's system.
+    pub unknowns: usize,
+    /// Median wall time per step, milliseconds.
+    pub median_ms_per_step: f64,
+    /// The same relative to the smallest wall's of the same kind and
+    /// dimension.
+    pub ratio_to_baseline: f64,
+    /// Wall-clock seconds per simulated second (median run).
+    pub seconds_per_simulated_second: f64,
+    /// Per step of the median run: open-close passes, Newton-Raphson
+    /// iterations, numeric factorizations and symbolic analyses.
+    pub passes_per_step: f64,
+    pub newton_per_step: f64,
+    pub factorizations_per_step: f64,
+    pub analyses_per_step: f64,
+    /// Step cuts (open-close, displacement, penetration) and steps accepted
+    /// unconverged, over the timed steps of the median run.
+    pub cuts: usize,
+    pub unconverged_steps: usize,
+    /// Milliseconds per step in each phase of the median run, in step order.
+    pub phase_ms_per_step: Vec<(String, f64)>,
+    /// The largest centroid displacement of any brick since the wall was
+    /// built, m.
+    pub drift: f64,
+    /// The process's peak resident memory so far, MB (Linux; 0 elsewhere).
+    pub peak_memory_mb: f64,
+    /// Iterative solver: conjugate-gradient iterations per solve, and the
+    /// solves that reached the cap, over the timed steps of the median run.
+    pub iterations_per_solve: f64,
+    pub solver_fallbacks: usize,
+}
+
+impl BenchRow {
+    /// The row as a point of the scaling chart.
+    pub fn point(&self) -> scaling::Point {
+        scaling::Point {
+            dimension: self.dimension,
+            kind: self.kind,
+            blocks: self.blocks,
+            ms_per_step: self.median_ms_per_step,
+        }
+    }
+}
+
+/// What the benchmark needs of a driver beyond [`Simulation`].
+pub(crate) trait Timed: Simulation {
+    fn contact_count(&self) -> usize;
+    fn unknown_count(&self) -> usize;
+    /// Block `i`'s centroid, m (z = 0 in 2D).
+    fn centroid(&self, i: usize) -> [f64; 3] {
+        let v = self.history_values(i);
+        let mut c = [0.0; 3];
+        let d = Self::DIMENSION as usize;
+        c[..d].copy_from_slice(&v[..d]);
+        c
+    }
+}
+
+macro_rules! timed {
+    ($driver:ty) => {
+        impl Timed for $driver {
+            fn contact_count(&self) -> usize {
+                self.contacts().len()
+            }
+            fn unknown_count(&self) -> usize {
+                self.unknowns()
+            }
+        }
+    };
+}
+timed!(dda_2d::Driver2d);
+timed!(dda_3d::Driver3d);
+
+/// The centroids of all blocks.
+pub(crate) fn centroids<D: Timed>(driver: &D) -> Vec<[f64; 3]> {
+    (0..driver.block_count())
+        .map(|i| driver.centroid(i))
+        .collect()
+}
+
+/// The largest distance of a block's centroid from `start`, m.
+pub(crate) fn drift<D: Timed>(driver: &D, start: &[[f64; 3]]) -> f64 {
+    start
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let c = driver.centroid(i);
+            ((c[0] - s[0]).powi(2) + (c[1] - s[1]).powi(2) + (c[2] - s[2]).powi(2)).sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// One timed run of a wall.
+struct Run {
+    ms_per_step: f64,
+    seconds_per_simulated_second: f64,
+    stats: Statistics,
+    drift: f64,
+    blocks: usize,
+    contacts: usize,
+    unknowns: usize,
+}
+
+fn run(n: usize, dimension: u32, kind: BlockKind, options: &BenchOptions) -> anyhow::Result<Run> {
+    let mut scene = wall(n, dimension, Stepping::Fixed, kind)?;
+    scene.analysis.solver = options.solver;
+    let steps = options.steps;
+    match scene.build_any()? {
+        AnyModel::Plane(mut m) => time_steps(&mut m.driver, steps),
+        AnyModel::Space(mut m) => time_steps(&mut m.driver, steps),
+    }
+}
+
+/// One untimed step, then `steps` timed ones at the driver's dt.
+fn time_steps<D: Timed>(driver: &mut D, steps: usize) -> anyhow::Result<Run> {
+    let start = centroids(driver);
+    let dt = driver.dt();
+    driver.step(dt)?;
+    let before = driver.statistics().clone();
+    let t0 = driver.time();
+    let started = Instant::now();
+    for _ in 0..steps {
+        driver.step(dt)?;
+    }
+    let wall = started.elapsed().as_secs_f64();
+    Ok(Run {
+        ms_per_step: wall * 1e3 / steps as f64,
+        seconds_per_simulated_second: wall / (driver.time() - t0),
+        stats: difference(driver.statistics(), &before),
+        drift: drift(driver, &start),
+        blocks: driver.block_count(),
+        contacts: driver.contact_count(),
+        unknowns: driver.unknown_count(),
+    })
+}
+
+/// The counters and times of `after` since `before`.
+fn difference(after: &Statistics, before: &Statistics) -> Statistics {
+    Statistics {
+        steps: after.steps - before.steps,
+        open_close_iterations: after.open_close_iterations - before.open_close_iterations,
+        newton_iterations: after.newton_iterations - before.newton_iterations,
+        factorizations: after.factorizations - before.factorizations,
+        symbolic_analyses: after.symbolic_analyses - before.symbolic_analyses,
+        open_close_cuts: after.open_close_cuts - before.open_close_cuts,
+        displacement_cuts: after.displacement_cuts - before.displacement_cuts,
+        penetration_cuts: after.penetration_cuts - before.penetration_cuts,
+        unconverged_steps: after.unconverged_steps - before.unconverged_steps,
+        times: after.times.since(&before.times),
+        iterative_solves: after.iterative_solves - before.iterative_solves,
+        iterative_iterations: after.iterative_iterations - before.iterative_iterations,
+        iterative_fallbacks: after.iterative_fallbacks - before.iterative_fallbacks,
+        ..Statistics::default()
+    }
+}
+
+/// Peak resident memory of this process, MB (Linux's VmHWM; 0 elsewhere).
+pub(crate) fn peak_memory_mb() -> f64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
+        .map_or(0.0, |kb| kb / 1024.0)
+}
+
+/// Checks what is asked before anything runs.
+pub(crate) fn check_walls(sizes: &[usize], dimensions: &[u32]) -> anyhow::Result<()> {
+    anyhow::ensure!(!sizes.is_empty(), "--sizes needs at least one wall size");
+    if let Some(n) = sizes.iter().find(|&&n| !(1..=1000).contains(&n)) {
+        anyhow::bail!("--sizes: a wall is 1 to 1000 courses, not {n}");
+    }
+    if let Some(d) = dimensions.iter().find(|&&d| d != 2 && d != 3) {
+        anyhow::bail!("--dimension: walls are 2D or 3D, not {d}");
+    }
+    anyhow::ensure!(!dimensions.is_empty(), "--dimension needs 2 or 3");
+    Ok(())
+}
+
+/// Runs the benchmark: each dimension, each kind, each size in turn.
+pub fn bench(options: &BenchOptions) -> anyhow::Result<Vec<BenchRow>> {
+    check_walls(&options.sizes, &options.dimensions)?;
+    anyhow::ensure!(options.steps >= 1, "--steps must be at least 1");
+    let mut rows: Vec<BenchRow> = Vec::new();
+    for &dimension in &options.dimensions {
+        for &kind in &options.kinds {
+            let first = rows.len();
+            for &n in &options.sizes {
+                rows.push(bench_one(n, dimension, kind, options)?);
+            }
+            let baseline = rows[first].median_ms_per_step;
+            for r in &mut rows[first..] {
+                r.ratio_to_baseline = r.median_ms_per_step / baseline;
+            }
+        }
+    }
+    Ok(rows)
+}
+
+fn bench_one(
+    n: usize,
+    dimension: u32,
+    kind: BlockKind,
+    options: &BenchOptions,
+) -> anyhow::Result<BenchRow> {
+    let mut runs = Vec::with_capacity(options.repeats);
+    for _ in 0..options.repeats.max(1) {
+        runs.push(run(n, dimension, kind, options)?);
+    }
+    runs.sort_by(|a, b| a.ms_per_step.total_cmp(&b.ms_per_step));
+    let median = &runs[runs.len() / 2];
+    let stats = &median.stats;
+    let steps = stats.steps.max(1) as f64;
+    let per_step = |count: usize| count as f64 / steps;
+    Ok(BenchRow {
+        courses: n,
+        dimension,
+        kind,
+        blocks: median.blocks,
+        contacts: median.contacts,
+        unknowns: median.unknowns,
+        median_ms_per_step: median.ms_per_step,
+        ratio_to_baseline: 1.0,
+        seconds_per_simulated_second: median.seconds_per_simulated_second,
+        passes_per_step: per_step(stats.open_close_iterations),
+        newton_per_step: per_step(stats.newton_iterations),
+        factorizations_per_step: per_step(stats.factorizations),
+        analyses_per_step: per_step(stats.symbolic_analyses),
+        cuts: stats.open_close_cuts + stats.displacement_cuts + stats.penetration_cuts,
+        unconverged_steps: stats.unconverged_steps,
+        phase_ms_per_step: stats
+            .times
+            .phases()
+            .iter()
+            .map(|(name, t)| (name.to_string(), t.as_secs_f64() * 1e3 / steps))
+            .collect(),
+        drift: median.drift,
+        peak_memory_mb: peak_memory_mb(),
+        iterations_per_solve: stats.iterative_iterations as f64
+            / stats.iterative_solves.max(1) as f64,
+        solver_fallbacks: stats.iterative_fallbacks,
+    })
+}

@@ -1,0 +1,140 @@
+//! The tables `dda bench` prints.
+
+use super::scaling::{series_name, Fit};
+use super::simulate::SimulateRow;
+use super::BenchRow;
+
+/// The step-timing table, then where each step's time goes.
+pub fn print_steps(rows: &[BenchRow], steps: usize, repeats: usize) {
+    println!(
+        "running-bond walls of n × n bricks, {steps} steps timed per run, median of {}",
+        runs(repeats)
+    );
+    println!(
+        "{:>4} {:>15} {:>7} {:>9} {:>8} {:>10} {:>7} {:>8} {:>7} {:>7} {:>7} {:>5} {:>9} {:>9} {:>7}",
+        "n", "bricks", "blocks", "contacts", "unknowns", "ms/step", "× base", "s/sim s", "passes",
+        "newton", "factor.", "cuts", "drift m", "analyses", "MB"
+    );
+    for r in rows {
+        println!(
+            "{:>4} {:>15} {:>7} {:>9} {:>8} {:>10.2} {:>7.2} {:>8.2} {:>7.2} {:>7.2} {:>7.2} {:>5} {:>9.2e} {:>9.2} {:>7.0}",
+            r.courses,
+            series_name(r.dimension, r.kind),
+            r.blocks,
+            r.contacts,
+            r.unknowns,
+            r.median_ms_per_step,
+            r.ratio_to_baseline,
+            r.seconds_per_simulated_second,
+            r.passes_per_step,
+            r.newton_per_step,
+            r.factorizations_per_step,
+            r.cuts,
+            r.drift,
+            r.analyses_per_step,
+            r.peak_memory_mb,
+        );
+    }
+    println!("where the time goes, ms per step (median run):");
+    if let Some(first) = rows.first() {
+        let names: String = first
+            .phase_ms_per_step
+            .iter()
+            .map(|(name, _)| format!("{name:>13}"))
+            .collect();
+        println!("{:>4} {:>15} {names}", "n", "bricks");
+    }
+    for r in rows {
+        let cells: String = r
+            .phase_ms_per_step
+            .iter()
+            .map(|(_, ms)| format!("{ms:>13.3}"))
+            .collect();
+        println!(
+            "{:>4} {:>15} {cells}",
+            r.courses,
+            series_name(r.dimension, r.kind)
+        );
+    }
+}
+
+/// The simulated-time table.
+pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
+    let seconds = rows.first().map_or(0.0, |r| r.seconds);
+    println!(
+        "running-bond walls of n × n bricks, {seconds} s simulated with automatic dt and penalty, median of {}",
+        runs(repeats)
+    );
+    println!(
+        "{:>4} {:>15} {:>7} {:>10} {:>9} {:>9} {:>9} {:>10} {:>8} {:>9} {:>6} {:>11} {:>10} {:>7}",
+        "n",
+        "bricks",
+        "blocks",
+        "dt s",
+        "penalty",
+        "reached",
+        "wall s",
+        "s/sim s",
+        "steps",
+        "ms/step",
+        "cuts",
+        "unconverged",
+        "drift m",
+        "MB"
+    );
+    for r in rows {
+        println!(
+            "{:>4} {:>15} {:>7} {:>10.3e} {:>9.2e} {:>9.4} {:>9.2} {:>10.3} {:>8} {:>9.2} {:>6} {:>11} {:>10.3e} {:>7.0}",
+            r.courses,
+            series_name(r.dimension, r.kind),
+            r.blocks,
+            r.dt,
+            r.penalty,
+            r.reached,
+            r.wall_s,
+            r.seconds_per_simulated_second,
+            r.steps,
+            r.ms_per_step,
+            r.cuts,
+            r.unconverged_steps,
+            r.drift,
+            r.peak_memory_mb,
+        );
+    }
+    for r in rows.iter().filter(|r| !r.completed) {
+        println!(
+            "the {n} × {n} {} wall stopped at the wall-clock cap, at t = {:.4} of {} s",
+            series_name(r.dimension, r.kind),
+            r.reached,
+            r.seconds,
+            n = r.courses,
+        );
+    }
+}
+
+/// The exponent of time per step against blocks, per series.
+pub fn print_fits(fits: &[Fit]) {
+    if fits.is_empty() {
+        return;
+    }
+    println!("time per step grows as N^p with the blocks N:");
+    for f in fits {
+        println!(
+            "  {}: p = {:.2} from {} to {} blocks (least squares over all sizes {:.2})",
+            series_name(f.dimension, f.kind),
+            f.exponent,
+            f.from_blocks,
+            f.to_blocks,
+            f.least_squares
+        );
+    }
+}
+
+/// "1 run", "3 runs".
+fn runs(n: usize) -> String {
+    if n == 1 {
+        "1 run".into()
+    } else {
+        format!("{n} runs")
+    }
+}

@@ -1,0 +1,187 @@
+//! `dda bench --simulate SECONDS`: each wall run for a simulated time with
+//! the scene's automatic dt and penalty, as a user would run it: wall
+//! seconds per simulated second, steps, cuts, unconverged steps and the
+//! largest drift, under a wall-clock cap that reports how far a run got.
+
+use std::time::{Duration, Instant};
+
+use serde::Serialize;
+
+use dda_core::Solver;
+
+use super::{centroids, check_walls, drift, peak_memory_mb, scaling, wall, Stepping, Timed};
+use crate::scene::{AnyModel, BlockKind};
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct SimulateOptions {
+    /// Wall sizes: `n` courses of `n` bricks.
+    pub sizes: Vec<usize>,
+    pub kinds: Vec<BlockKind>,
+    pub dimensions: Vec<u32>,
+    /// Simulated time per run, s.
+    pub seconds: f64,
+    /// Wall-clock cap per run, s: a run still going then stops and reports
+    /// the time it reached. Default 600.
+    pub max_wall: f64,
+    /// Runs per wall; the median by wall time per simulated second is
+    /// reported.
+    pub repeats: usize,
+    /// Wall seconds between progress lines on stderr; `None`: silent.
+    pub progress_every: Option<Duration>,
+    /// The step's linear solver.
+    pub solver: Solver,
+}
+
+/// One wall's run (the median of its repeats).
+#[derive(Debug, Clone, Serialize)]
+pub struct SimulateRow {
+    pub courses: usize,
+    pub dimension: u32,
+    pub kind: BlockKind,
+    pub blocks: usize,
+    /// The automatic nominal time step, s, and penalty (N/m per m of
+    /// contact in 2D, per m² in 3D).
+    pub dt: f64,
+    pub penalty: f64,
+    /// Simulated time asked and reached, s.
+    pub seconds: f64,
+    pub reached: f64,
+    /// Whether the run reached `seconds` within the wall-clock cap.
+    pub completed: bool,
+    /// Wall-clock time of the run, s, and per simulated second reached.
+    pub wall_s: f64,
+    pub seconds_per_simulated_second: f64,
+    /// Accepted steps, their mean wall time (ms), step cuts (open-close,
+    /// displacement, penetration) and steps accepted unconverged.
+    pub steps: usize,
+    pub ms_per_step: f64,
+    pub cuts: usize,
+    pub unconverged_steps: usize,
+    /// The largest centroid displacement of any brick from where it was
+    /// built, over every step of the run, m.
+    pub drift: f64,
+    /// The process's peak resident memory so far, MB (Linux; 0 elsewhere).
+    pub peak_memory_mb: f64,
+}
+
+impl SimulateRow {
+    /// The row as a point of the scaling chart.
+    pub fn point(&self) -> scaling::Point {
+        scaling::Point {
+            dimension: self.dimension,
+            kind: self.kind,
+            blocks: self.blocks,
+            ms_per_step: self.ms_per_step,
+        }
+    }
+}
+
+/// Runs every wall for `options.seconds` of simulated time.
+pub fn simulate(options: &SimulateOptions) -> anyhow::Result<Vec<SimulateRow>> {
+    check_walls(&options.sizes, &options.dimensions)?;
+    anyhow::ensure!(
+        options.seconds.is_finite() && options.seconds > 0.0,
+        "--simulate takes a simulated time in seconds, more than 0, got {}",
+        options.seconds
+    );
+    anyhow::ensure!(
+        options.max_wall.is_finite() && options.max_wall > 0.0,
+        "--max-wall takes wall-clock seconds, more than 0, got {}",
+        options.max_wall
+    );
+    let mut rows = Vec::new();
+    for &dimension in &options.dimensions {
+        for &kind in &options.kinds {
+            for &n in &options.sizes {
+                let mut runs = (0..options.repeats.max(1))
+                    .map(|_| run(n, dimension, kind, options))
+                    .collect::<anyhow::Result<Vec<_>>>()?;
+                runs.sort_by(|a, b| {
+                    a.seconds_per_simulated_second
+                        .total_cmp(&b.seconds_per_simulated_second)
+                });
+                let k = runs.len() / 2;
+                rows.push(runs.swap_remove(k));
+            }
+        }
+    }
+    Ok(rows)
+}
+
+fn run(
+    n: usize,
+    dimension: u32,
+    kind: BlockKind,
+    options: &SimulateOptions,
+) -> anyhow::Result<SimulateRow> {
+    let mut scene = wall(n, dimension, Stepping::Automatic, kind)?;
+    scene.analysis.solver = options.solver;
+    let what = format!("{n} × {n} wall, {}", scaling::series_name(dimension, kind));
+    let mut row = match scene.build_any()? {
+        AnyModel::Plane(mut m) => simulate_driver(&mut m.driver, options, &what)?,
+        AnyModel::Space(mut m) => simulate_driver(&mut m.driver, options, &what)?,
+    };
+    row.courses = n;
+    row.dimension = dimension;
+    row.kind = kind;
+    Ok(row)
+}
+
+fn simulate_driver<D: Timed>(
+    driver: &mut D,
+    options: &SimulateOptions,
+    what: &str,
+) -> anyhow::Result<SimulateRow> {
+    let start = centroids(driver);
+    let cap = Duration::from_secs_f64(options.max_wall);
+    let started = Instant::now();
+    let mut last_line = started;
+    let mut largest = 0.0f64;
+    let end = driver.time() + options.seconds;
+    let completed = driver.advance_while(end, &mut |d: &D| {
+        largest = largest.max(drift(d, &start));
+        let now = Instant::now();
+        if let Some(every) = options.progress_every {
+            if now - last_line >= every {
+                last_line = now;
+                eprintln!(
+                    "{what}: t = {:.4} of {} s, {} steps, {:.1} s of wall time",
+                    d.time(),
+                    options.seconds,
+                    d.statistics().steps,
+                    (now - started).as_secs_f64()
+                );
+            }
+        }
+        now - started < cap
+    })?;
+    let wall_s = started.elapsed().as_secs_f64();
+    let stats = driver.statistics();
+    let reached = driver.time();
+    if !completed {
+        eprintln!(
+            "{what}: stopped at the wall-clock cap of {} s, at t = {reached:.4} of {} s",
+            options.max_wall, options.seconds
+        );
+    }
+    Ok(SimulateRow {
+        courses: 0,
+        dimension: D::DIMENSION,
+        kind: BlockKind::Deformable,
+        blocks: driver.block_count(),
+        dt: driver.dt(),
+        penalty: driver.penalty(),
+        seconds: options.seconds,
+        reached,
+        completed,
+        wall_s,
+        seconds_per_simulated_second: wall_s / reached.max(f64::MIN_POSITIVE),
+        steps: stats.steps,
+        ms_per_step: wall_s * 1e3 / stats.steps.max(1) as f64,
+        cuts: stats.open_close_cuts + stats.displacement_cuts + stats.penetration_cuts,
+        unconverged_steps: stats.unconverged_steps,
+        drift: largest,
+        peak_memory_mb: peak_memory_mb(),
+    })
+}
