@@ -60,6 +60,24 @@ fn check_chart(path: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The rows' points on the scaling chart, their exponents printed, and the
+/// JSON report of the rows and exponents.
+fn fitted<R: Serialize>(
+    mode: &'static str,
+    rows: &[R],
+    point: impl Fn(&R) -> Point,
+) -> anyhow::Result<(Vec<Point>, String)> {
+    let points: Vec<Point> = rows.iter().map(point).collect();
+    let fits = scaling::fits(&points);
+    print_fits(&fits);
+    let json = serde_json::to_string_pretty(&Report {
+        mode,
+        rows,
+        fits: &fits,
+    })?;
+    Ok((points, json))
+}
+
 /// Runs `dda bench` on walls and prints its tables.
 pub fn command(c: &Command) -> anyhow::Result<()> {
     if let Some(path) = &c.chart {
@@ -84,14 +102,7 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
                 solver: c.solver,
             })?;
             print_simulate(&rows, repeats);
-            let points: Vec<Point> = rows.iter().map(SimulateRow::point).collect();
-            let fits = scaling::fits(&points);
-            print_fits(&fits);
-            let json = serde_json::to_string_pretty(&Report {
-                mode: "simulate",
-                rows: &rows,
-                fits: &fits,
-            })?;
+            let (points, json) = fitted("simulate", &rows, SimulateRow::point)?;
             let title = format!("Walls, {seconds} s simulated: mean time per step");
             (points, json, title)
         }
@@ -114,14 +125,7 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
                     );
                 }
             }
-            let points: Vec<Point> = rows.iter().map(BenchRow::point).collect();
-            let fits = scaling::fits(&points);
-            print_fits(&fits);
-            let json = serde_json::to_string_pretty(&Report {
-                mode: "steps",
-                rows: &rows,
-                fits: &fits,
-            })?;
+            let (points, json) = fitted("steps", &rows, BenchRow::point)?;
             let title = format!(
                 "Walls at dt 1 ms: median time per step of {}",
                 if repeats == 1 {
