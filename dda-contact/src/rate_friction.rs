@@ -76,6 +76,11 @@ impl StrengthLaw for RateFriction {
         }
     }
 
+    /// A sliding contact keeps sliding until its slip reverses.
+    fn yields_at_strength(&self) -> bool {
+        false
+    }
+
     // The coefficient is the last step's, so a sliding contact whose rate
     // dipped would see a higher strength and lock, then slip fast:
     // stick-slip of the explicit rate, not of the law. A sliding contact

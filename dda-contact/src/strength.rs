@@ -63,6 +63,14 @@ pub trait StrengthLaw: Send + Sync + 'static {
         by_strength
     }
 
+    /// Whether a locked contact slides exactly when its spring's force
+    /// passes `strength().shear` ([`dda_core::ContactLaw::yields_at_strength`]):
+    /// true unless `adjust_state` holds a contact in one state beyond that
+    /// limit, as a bond or a sliding-until-reversal rule does.
+    fn yields_at_strength(&self) -> bool {
+        true
+    }
+
     /// Whether the parameters make sense (see [`angle`], [`stiffnesses`]).
     fn check(&self) -> Result<(), DdaError> {
         Ok(())
@@ -179,6 +187,10 @@ macro_rules! strength_law {
 
             fn check(&self) -> Result<(), $crate::core::DdaError> {
                 $crate::StrengthLaw::check(self)
+            }
+
+            fn yields_at_strength(&self) -> bool {
+                $crate::StrengthLaw::yields_at_strength(self)
             }
         }
     )+};

@@ -71,6 +71,11 @@ impl StrengthLaw for ThresholdBond {
         }
     }
 
+    /// A bond holds past the friction, until its own thresholds.
+    fn yields_at_strength(&self) -> bool {
+        false
+    }
+
     /// A bonded, locked contact holds until a threshold is passed.
     fn adjust_state(
         &self,

@@ -151,6 +151,17 @@ pub trait ContactLaw: Send + Sync + 'static {
     fn check(&self) -> Result<(), crate::DdaError> {
         Ok(())
     }
+
+    /// Whether a locked contact yields exactly where its shear spring's
+    /// force reaches the friction `response` gives when sliding (the
+    /// elastoplastic return map), with no other rule between the two
+    /// states. Then the driver applies that limit to locked contacts
+    /// within each pass, and a contact passing between locked and sliding
+    /// costs no open-close pass. Default `false`: a law with a static
+    /// strength above its sliding one, or a bond, must keep it so.
+    fn yields_at_strength(&self) -> bool {
+        false
+    }
 }
 
 /// Type-erased contact history, stored per contact by the driver.
@@ -164,6 +175,8 @@ pub trait DynContactLaw: Send + Sync {
     fn next_state(&self, state: ContactState, kin: &LocalKinematics, h: &History) -> ContactState;
     fn commit(&self, state: ContactState, kin: &LocalKinematics, h: &mut History);
     fn check(&self) -> Result<(), crate::DdaError>;
+    /// [`ContactLaw::yields_at_strength`].
+    fn yields_at_strength(&self) -> bool;
     /// A contact's history as a checkpoint keeps it.
     fn save_history(&self, h: &History) -> Result<Vec<u8>, crate::DdaError>;
     /// A history saved by [`DynContactLaw::save_history`] of this law.
@@ -192,6 +205,10 @@ impl<L: ContactLaw> DynContactLaw for L {
 
     fn check(&self) -> Result<(), crate::DdaError> {
         ContactLaw::check(self)
+    }
+
+    fn yields_at_strength(&self) -> bool {
+        ContactLaw::yields_at_strength(self)
     }
 
     fn save_history(&self, h: &History) -> Result<Vec<u8>, crate::DdaError> {

@@ -759,13 +759,19 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // it cannot flip back and forth between the two (a wall's head
             // joints, at almost no normal force, would). Not so where
             // locking adds its shear dashpot.
-            trial.within[i] =
-                state == ContactState::Sliding && next == ContactState::Locked && !self.damped(i);
+            trial.within[i] = state == ContactState::Sliding
+                && next == ContactState::Locked
+                && !self.damped(i)
+                && !self.laws[c.law].yields_at_strength();
             if trial.within[i] {
                 next = ContactState::Sliding;
             }
+            // Where both states take the return map they load the blocks
+            // alike: the pass's forces stand whichever is recorded.
+            let alike =
+                state.is_closed() && next.is_closed() && self.yields(i, ContactState::Locked);
             let entrance = widest_entrance(c, &trial.d, e, tolerance);
-            if next != state || entrance != e {
+            if (next != state && !alike) || entrance != e {
                 changed = true;
                 trial.unsettled.push(i);
             }
@@ -1087,7 +1093,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // strength) along the stretch s: within the elastic limit (an
             // iterate that reverses the slip) it is the spring's, so the
             // force stays continuous and Newton-Raphson does not jump
-            // between opposite friction forces.
+            // between opposite friction forces. A locked contact of a law
+            // that yields at its sliding strength takes the same return
+            // map, so passing between the two states changes no force.
             let mut slipping = state == ContactState::Sliding;
             if slipping {
                 let spring = self.laws[c.law].response(ContactState::Locked, &kin, history);
@@ -1095,6 +1103,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     response.shear_force = spring.shear_force;
                     response.shear_stiffness = spring.shear_stiffness;
                     slipping = false;
+                }
+            } else if self.yields(i, state) {
+                let friction = self.laws[c.law].response(ContactState::Sliding, &kin, history);
+                if response.shear_force > friction.shear_force {
+                    response.shear_force = friction.shear_force;
+                    response.shear_stiffness = friction.shear_stiffness;
+                    slipping = true;
                 }
             }
             let direction = stretch.try_normalize(1e-300).unwrap_or(trial.directions[i]);
@@ -1168,6 +1183,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// unless it strikes (its impulse is the impact's loss).
     fn damped(&self, i: usize) -> bool {
         self.settings.contact_damping > 0.0 && !self.striking.contains(&i)
+    }
+
+    /// Whether contact `i`, held in `state`, takes the return map when
+    /// locked: its law yields at its sliding strength, and no shear dashpot
+    /// (which locking adds) makes the two states load the blocks
+    /// differently.
+    fn yields(&self, i: usize, state: ContactState) -> bool {
+        state == ContactState::Locked
+            && !self.damped(i)
+            && self.laws[self.contacts[i].law].yields_at_strength()
     }
 
     /// The coefficient of the dashpot beside a spring of stiffness `k`
