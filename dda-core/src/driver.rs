@@ -21,7 +21,9 @@ use crate::solve::{solver_for, LinearSolver};
 use crate::statistics::CYCLES_KEPT;
 pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
+use anderson::Anderson;
 
+mod anderson;
 mod checkpoint;
 mod explicit;
 mod impact;
@@ -831,6 +833,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut residual = vec![0.0; self.matrix.dim()];
         let mut couplings = Vec::new();
         let mut best = (f64::INFINITY, trial.d.clone());
+        let mut anderson = Anderson::default();
+        let mut last = f64::INFINITY;
         for iteration in 0..=self.settings.newton_limit {
             couplings.clear();
             self.assemble(
@@ -860,6 +864,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 }
                 return Ok(converged);
             }
+            if norm > last {
+                // A mixed move that did not lower the residual (a contact
+                // crossed its strength): mix again from here.
+                anderson.restart();
+            }
+            last = norm;
             self.stats.newton_iterations += 1;
             self.factorize()?;
             let solving = Instant::now();
@@ -869,6 +879,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             self.stats.times.solve += solving.elapsed();
             self.stats.count_solves(self.solver.take_counts());
+            if !coupled {
+                anderson.mix(&mut residual);
+            }
             if !couplings.is_empty() {
                 // The friction's direction turns fast with the stretch, so
                 // a full step can overshoot: halve it until the residual
