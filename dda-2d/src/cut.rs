@@ -9,12 +9,13 @@
 //!
 //! Crossings are found with a tolerance of 1e-9 of the region's size: a
 //! trace ending that close to another (or to the boundary) meets it there,
-//! and nodes that close are one. Orientation tests use `robust`'s adaptive
-//! exact predicate, so a trace through a corner or along an edge is
+//! and nodes that close are one. Orientation tests use the exact predicate
+//! of `dda_core::planar`, so a trace through a corner or along an edge is
 //! classified alike from both sides.
 
 use std::collections::HashMap;
 
+use dda_core::planar::orient;
 use nalgebra::{Point2, Vector2};
 
 use crate::polygon::{self, PolygonError};
@@ -68,11 +69,6 @@ pub enum CutError {
 
 fn cross(a: Vector2<f64>, b: Vector2<f64>) -> f64 {
     a.x * b.y - a.y * b.x
-}
-
-fn orient(a: &Point2<f64>, b: &Point2<f64>, c: &Point2<f64>) -> f64 {
-    let p = |p: &Point2<f64>| robust::Coord { x: p.x, y: p.y };
-    robust::orient2d(p(a), p(b), p(c))
 }
 
 /// Where two segments meet, as (parameter on the first, parameter on the

@@ -55,11 +55,11 @@
 //! triangles.
 
 use dda_core::block_set::{ANGLE_TOLERANCE, PENETRATION_SHARE};
+use dda_core::planar;
 use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
 use nalgebra::{Point2, Point3, Vector3};
 
 use crate::block::Block;
-use crate::face;
 use crate::kinematics::Vector12;
 use crate::polyhedron::{EdgeKind, Polyhedron};
 
@@ -427,7 +427,7 @@ fn vertex_over_face(x: &Polyhedron, p: usize, y: &Polyhedron, f: usize, range: f
         let [q0, q1] = y.edges()[e].ends.map(|i| y.vertices()[i]);
         if y.edge_kind(e) == EdgeKind::Reflex {
             let next = (k + 1) % polygon.len();
-            near_reflex |= face::segment_distance(&at, &polygon[k], &polygon[next]).0 < range;
+            near_reflex |= planar::point_segment(&at, &polygon[k], &polygon[next]).0 < range;
             continue;
         }
         let (distance, s) = segment_distance(&pv, &q0, &q1);
@@ -435,7 +435,7 @@ fn vertex_over_face(x: &Polyhedron, p: usize, y: &Polyhedron, f: usize, range: f
             return false;
         }
     }
-    near_reflex || face::contains(&polygon, &at)
+    near_reflex || planar::contains(&polygon, &at)
 }
 
 /// Edge-edge crossing of convex edges away from their ends.
@@ -552,7 +552,7 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
         let share = share(g);
         total += triangles
             .iter()
-            .map(|t| face::area(&face::clip_convex(&share, t)).abs())
+            .map(|t| planar::signed_area(&planar::clip_convex(&share, t)).abs())
             .sum::<f64>();
     }
     if total > 0.0 {

@@ -9,7 +9,10 @@
 
 use std::collections::BTreeMap;
 
-use nalgebra::{Point3, Vector3};
+use dda_core::planar;
+use nalgebra::{Point2, Point3, Vector3};
+
+use crate::face::FaceFrame;
 
 /// Tolerance as a fraction of the region's size (its bounding-box diagonal).
 pub const SNAP: f64 = 1e-9;
@@ -417,63 +420,20 @@ fn shared_joints(blocks: &[Convex], tol: f64) -> Vec<SharedJoint> {
 
 /// The area two convex faces in one plane share.
 fn overlap_area(a: &[Point3<f64>], b: &[Point3<f64>]) -> f64 {
-    let n = (a[1] - a[0]).cross(&(a[2] - a[0]));
-    let n = (1..a.len() - 1)
+    let normal = (1..a.len() - 1)
         .map(|k| (a[k] - a[0]).cross(&(a[k + 1] - a[0])))
-        .fold(n * 0.0, |s, x| s + x)
+        .sum::<Vector3<f64>>()
         .normalize();
-    let u = n
-        .cross(
-            &(if n.x.abs() < 0.9 {
-                Vector3::x()
-            } else {
-                Vector3::y()
-            }),
-        )
-        .normalize();
-    let v = n.cross(&u);
-    let flat = |ps: &[Point3<f64>]| -> Vec<[f64; 2]> {
-        let mut out: Vec<[f64; 2]> = ps
-            .iter()
-            .map(|p| [p.coords.dot(&u), p.coords.dot(&v)])
-            .collect();
-        if area2(&out) < 0.0 {
+    let frame = FaceFrame::new(a[0], a[1], normal);
+    // The faces of the two blocks face opposite ways: both counter-clockwise.
+    let flat = |points: &[Point3<f64>]| -> Vec<Point2<f64>> {
+        let mut out: Vec<_> = points.iter().map(|p| frame.to_plane(p)).collect();
+        if planar::signed_area(&out) < 0.0 {
             out.reverse();
         }
         out
     };
-    let mut clipped = flat(a);
-    let clip = flat(b);
-    for i in 0..clip.len() {
-        let (p, q) = (clip[i], clip[(i + 1) % clip.len()]);
-        let inside = |x: &[f64; 2]| (q[0] - p[0]) * (x[1] - p[1]) - (q[1] - p[1]) * (x[0] - p[0]);
-        let mut next = Vec::new();
-        for k in 0..clipped.len() {
-            let (c, d) = (clipped[k], clipped[(k + 1) % clipped.len()]);
-            let (sc, sd) = (inside(&c), inside(&d));
-            if sc >= 0.0 {
-                next.push(c);
-            }
-            if (sc >= 0.0) != (sd >= 0.0) {
-                let t = sc / (sc - sd);
-                next.push([c[0] + t * (d[0] - c[0]), c[1] + t * (d[1] - c[1])]);
-            }
-        }
-        clipped = next;
-        if clipped.len() < 3 {
-            return 0.0;
-        }
-    }
-    area2(&clipped) / 2.0
-}
-
-fn area2(p: &[[f64; 2]]) -> f64 {
-    (0..p.len())
-        .map(|i| {
-            let (a, b) = (p[i], p[(i + 1) % p.len()]);
-            a[0] * b[1] - a[1] * b[0]
-        })
-        .sum()
+    planar::signed_area(&planar::clip_convex(&flat(a), &flat(b)))
 }
 
 #[cfg(test)]

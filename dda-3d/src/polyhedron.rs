@@ -14,9 +14,10 @@
 use std::collections::{BTreeMap, HashMap, VecDeque};
 use std::sync::Arc;
 
+use dda_core::planar;
 use nalgebra::{Matrix3, Point2, Point3, Rotation3, Vector3};
 
-use crate::face::{self, FaceFrame};
+use crate::face::FaceFrame;
 
 /// Angle tolerance of the convexity and entrance tests (Shi's h1 = 3°).
 pub use dda_core::block_set::ANGLE_TOLERANCE;
@@ -586,7 +587,7 @@ pub fn validate(
         }
         let frame = FaceFrame::new(vertices[f[0]], vertices[f[1]], normal);
         let poly: Vec<Point2<f64>> = f.iter().map(|&v| frame.to_plane(&vertices[v])).collect();
-        if f.len() > 3 && face::self_intersects(&poly) {
+        if f.len() > 3 && planar::self_intersects(&poly) {
             return Err(PolyhedronError::SelfIntersectingFace { face });
         }
     }
@@ -751,7 +752,7 @@ fn build_topology(vertices: &[Point3<f64>], faces: Vec<Vec<usize>>) -> Topology 
             let normal = newell(vertices, f).normalize();
             let frame = FaceFrame::new(vertices[f[0]], vertices[f[1]], normal);
             let poly: Vec<Point2<f64>> = f.iter().map(|&v| frame.to_plane(&vertices[v])).collect();
-            face::triangulate(&poly)
+            planar::triangulate(&poly)
                 .into_iter()
                 .map(|t| t.map(|k| f[k]))
                 .collect()
@@ -871,10 +872,9 @@ fn one_way_overlap(a: &Polyhedron, b: &Polyhedron, tol: f64) -> bool {
             let x = p + (q - p) * (hp / (hp - hq));
             let poly = b.face_polygon(f);
             let x2 = frame.to_plane(&x);
-            let inside = face::contains(&poly, &x2);
-            let clear = (0..poly.len()).all(|k| {
-                face::segment_distance(&x2, &poly[k], &poly[(k + 1) % poly.len()]).0 > tol
-            });
+            let inside = planar::contains(&poly, &x2);
+            let clear = (0..poly.len())
+                .all(|k| planar::point_segment(&x2, &poly[k], &poly[(k + 1) % poly.len()]).0 > tol);
             if inside && clear {
                 return true;
             }

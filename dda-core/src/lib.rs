@@ -5,7 +5,8 @@
 //! [`BlockSet`] over it is the [`BlockSystem`] (blocks with `N` DOF each,
 //! contacts with `T` tangential directions); the [`Driver`] runs any of them
 //! with Newmark (β = 1/2, γ = 1) steps and open-close iterations, calling
-//! [`ContactLaw`]s in the contacts' local frames.
+//! [`ContactLaw`]s in the contacts' local frames. [`planar`] holds the
+//! polygon geometry a 2D block's outline and a 3D block's face share.
 
 pub mod assembly;
 pub mod block_set;
@@ -16,6 +17,7 @@ pub mod driver;
 pub mod error;
 pub mod loads;
 pub mod motion;
+pub mod planar;
 pub mod settings;
 pub mod solve;
 pub mod statistics;

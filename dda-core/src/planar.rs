@@ -1,0 +1,429 @@
+//! Planar polygons: the geometry a 2D block's outline and a 3D block's face
+//! (in its own plane) have in common.
+//!
+//! A polygon is a slice of vertices, implicitly closed: edge `k` runs from
+//! `v[k]` to `v[(k + 1) % n]`. Orientation signs come from `robust`'s
+//! adaptive exact predicate, so the topological answers (is a corner convex,
+//! do two segments touch, is a point on an edge) do not depend on rounding.
+
+use nalgebra::Point2;
+
+/// Twice the signed area of the triangle (a, b, c), positive
+/// counter-clockwise. The sign is exact: `robust` refines the determinant
+/// whenever rounding could have changed it.
+pub fn orient(a: &Point2<f64>, b: &Point2<f64>, c: &Point2<f64>) -> f64 {
+    let coord = |p: &Point2<f64>| robust::Coord { x: p.x, y: p.y };
+    robust::orient2d(coord(a), coord(b), coord(c))
+}
+
+/// Signed area (positive counter-clockwise); zero below 3 vertices.
+pub fn signed_area(poly: &[Point2<f64>]) -> f64 {
+    // About the first vertex, not the global origin: far from the origin
+    // the products would lose the digits that make up the area.
+    let Some(o) = poly.first() else {
+        return 0.0;
+    };
+    0.5 * edges(poly)
+        .map(|(p, q)| (p - o).perp(&(q - o)))
+        .sum::<f64>()
+}
+
+/// Whether `p` lies strictly inside the polygon (either orientation), by
+/// winding number. Points on the boundary are not inside.
+pub fn contains(poly: &[Point2<f64>], p: &Point2<f64>) -> bool {
+    let mut winding = 0i64;
+    for (a, b) in edges(poly) {
+        let side = orient(a, b, p);
+        if side == 0.0 && in_box(a, b, p) {
+            return false;
+        }
+        // Upward crossings with p on the left count +1, downward ones with
+        // p on the right −1.
+        if a.y <= p.y {
+            if b.y > p.y && side > 0.0 {
+                winding += 1;
+            }
+        } else if b.y <= p.y && side < 0.0 {
+            winding -= 1;
+        }
+    }
+    winding != 0
+}
+
+/// Distance from `p` to the segment [a, b] and the parameter of the nearest
+/// point (0 at a, 1 at b). A segment of zero length is the point a.
+pub fn point_segment(p: &Point2<f64>, a: &Point2<f64>, b: &Point2<f64>) -> (f64, f64) {
+    let ab = b - a;
+    let ap = p - a;
+    let l2 = ab.norm_squared();
+    let t = if l2 > 0.0 {
+        (ap.dot(&ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    ((ap - ab * t).norm(), t)
+}
+
+/// Whether the closed segments [a, b] and [c, d] meet: they cross, touch,
+/// or overlap along one line (a segment of zero length is a point).
+pub fn segments_meet(a: &Point2<f64>, b: &Point2<f64>, c: &Point2<f64>, d: &Point2<f64>) -> bool {
+    let (o1, o2) = (sign(orient(a, b, c)), sign(orient(a, b, d)));
+    let (o3, o4) = (sign(orient(c, d, a)), sign(orient(c, d, b)));
+    if o1 * o2 < 0 && o3 * o4 < 0 {
+        return true;
+    }
+    // Otherwise only an end lying on the other segment; collinearity is
+    // exact, so the box test is exact too.
+    (o1 == 0 && in_box(a, b, c))
+        || (o2 == 0 && in_box(a, b, d))
+        || (o3 == 0 && in_box(c, d, a))
+        || (o4 == 0 && in_box(c, d, b))
+}
+
+/// Whether two edges that do not share a vertex meet: the polygon is not
+/// simple.
+pub fn self_intersects(poly: &[Point2<f64>]) -> bool {
+    let n = poly.len();
+    (0..n).any(|i| {
+        (i + 2..n).any(|j| {
+            let adjacent = i == 0 && j == n - 1;
+            let (a, b) = edge(poly, i);
+            let (c, d) = edge(poly, j);
+            !adjacent && segments_meet(a, b, c, d)
+        })
+    })
+}
+
+/// Ear clipping: counter-clockwise triangles, as index triples, covering a
+/// simple polygon of either orientation. Each ear is the first convex
+/// corner, in vertex order, whose triangle holds no other remaining vertex.
+/// O(n³) at worst, fine for block outlines and faces. A polygon that is not
+/// simple may leave area uncovered, but never panics.
+pub fn triangulate(poly: &[Point2<f64>]) -> Vec<[usize; 3]> {
+    let mut left: Vec<usize> = (0..poly.len()).collect();
+    if signed_area(poly) < 0.0 {
+        left.reverse();
+    }
+    let mut out = Vec::with_capacity(left.len().saturating_sub(2));
+    while left.len() > 3 {
+        let m = left.len();
+        let Some(k) = (0..m).find(|&k| is_ear(poly, &left, k)) else {
+            break;
+        };
+        out.push([left[(k + m - 1) % m], left[k], left[(k + 1) % m]]);
+        left.remove(k);
+    }
+    if let [a, b, c] = left[..] {
+        if orient(&poly[a], &poly[b], &poly[c]) > 0.0 {
+            out.push([a, b, c]);
+        }
+    }
+    out
+}
+
+/// Whether corner k of the remaining polygon `left` is strictly convex and
+/// its triangle holds no other remaining vertex (on its sides counts).
+fn is_ear(poly: &[Point2<f64>], left: &[usize], k: usize) -> bool {
+    let m = left.len();
+    let (ia, ib, ic) = (left[(k + m - 1) % m], left[k], left[(k + 1) % m]);
+    let (a, b, c) = (&poly[ia], &poly[ib], &poly[ic]);
+    orient(a, b, c) > 0.0
+        && left.iter().all(|&i| {
+            let p = &poly[i];
+            i == ia
+                || i == ib
+                || i == ic
+                || orient(a, b, p) < 0.0
+                || orient(b, c, p) < 0.0
+                || orient(c, a, p) < 0.0
+        })
+}
+
+/// The part of `subject` inside the convex counter-clockwise polygon `clip`
+/// (Sutherland–Hodgman). A concave subject is fine: the result may then
+/// have edges running back along each other, which add no area.
+pub fn clip_convex(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> Vec<Point2<f64>> {
+    let mut out = subject.to_vec();
+    for (a, b) in edges(clip) {
+        if out.is_empty() {
+            break;
+        }
+        let input = std::mem::take(&mut out);
+        for (p, q) in edges(&input) {
+            let (sp, sq) = (orient(a, b, p), orient(a, b, q));
+            if sp >= 0.0 {
+                out.push(*p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                // Opposite signs: the denominator is not zero.
+                out.push(p + (q - p) * (sp / (sp - sq)));
+            }
+        }
+    }
+    out
+}
+
+/// The edges (v[k], v[k + 1]), closing back to the first vertex.
+pub fn edges(poly: &[Point2<f64>]) -> impl Iterator<Item = (&Point2<f64>, &Point2<f64>)> {
+    poly.iter().zip(poly.iter().cycle().skip(1))
+}
+
+/// Edge k: (v[k], v[k + 1]).
+pub fn edge(poly: &[Point2<f64>], k: usize) -> (&Point2<f64>, &Point2<f64>) {
+    (&poly[k], &poly[(k + 1) % poly.len()])
+}
+
+/// Whether p, known to be on the line through a and b, lies on [a, b].
+fn in_box(a: &Point2<f64>, b: &Point2<f64>, p: &Point2<f64>) -> bool {
+    a.x.min(b.x) <= p.x && p.x <= a.x.max(b.x) && a.y.min(b.y) <= p.y && p.y <= a.y.max(b.y)
+}
+
+fn sign(x: f64) -> i8 {
+    if x > 0.0 {
+        1
+    } else if x < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pts(coords: &[(f64, f64)]) -> Vec<Point2<f64>> {
+        coords.iter().map(|&(x, y)| Point2::new(x, y)).collect()
+    }
+
+    fn shifted(poly: &[Point2<f64>], dx: f64, dy: f64) -> Vec<Point2<f64>> {
+        poly.iter()
+            .map(|p| Point2::new(p.x + dx, p.y + dy))
+            .collect()
+    }
+
+    fn square(x: f64, y: f64, side: f64) -> Vec<Point2<f64>> {
+        pts(&[(x, y), (x + side, y), (x + side, y + side), (x, y + side)])
+    }
+
+    /// A 2 × 2 square without its upper-right unit square: area 3, one
+    /// reflex corner at (1, 1).
+    fn l_shape() -> Vec<Point2<f64>> {
+        pts(&[
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ])
+    }
+
+    fn naive(a: &Point2<f64>, b: &Point2<f64>, c: &Point2<f64>) -> f64 {
+        (b - a).perp(&(c - a))
+    }
+
+    #[test]
+    fn orientation_is_exact_where_the_naive_determinant_is_not() {
+        // Consecutive Fibonacci numbers: F(n+1)F(n−1) − F(n)² = ±1, while
+        // the products exceed 2⁵³ and round.
+        let mut fib = vec![0i128, 1];
+        while fib.len() < 80 {
+            let k = fib.len();
+            fib.push(fib[k - 1] + fib[k - 2]);
+        }
+        let mut naive_wrong = 0;
+        for n in 30..78 {
+            let a = Point2::new(fib[n + 1] as f64, fib[n] as f64);
+            let b = Point2::new(fib[n] as f64, fib[n - 1] as f64);
+            let c = Point2::origin();
+            // The exact determinant of the (possibly rounded) inputs.
+            let exact = (a.x as i128 * b.y as i128 - a.y as i128 * b.x as i128).signum();
+            assert_eq!(sign(orient(&a, &b, &c)) as i128, exact, "n = {n}");
+            naive_wrong += usize::from(sign(naive(&c, &a, &b)) as i128 != exact);
+        }
+        assert!(
+            naive_wrong > 0,
+            "the case must defeat the naive determinant"
+        );
+    }
+
+    #[test]
+    fn orientation_of_nearly_collinear_points_far_from_the_origin() {
+        // c on the line through a and b, and two units in the last place
+        // off it on either side.
+        let (a, b) = (
+            Point2::new(1.0e6, 1.0e6),
+            Point2::new(1.0e6 + 3.0, 1.0e6 + 3.0),
+        );
+        let c = Point2::new(1.0e6 + 1.0, 1.0e6 + 1.0);
+        let step = f64::EPSILON * 1.0e6;
+        assert_eq!(orient(&a, &b, &c), 0.0);
+        assert!(orient(&a, &b, &Point2::new(c.x, c.y + step)) > 0.0);
+        assert!(orient(&a, &b, &Point2::new(c.x, c.y - step)) < 0.0);
+        // Shewchuk's example: points a few ulps from the line y = x near
+        // (0.5, 0.5), against (12, 12) and (24, 24); every sign must agree
+        // with the exact one, which is that of y − x.
+        let ulp = 0.5 * f64::EPSILON;
+        let (q, r) = (Point2::new(12.0, 12.0), Point2::new(24.0, 24.0));
+        let mut naive_wrong = 0;
+        for i in 0..64 {
+            for j in 0..64 {
+                let p = Point2::new(0.5 + i as f64 * ulp, 0.5 + j as f64 * ulp);
+                let exact = (j as i64 - i as i64).signum() as i8;
+                // (p, q, r) turns left when p is above the line.
+                assert_eq!(sign(orient(&p, &q, &r)), exact, "i = {i}, j = {j}");
+                naive_wrong += usize::from(sign(naive(&p, &q, &r)) != exact);
+            }
+        }
+        assert!(
+            naive_wrong > 0,
+            "the case must defeat the naive determinant"
+        );
+    }
+
+    #[test]
+    fn areas_of_a_triangle_a_square_and_an_l() {
+        assert_eq!(
+            signed_area(&pts(&[(0.0, 0.0), (4.0, 0.0), (1.0, 3.0)])),
+            6.0
+        );
+        assert_eq!(signed_area(&square(-1.0, 2.0, 2.0)), 4.0);
+        assert_eq!(signed_area(&l_shape()), 3.0);
+        let clockwise: Vec<_> = l_shape().into_iter().rev().collect();
+        assert_eq!(signed_area(&clockwise), -3.0);
+        // Far from the origin the area keeps its digits.
+        assert_eq!(signed_area(&shifted(&l_shape(), 1.0e6, -2.0e6)), 3.0);
+        assert_eq!(signed_area(&pts(&[(0.0, 0.0), (1.0, 1.0)])), 0.0);
+        assert_eq!(signed_area(&[]), 0.0);
+    }
+
+    #[test]
+    fn containment_in_a_concave_polygon() {
+        let l = l_shape();
+        let cw: Vec<_> = l.iter().rev().copied().collect();
+        for poly in [&l, &cw] {
+            assert!(contains(poly, &Point2::new(0.5, 1.5)));
+            assert!(contains(poly, &Point2::new(1.5, 0.5)));
+            // In the notch, outside, on an edge, at the reflex corner.
+            assert!(!contains(poly, &Point2::new(1.5, 1.5)));
+            assert!(!contains(poly, &Point2::new(-1.0, 0.5)));
+            assert!(!contains(poly, &Point2::new(2.0, 0.5)));
+            assert!(!contains(poly, &Point2::new(1.0, 1.0)));
+        }
+        // On a slanted edge far from the origin, and just inside it.
+        let (x, y) = (1.0e6, -2.0e6);
+        let tri = pts(&[(x, y), (x + 2.0, y + 1.0), (x, y + 3.0)]);
+        assert!(!contains(&tri, &Point2::new(x + 1.0, y + 0.5)));
+        assert!(contains(&tri, &Point2::new(x + 1.0, y + 0.5 + 1e-9)));
+    }
+
+    #[test]
+    fn point_segment_distances() {
+        let (a, b) = (Point2::new(0.0, 0.0), Point2::new(2.0, 0.0));
+        assert_eq!(point_segment(&Point2::new(0.5, 1.0), &a, &b), (1.0, 0.25));
+        // Beyond the ends the nearest point is the end.
+        assert_eq!(point_segment(&Point2::new(5.0, 4.0), &a, &b), (5.0, 1.0));
+        assert_eq!(point_segment(&Point2::new(-1.0, 0.0), &a, &b), (1.0, 0.0));
+        // A segment of zero length is a point.
+        assert_eq!(point_segment(&Point2::new(3.0, 4.0), &a, &a), (5.0, 0.0));
+    }
+
+    #[test]
+    fn segments_meeting() {
+        let meet = |a: (f64, f64), b: (f64, f64), c: (f64, f64), d: (f64, f64)| {
+            let [a, b, c, d] = [a, b, c, d].map(|(x, y)| Point2::new(x, y));
+            segments_meet(&a, &b, &c, &d)
+        };
+        // Crossing; parallel and apart.
+        assert!(meet((0., 0.), (1., 1.), (0., 1.), (1., 0.)));
+        assert!(!meet((0., 0.), (1., 0.), (0., 1.), (1., 1.)));
+        // Along one line, overlapping and apart.
+        assert!(meet((0., 0.), (2., 0.), (1., 0.), (3., 0.)));
+        assert!(!meet((0., 0.), (1., 0.), (2., 0.), (3., 0.)));
+        // A shared end, a T, a crossing only if extended.
+        assert!(meet((0., 0.), (1., 0.), (1., 0.), (1., 1.)));
+        assert!(meet((0., 0.), (2., 0.), (1., 0.), (1., 1.)));
+        assert!(!meet((0., 0.), (1., 0.), (2., -1.), (2., 1.)));
+        // A point on the segment, and off it.
+        assert!(meet((0., 0.), (2., 2.), (1., 1.), (1., 1.)));
+        assert!(!meet((0., 0.), (2., 2.), (1., 1.5), (1., 1.5)));
+        // A T far from the origin, along a slanted line exact in binary.
+        let (x, y) = (1.0e6, -2.0e6);
+        assert!(meet(
+            (x, y),
+            (x + 2., y + 1.),
+            (x + 1., y + 0.5),
+            (x, y + 3.)
+        ));
+        let off = y + 0.5 + 1e-9;
+        assert!(!meet((x, y), (x + 2., y + 1.), (x + 1., off), (x, y + 3.)));
+    }
+
+    #[test]
+    fn polygons_that_cross_themselves() {
+        assert!(!self_intersects(&l_shape()));
+        assert!(self_intersects(&pts(&[
+            (0., 0.),
+            (1., 1.),
+            (1., 0.),
+            (0., 1.)
+        ])));
+        // A corner touching a side that does not end at it.
+        let touching = pts(&[(0., 0.), (2., 0.), (1., 1.), (1., 0.), (0., 1.)]);
+        assert!(self_intersects(&touching));
+    }
+
+    /// The L by hand: the first ear in vertex order is corner 1 (corner 0's
+    /// triangle has the reflex corner on its side), then corners 2 and 0 of
+    /// what is left, and the last three.
+    #[test]
+    fn ear_clipping_of_a_concave_polygon() {
+        let l = l_shape();
+        let tris = triangulate(&l);
+        assert_eq!(tris, vec![[0, 1, 2], [0, 2, 3], [5, 0, 3], [3, 4, 5]]);
+        let areas: Vec<f64> = tris
+            .iter()
+            .map(|t| orient(&l[t[0]], &l[t[1]], &l[t[2]]) / 2.0)
+            .collect();
+        assert_eq!(areas, vec![1.0, 0.5, 1.0, 0.5]);
+        // Clockwise input gives the same counter-clockwise cover.
+        let cw: Vec<_> = l.iter().rev().copied().collect();
+        let cover: f64 = triangulate(&cw)
+            .iter()
+            .map(|t| orient(&cw[t[0]], &cw[t[1]], &cw[t[2]]) / 2.0)
+            .sum();
+        assert_eq!(cover, 3.0);
+        let irregular = pts(&[(0.1, 0.2), (2.3, -0.4), (3.1, 1.7), (1.2, 0.9), (0.4, 2.6)]);
+        let tris = triangulate(&irregular);
+        assert_eq!(tris.len(), 3);
+        let cover: f64 = tris
+            .iter()
+            .map(|t| signed_area(&t.map(|k| irregular[k])))
+            .inspect(|&a| assert!(a > 0.0))
+            .sum();
+        assert!((cover - signed_area(&irregular)).abs() < 1e-14);
+    }
+
+    #[test]
+    fn clipping_keeps_the_common_part() {
+        let unit = square(0.0, 0.0, 2.0);
+        // A square over another's corner: the unit square they share.
+        let common = clip_convex(&square(1.0, 1.0, 2.0), &unit);
+        assert_eq!(signed_area(&common), 1.0);
+        // A square cut by a triangle along its diagonal: half of it.
+        let half = pts(&[(0.0, 0.0), (2.0, 0.0), (0.0, 2.0)]);
+        assert_eq!(signed_area(&clip_convex(&unit, &half)), 2.0);
+        // The L cut by the lower 2 × 1.5 strip: its bottom 2 × 1 and the
+        // 1 × 0.5 of its upright above it.
+        let strip = pts(&[(-1.0, -1.0), (3.0, -1.0), (3.0, 1.5), (-1.0, 1.5)]);
+        assert_eq!(signed_area(&clip_convex(&l_shape(), &strip)), 2.5);
+        // The L by a triangle through its reflex corner: the triangle's part
+        // in the notch (area 0.5) is cut away, the rest (area 1.5) kept.
+        let diagonal = pts(&[(0.0, 0.0), (2.0, 0.0), (2.0, 2.0)]);
+        assert_eq!(signed_area(&clip_convex(&l_shape(), &diagonal)), 1.5);
+        // Apart: nothing left.
+        let far = pts(&[(5.0, 5.0), (6.0, 5.0), (6.0, 6.0)]);
+        assert!(clip_convex(&far, &unit).is_empty());
+    }
+}
