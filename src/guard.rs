@@ -24,6 +24,9 @@ pub struct Guards {
     on_failure: OnFailure,
     /// Deepest penetration allowed (m): the driver's bound.
     penetration_limit: f64,
+    /// Whether the contacts have dashpots (`analysis.contact_damping`),
+    /// so the advice does not ask for what is already there.
+    damped: bool,
     /// The counts of the last step.
     seen: Seen,
     /// Each block's velocity after the last step, for a closing speed.
@@ -50,10 +53,16 @@ impl Seen {
 impl Guards {
     /// Guards for a run now at `run`'s state (a resumed run's earlier
     /// reports are not reported again).
-    pub fn new(on_failure: OnFailure, penetration_limit: f64, run: &dyn RunView) -> Self {
+    pub fn new(
+        on_failure: OnFailure,
+        penetration_limit: f64,
+        damped: bool,
+        run: &dyn RunView,
+    ) -> Self {
         Self {
             on_failure,
             penetration_limit,
+            damped,
             seen: Seen::of(run.statistics()),
             velocities: (0..run.block_count()).map(|i| run.velocity(i)).collect(),
         }
@@ -115,8 +124,13 @@ impl Guards {
                 })
                 .collect();
             bail!(
-                "at t = {t} s, the step could not reach open-close agreement even at the smallest time step (analysis.min_dt_ratio × dt); still changing: {}; a smaller dt, analysis.contact_damping: 1.0 or a larger analysis.open_close_limit lets the contacts settle{}",
+                "at t = {t} s, the step could not reach open-close agreement even at the smallest time step (analysis.min_dt_ratio × dt); still changing: {}; {}{}",
                 if contacts.is_empty() { "no contact named".into() } else { contacts.join(", ") },
+                if self.damped {
+                    "a smaller dt or a larger analysis.open_close_limit lets the contacts settle; with contact damping on, a contact at almost no normal force can also alternate because locking adds its shear dashpot, which analysis.contact_damping: 0.0 removes"
+                } else {
+                    "a smaller dt, analysis.contact_damping: 1.0 or a larger analysis.open_close_limit lets the contacts settle"
+                },
                 CONTINUE
             );
         }

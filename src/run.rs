@@ -430,7 +430,8 @@ pub fn run_model_observed<S: Simulation>(
     });
     let first_output = resumed.as_ref().map_or(0, |c| c.next_output);
     let limit = model.settings.max_penetration_ratio * model.driver.length_scale();
-    let mut guards = Guards::new(model.on_failure, limit, &model.driver);
+    let damped = model.settings.contact_damping > 0.0;
+    let mut guards = Guards::new(model.on_failure, limit, damped, &model.driver);
     let result = advance(
         &mut model,
         &mut observers,
