@@ -450,7 +450,7 @@ impl Scene {
                 min_block_area,
                 fixed_below,
                 ..
-            } => super::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
+            } => crate::generators::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
                 .map_or((0, Vec::new()), |j| (j.pieces.len(), j.joints)),
             BlockSpec::JointedDomain3D {
                 region,
@@ -458,7 +458,7 @@ impl Scene {
                 min_block_volume,
                 fixed_below,
                 ..
-            } => super::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
+            } => crate::generators::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
                 .map_or((0, Vec::new()), |j| (j.pieces.len(), j.joints)),
             _ if self.dimension == 3 => (spec.expand_3d(0).len(), Vec::new()),
             _ => (spec.expand(0).len(), Vec::new()),

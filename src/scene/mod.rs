@@ -13,8 +13,7 @@
 
 mod build;
 mod error;
-mod generate;
-mod jointed;
+
 mod locate;
 mod motion;
 mod overlap;
@@ -28,9 +27,9 @@ pub use dda_2d::{Plane, RotationUpdate};
 pub use dda_contact::{Coulomb, RateFriction, ThresholdBond, Weakening};
 pub use dda_core::{BlockKind, Integrator, Quantity, Solver};
 
+pub use crate::generators::jointed::{JointSet, Placement, Region3};
 pub use build::{AnyModel, LawTable, Model, Model3};
 pub use error::{Location, SceneError};
-pub use jointed::{JointSet, Placement, Region3};
 
 /// One experiment. Field order and names are the file format.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -813,7 +812,7 @@ impl BlockSpec {
                 pointed,
                 abutments,
                 ..
-            } => generate::arch(&generate::ArchShape {
+            } => crate::generators::arch(&crate::generators::ArchShape {
                 center: *center,
                 radius: *radius,
                 thickness: *thickness,
@@ -828,7 +827,7 @@ impl BlockSpec {
                 drum_height,
                 width,
                 ..
-            } => generate::column(*base, *drums, *drum_height, *width),
+            } => crate::generators::column(*base, *drums, *drum_height, *width),
             BlockSpec::Wall {
                 origin,
                 length,
@@ -837,7 +836,7 @@ impl BlockSpec {
                 brick_height,
                 bond,
                 ..
-            } => generate::wall(
+            } => crate::generators::wall(
                 *origin,
                 *length,
                 *courses,
@@ -851,7 +850,7 @@ impl BlockSpec {
                 min_block_area,
                 fixed_below,
                 ..
-            } => jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
+            } => crate::generators::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
                 .map(|j| j.pieces)
                 .unwrap_or_default(),
             BlockSpec::Polyhedron { .. }
@@ -903,7 +902,7 @@ impl BlockSpec {
                 velocity,
                 stress,
                 ..
-            } => match generate::cuboid(*center, *size, *rotation) {
+            } => match crate::generators::cuboid(*center, *size, *rotation) {
                 Some((v, f)) => block(v, f, *velocity, *stress),
                 None => Vec::new(),
             },
@@ -914,7 +913,7 @@ impl BlockSpec {
                 velocity,
                 stress,
                 ..
-            } => match generate::prism(outline, *z0, *z1) {
+            } => match crate::generators::prism(outline, *z0, *z1) {
                 Some((v, f)) => block(v, f, *velocity, *stress),
                 None => Vec::new(),
             },
@@ -926,7 +925,7 @@ impl BlockSpec {
                 velocity,
                 stress,
                 ..
-            } => jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
+            } => crate::generators::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
                 .map(|j| {
                     j.pieces
                         .into_iter()

@@ -9,7 +9,6 @@ use dda_3d::polyhedron::{self as polyhedra, Fault, Polyhedron, PolyhedronError};
 use dda_core::{BlockKind, GroundMotion, Quantity, Record};
 use nalgebra::{Point2, Point3, SVector};
 
-use super::generate::{self, MAX_PARTS};
 use super::locate::{locate_exact, Seg};
 use super::motion::{read_record, Layout};
 use super::overlap::{first_overlap_2d, first_overlap_3d};
@@ -17,6 +16,7 @@ use super::{
     BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Region3, Scene,
     SceneBlock, SceneBlock3, SceneError,
 };
+use crate::generators::MAX_PARTS;
 
 /// A path into the scene, like `blocks[2].vertices[1]`.
 #[derive(Debug, Clone, Default)]
@@ -771,7 +771,7 @@ impl Scene {
                 if let Some(z) = fixed_below {
                     self.finite(&at.field("fixed_below"), "fixed_below", *z)?;
                 }
-                super::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
+                crate::generators::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
                     .map_err(|e| self.cut_failure(at, e))?;
             }
             _ => {}
@@ -785,7 +785,7 @@ impl Scene {
     }
 
     /// A jointed domain that cannot be cut, at the field to change.
-    fn cut_failure(&self, at: &Place, e: super::jointed::Failure) -> SceneError {
+    fn cut_failure(&self, at: &Place, e: crate::generators::jointed::Failure) -> SceneError {
         let place = match e.set {
             Some(k) => at.field("sets").index(k).field(e.field),
             None => at.field(e.field),
@@ -933,7 +933,7 @@ impl Scene {
                 ..
             } => self.check_arch(
                 &at,
-                &generate::ArchShape {
+                &crate::generators::ArchShape {
                     center: *center,
                     radius: *radius,
                     thickness: *thickness,
@@ -985,7 +985,7 @@ impl Scene {
                     *brick_height,
                     hint,
                 )?;
-                let n = generate::wall_count(*length, *courses, *brick_length);
+                let n = crate::generators::wall_count(*length, *courses, *brick_length);
                 if n > MAX_PARTS as f64 {
                     return Err(self.error(
                         &at,
@@ -1023,7 +1023,7 @@ impl Scene {
                 if let Some(y) = fixed_below {
                     self.finite(&at.field("fixed_below"), "fixed_below", *y)?;
                 }
-                super::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
+                crate::generators::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
                     .map_err(|e| self.cut_failure(&at, e))?;
             }
             BlockSpec::Polyhedron { .. }
@@ -1053,7 +1053,7 @@ impl Scene {
         }
     }
 
-    fn check_arch(&self, at: &Place, arch: &generate::ArchShape) -> Result {
+    fn check_arch(&self, at: &Place, arch: &crate::generators::ArchShape) -> Result {
         self.finite_all(&at.field("center"), "the center", &arch.center)?;
         let hint = "give the arch's size in m";
         self.positive(&at.field("radius"), "the radius", arch.radius, hint)?;

@@ -10,8 +10,8 @@ use std::ops::Not;
 use nalgebra::{Point2, Point3, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
-use super::generate::Piece;
-use super::{Coords, JointLaw};
+use super::Piece;
+use crate::scene::{Coords, JointLaw};
 
 /// At most this many joints from one set.
 pub const MAX_JOINTS: usize = 10_000;
@@ -377,10 +377,10 @@ pub(crate) fn cut_3d(
         };
         let cs = offsets(set, n.dot(&origin), nlo, nhi, &mut random).ok_or_else(|| too_many(k))?;
         most *= cs.len() as f64 + 1.0;
-        if most > super::generate::MAX_PARTS as f64 {
+        if most > super::MAX_PARTS as f64 {
             return Err(Failure::of_set(k, "spacing", format!(
                 "the sets would cut the region into up to {most:.3e} blocks, more than {}; give larger spacings or a smaller region",
-                super::generate::MAX_PARTS
+                super::MAX_PARTS
             )));
         }
         planes.extend(cs.into_iter().enumerate().map(|(j, c)| JointPlane {

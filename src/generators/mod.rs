@@ -1,11 +1,14 @@
 //! Generators: scene entries that stand for several blocks (arches, columns,
-//! walls), and the shapes of the 3D boxes and prisms. The geometry here assumes parameters already checked by
-//! `validate`; nonsense (too few voussoirs, non-positive sizes, too many
+//! walls, jointed domains), and the shapes of the 3D boxes and prisms. The
+//! geometry here assumes parameters already checked by
+//! the scene's validation; nonsense (too few voussoirs, non-positive sizes, too many
 //! blocks) gives no blocks rather than a panic or an endless loop.
 
 use nalgebra::{Point2, Point3, Rotation3, Vector3};
 
-use super::Bond;
+use crate::scene::Bond;
+
+pub(crate) mod jointed;
 
 /// More blocks than this from one generator is taken as a mistake.
 pub(crate) const MAX_PARTS: usize = 100_000;
