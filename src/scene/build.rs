@@ -176,7 +176,7 @@ impl Scene {
         let specs = self.expanded_blocks();
         let mut blocks = Vec::with_capacity(specs.len());
         for spec in &specs {
-            let at = self.block_place(spec);
+            let at = place_of(spec.entry, spec.part.as_deref());
             let material = self
                 .material_index(&self.blocks[spec.entry])
                 .ok_or_else(|| {
@@ -374,26 +374,14 @@ impl Scene {
         })
     }
 
-    /// The driver settings the analysis asks for.
+    /// The driver settings the analysis asks for: as written, with the
+    /// velocity ratio of the mode and the damping's coefficient.
     pub(super) fn settings(&self) -> Settings {
         let a = &self.analysis;
         Settings {
             velocity_ratio: a.velocity_ratio.unwrap_or(a.mode.velocity_ratio()),
-            dt: a.dt,
-            min_dt_ratio: a.min_dt_ratio,
-            open_close_limit: a.open_close_limit,
-            max_displacement_ratio: a.max_displacement_ratio,
-            max_penetration_ratio: a.max_penetration_ratio,
-            penalty: a.penalty,
-            raise_penalty: a.raise_penalty,
-            length_scale: a.length_scale,
             mass_damping: a.damping.map_or(0.0, |d| d.mass_coefficient()),
-            contact_damping: a.contact_damping,
-            restitution: a.restitution,
-            integrator: a.integrator,
-            local_damping: a.local_damping,
-            solver: a.solver,
-            ..Settings::default()
+            ..a.settings.clone()
         }
     }
 

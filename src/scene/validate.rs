@@ -111,8 +111,8 @@ pub(super) struct Slot {
     pub fixed: bool,
 }
 
-impl From<&SceneBlock> for Slot {
-    fn from(b: &SceneBlock) -> Self {
+impl<P, const K: usize> From<&SceneBlock<P, K>> for Slot {
+    fn from(b: &SceneBlock<P, K>) -> Self {
         Slot {
             entry: b.entry,
             part: b.part.clone(),
@@ -121,32 +121,34 @@ impl From<&SceneBlock> for Slot {
     }
 }
 
-impl From<&SceneBlock3> for Slot {
-    fn from(b: &SceneBlock3) -> Self {
-        Slot {
-            entry: b.entry,
-            part: b.part.clone(),
-            fixed: b.fixed,
+/// The blocks' shapes, for overlaps and the points that must lie on them.
+enum Shapes {
+    Polygons(Vec<Vec<Point2<f64>>>),
+    Polyhedra(Vec<Polyhedron>),
+}
+
+impl Shapes {
+    fn len(&self) -> usize {
+        match self {
+            Shapes::Polygons(o) => o.len(),
+            Shapes::Polyhedra(s) => s.len(),
         }
     }
-}
 
-/// A block's shape, for the points that must lie on it.
-enum Shape {
-    Polygon(Outline),
-    Polyhedron(Box<Polyhedron>),
-}
+    fn first_overlap(&self) -> Option<(usize, usize)> {
+        match self {
+            Shapes::Polygons(o) => first_overlap_2d(o),
+            Shapes::Polyhedra(s) => first_overlap_3d(s),
+        }
+    }
 
-/// A polygon's corners.
-type Outline = Vec<Point2<f64>>;
-
-impl Shape {
-    /// How far `p` lies outside, 0 inside or within a millionth of the
-    /// block's size of its boundary (a point written on a corner keeps its
-    /// round-off).
-    fn outside(&self, p: &[f64]) -> f64 {
+    /// How far `p` lies outside block `i`, 0 inside or within a millionth
+    /// of the block's size of its boundary (a point written on a corner
+    /// keeps its round-off).
+    fn outside(&self, i: usize, p: &[f64]) -> f64 {
         let (inside, distance, size) = match self {
-            Shape::Polygon(outline) => {
+            Shapes::Polygons(outlines) => {
+                let outline = &outlines[i];
                 let q = Point2::new(p[0], p[1]);
                 let distance = (0..outline.len())
                     .map(|i| {
@@ -160,7 +162,8 @@ impl Shape {
                     .fold(0.0, f64::max);
                 (polygon::contains(outline, &q), distance, size)
             }
-            Shape::Polyhedron(shape) => {
+            Shapes::Polyhedra(shapes) => {
+                let shape = &shapes[i];
                 let q = Point3::new(p[0], p[1], p[2]);
                 let (lo, hi) = shape.bounds();
                 (
@@ -218,15 +221,7 @@ impl Scene {
             }
         }
         self.check_materials()?;
-        let (blocks, shapes): (Vec<Slot>, Vec<Shape>) = if self.dimension == 3 {
-            let (blocks, shapes) = self.check_blocks_3d()?;
-            let shapes = shapes.into_iter().map(|s| Shape::Polyhedron(Box::new(s)));
-            (blocks.iter().map(Slot::from).collect(), shapes.collect())
-        } else {
-            let (blocks, outlines) = self.check_blocks()?;
-            let shapes = outlines.into_iter().map(Shape::Polygon);
-            (blocks.iter().map(Slot::from).collect(), shapes.collect())
-        };
+        let (blocks, shapes) = self.check_blocks()?;
         self.check_joints(&blocks)?;
         self.check_loads(&blocks)?;
         self.check_measured_points(&blocks, &shapes)?;
@@ -551,32 +546,32 @@ impl Scene {
     }
 
     /// Checks every entry, expands the generators and checks the blocks
-    /// they make; returns the expanded blocks and their outlines.
-    fn check_blocks(&self) -> Result<(Vec<SceneBlock>, Vec<Outline>)> {
+    /// they make; returns them and their shapes.
+    fn check_blocks(&self) -> Result<(Vec<Slot>, Shapes)> {
+        let root = Place::root().field("blocks");
+        let three = self.dimension == 3;
         if self.blocks.is_empty() {
+            let like = if three {
+                "Box(center: (0.0, 0.0, 0.5), size: (1.0, 1.0, 1.0))"
+            } else {
+                "Rectangle(center: (0.0, 0.0), width: 1.0, height: 1.0)"
+            };
             return Err(self.error(
-                &Place::root().field("blocks"),
-                "the scene has no blocks; add at least one, like Rectangle(center: (0.0, 0.0), width: 1.0, height: 1.0)",
+                &root,
+                format!("the scene has no blocks; add at least one, like {like}"),
             ));
         }
-        let mut blocks = Vec::new();
-        let mut outlines = Vec::new();
+        let (mut slots, mut outlines, mut polyhedra) = (Vec::new(), Vec::new(), Vec::new());
         for (k, spec) in self.blocks.iter().enumerate() {
-            if spec.dimension() == 3 {
-                let d = if self.written(&Place::root().field("dimension")) {
-                    "dimension: 2"
-                } else {
-                    "dimension: 2, the default"
-                };
-                return Err(self.error(
-                    &Place::root().field("blocks").index(k),
-                    format!(
-                        "{} is a 3D block, but this is a 2D scene ({d}); add dimension: 3 at the top for a 3D scene, or use Polygon or Rectangle",
-                        spec.kind()
-                    ),
-                ));
+            let at = root.index(k);
+            if spec.dimension() != self.dimension {
+                return Err(self.error(&at, self.wrong_entry(spec)));
             }
-            self.check_block(k, spec)?;
+            self.check_block(&at, spec)?;
+            for block in spec.expand_3d(k) {
+                polyhedra.push(self.check_polyhedron(&at, &block)?);
+                slots.push(Slot::from(&block));
+            }
             for block in spec.expand(k) {
                 let points = to_points(&block.vertices);
                 polygon::validate(&points).map_err(|e| {
@@ -589,20 +584,42 @@ impl Scene {
                         ),
                         None => message,
                     };
-                    self.error(&self.block_place(&block), message)
+                    self.error(&place_of(k, block.part.as_deref()), message)
                 })?;
                 outlines.push(points);
-                blocks.push(block);
+                slots.push(Slot::from(&block));
             }
         }
-        let places: Vec<Place> = blocks.iter().map(|b| self.block_place(b)).collect();
-        self.overlaps(&places, first_overlap_2d(&outlines))?;
-        Ok((blocks, outlines))
+        let shapes = if three {
+            Shapes::Polyhedra(polyhedra)
+        } else {
+            Shapes::Polygons(outlines)
+        };
+        if let Some((i, j)) = shapes.first_overlap() {
+            let place = |b: &Slot| place_of(b.entry, b.part.as_deref());
+            return Err(self.error(
+                &place(&slots[i]),
+                format!(
+                    "the block overlaps {} at the start; move or resize one of them so they touch at most",
+                    place(&slots[j])
+                ),
+            ));
+        }
+        Ok((slots, shapes))
     }
 
-    /// `blocks[k]`, with the part for a generated block.
-    pub(super) fn block_place(&self, block: &SceneBlock) -> Place {
-        place_of(block.entry, block.part.as_deref())
+    /// Why an entry of the other dimension does not belong.
+    fn wrong_entry(&self, spec: &BlockSpec) -> String {
+        let kind = spec.kind();
+        if self.dimension == 3 {
+            return format!("{kind} is a 2D block, but this is a 3D scene (dimension: 3); use Polyhedron, Box or Prism (`dda extrude` turns a 2D scene into prisms)");
+        }
+        let d = if self.written(&Place::root().field("dimension")) {
+            "dimension: 2"
+        } else {
+            "dimension: 2, the default"
+        };
+        format!("{kind} is a 3D block, but this is a 2D scene ({d}); add dimension: 3 at the top for a 3D scene, or use Polygon or Rectangle")
     }
 
     /// "block 7", and which entry makes it when that is not plain.
@@ -645,143 +662,6 @@ impl Scene {
             ));
         }
         Ok(())
-    }
-
-    /// Checks every entry of a 3D scene and the polyhedra they make;
-    /// returns them, as entries and as shapes.
-    fn check_blocks_3d(&self) -> Result<(Vec<SceneBlock3>, Vec<Polyhedron>)> {
-        let root = Place::root().field("blocks");
-        if self.blocks.is_empty() {
-            return Err(self.error(
-                &root,
-                "the scene has no blocks; add at least one, like Box(center: (0.0, 0.0, 0.5), size: (1.0, 1.0, 1.0))",
-            ));
-        }
-        let mut blocks = Vec::new();
-        let mut shapes = Vec::new();
-        for (k, spec) in self.blocks.iter().enumerate() {
-            let at = root.index(k);
-            if spec.dimension() == 2 {
-                return Err(self.error(
-                    &at,
-                    format!(
-                        "{} is a 2D block, but this is a 3D scene (dimension: 3); use Polyhedron, Box or Prism (`dda extrude` turns a 2D scene into prisms)",
-                        spec.kind()
-                    ),
-                ));
-            }
-            self.check_block_3d(&at, spec)?;
-            for block in spec.expand_3d(k) {
-                let shape = self.check_polyhedron(&at, &block)?;
-                shapes.push(shape);
-                blocks.push(block);
-            }
-        }
-        let places: Vec<Place> = blocks
-            .iter()
-            .map(|b| place_of(b.entry, b.part.as_deref()))
-            .collect();
-        self.overlaps(&places, first_overlap_3d(&shapes))?;
-        Ok((blocks, shapes))
-    }
-
-    /// A 3D entry's own values: material, sizes, initial state.
-    fn check_block_3d(&self, at: &Place, block: &BlockSpec) -> Result {
-        self.check_block_material(at, block)?;
-        match block {
-            BlockSpec::Polyhedron {
-                vertices, faces, ..
-            } => {
-                for (i, v) in vertices.iter().enumerate() {
-                    self.finite_all(&at.field("vertices").index(i), &format!("vertex {i}"), v)?;
-                }
-                if faces.is_empty() {
-                    return Err(self.error(
-                        &at.field("faces"),
-                        "the polyhedron has no faces; list each face's corners counter-clockwise seen from outside, like [0, 3, 2, 1]",
-                    ));
-                }
-            }
-            BlockSpec::Box {
-                center,
-                size,
-                rotation,
-                ..
-            } => {
-                self.finite_all(&at.field("center"), "the center", center)?;
-                for (axis, s) in ["x", "y", "z"].iter().zip(size) {
-                    self.positive(
-                        &at.field("size"),
-                        &format!("the size along its own {axis}"),
-                        *s,
-                        "give the box's edge lengths (a, b, c) in m",
-                    )?;
-                }
-                self.finite_all(&at.field("rotation"), "the rotation", rotation)?;
-            }
-            BlockSpec::Prism {
-                outline, z0, z1, ..
-            } => {
-                for (i, v) in outline.iter().enumerate() {
-                    self.finite_all(
-                        &at.field("outline").index(i),
-                        &format!("outline point {i}"),
-                        v,
-                    )?;
-                }
-                let points = to_points(outline);
-                polygon::validate(&points)
-                    .map_err(|e| self.error(&at.field("outline"), e.to_string()))?;
-                self.finite(&at.field("z0"), "z0", *z0)?;
-                self.finite(&at.field("z1"), "z1", *z1)?;
-                if z1 <= z0 {
-                    return Err(self.error(
-                        &at.field("z1"),
-                        format!("the prism's top z1 = {z1} must lie above its bottom z0 = {z0}"),
-                    ));
-                }
-            }
-            BlockSpec::JointedDomain3D {
-                region,
-                sets,
-                min_block_volume,
-                fixed_below,
-                ..
-            } => {
-                let corners: Vec<[f64; 3]> = match region {
-                    Region3::Box { min, max } => vec![*min, *max],
-                    Region3::Hull(c) => c.clone(),
-                };
-                for (i, v) in corners.iter().enumerate() {
-                    self.finite_all(
-                        &at.field("region").index(i),
-                        &format!("region corner {i}"),
-                        v,
-                    )?;
-                }
-                self.check_sets(at, sets, 3)?;
-                if let Some(v) = min_block_volume {
-                    self.non_negative(
-                        &at.field("min_block_volume"),
-                        "min_block_volume",
-                        *v,
-                        "give a volume in m³, 0 to keep every block",
-                    )?;
-                }
-                if let Some(z) = fixed_below {
-                    self.finite(&at.field("fixed_below"), "fixed_below", *z)?;
-                }
-                crate::generators::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
-                    .map_err(|e| self.cut_failure(at, e))?;
-            }
-            _ => {}
-        }
-        self.finite_all(
-            &at.field("velocity"),
-            "the initial velocity",
-            block.velocity(),
-        )?;
-        self.finite_all(&at.field("stress"), "the initial stress", block.stress())
     }
 
     /// A jointed domain that cannot be cut, at the field to change.
@@ -892,9 +772,8 @@ impl Scene {
     }
 
     /// The entry's own values: material, sizes, counts, initial state.
-    fn check_block(&self, k: usize, block: &BlockSpec) -> Result {
-        let at = Place::root().field("blocks").index(k);
-        self.check_block_material(&at, block)?;
+    fn check_block(&self, at: &Place, block: &BlockSpec) -> Result {
+        self.check_block_material(at, block)?;
         match block {
             BlockSpec::Polygon { vertices, .. } => {
                 for (i, v) in vertices.iter().enumerate() {
@@ -1026,10 +905,91 @@ impl Scene {
                 crate::generators::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
                     .map_err(|e| self.cut_failure(&at, e))?;
             }
-            BlockSpec::Polyhedron { .. }
-            | BlockSpec::Box { .. }
-            | BlockSpec::Prism { .. }
-            | BlockSpec::JointedDomain3D { .. } => {}
+            BlockSpec::Polyhedron {
+                vertices, faces, ..
+            } => {
+                for (i, v) in vertices.iter().enumerate() {
+                    self.finite_all(&at.field("vertices").index(i), &format!("vertex {i}"), v)?;
+                }
+                if faces.is_empty() {
+                    return Err(self.error(
+                        &at.field("faces"),
+                        "the polyhedron has no faces; list each face's corners counter-clockwise seen from outside, like [0, 3, 2, 1]",
+                    ));
+                }
+            }
+            BlockSpec::Box {
+                center,
+                size,
+                rotation,
+                ..
+            } => {
+                self.finite_all(&at.field("center"), "the center", center)?;
+                for (axis, s) in ["x", "y", "z"].iter().zip(size) {
+                    self.positive(
+                        &at.field("size"),
+                        &format!("the size along its own {axis}"),
+                        *s,
+                        "give the box's edge lengths (a, b, c) in m",
+                    )?;
+                }
+                self.finite_all(&at.field("rotation"), "the rotation", rotation)?;
+            }
+            BlockSpec::Prism {
+                outline, z0, z1, ..
+            } => {
+                for (i, v) in outline.iter().enumerate() {
+                    self.finite_all(
+                        &at.field("outline").index(i),
+                        &format!("outline point {i}"),
+                        v,
+                    )?;
+                }
+                let points = to_points(outline);
+                polygon::validate(&points)
+                    .map_err(|e| self.error(&at.field("outline"), e.to_string()))?;
+                self.finite(&at.field("z0"), "z0", *z0)?;
+                self.finite(&at.field("z1"), "z1", *z1)?;
+                if z1 <= z0 {
+                    return Err(self.error(
+                        &at.field("z1"),
+                        format!("the prism's top z1 = {z1} must lie above its bottom z0 = {z0}"),
+                    ));
+                }
+            }
+            BlockSpec::JointedDomain3D {
+                region,
+                sets,
+                min_block_volume,
+                fixed_below,
+                ..
+            } => {
+                let corners: Vec<[f64; 3]> = match region {
+                    Region3::Box { min, max } => vec![*min, *max],
+                    Region3::Hull(c) => c.clone(),
+                };
+                for (i, v) in corners.iter().enumerate() {
+                    self.finite_all(
+                        &at.field("region").index(i),
+                        &format!("region corner {i}"),
+                        v,
+                    )?;
+                }
+                self.check_sets(at, sets, 3)?;
+                if let Some(v) = min_block_volume {
+                    self.non_negative(
+                        &at.field("min_block_volume"),
+                        "min_block_volume",
+                        *v,
+                        "give a volume in m³, 0 to keep every block",
+                    )?;
+                }
+                if let Some(z) = fixed_below {
+                    self.finite(&at.field("fixed_below"), "fixed_below", *z)?;
+                }
+                crate::generators::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
+                    .map_err(|e| self.cut_failure(at, e))?;
+            }
         }
         self.finite_all(
             &at.field("velocity"),
@@ -1126,21 +1086,6 @@ impl Scene {
         Ok(())
     }
 
-    /// Blocks may touch at the start but not overlap (beyond 1e-6 of the
-    /// model size): the first overlapping pair found, if any, is an error.
-    fn overlaps(&self, places: &[Place], first: Option<(usize, usize)>) -> Result {
-        match first {
-            Some((i, j)) => Err(self.error(
-                &places[i],
-                format!(
-                    "the block overlaps {} at the start; move or resize one of them so they touch at most",
-                    places[j]
-                ),
-            )),
-            None => Ok(()),
-        }
-    }
-
     fn check_loads(&self, blocks: &[Slot]) -> Result {
         let forces = self.names("f");
         let sample = format!("(t, {})", forces.join(", "));
@@ -1205,19 +1150,19 @@ impl Scene {
     }
 
     /// Each measured point names a block and lies inside or on it.
-    fn check_measured_points(&self, blocks: &[Slot], shapes: &[Shape]) -> Result {
+    fn check_measured_points(&self, blocks: &[Slot], shapes: &Shapes) -> Result {
         for (k, m) in self.measured_points.iter().enumerate() {
             let at = Place::root().field("measured_points").index(k);
             self.check_block_index(&at.field("block"), m.block, blocks)?;
             let at = at.field("point");
             self.vector(&at, "the measured point", &m.point, "")?;
             let p = m.point.as_slice();
-            let off = shapes[m.block].outside(p);
+            let off = shapes.outside(m.block, p);
             if off == 0.0 {
                 continue;
             }
             let shown: Vec<String> = p.iter().map(|x| x.to_string()).collect();
-            let hint = match shapes.iter().position(|s| s.outside(p) == 0.0) {
+            let hint = match (0..shapes.len()).position(|i| shapes.outside(i, p) == 0.0) {
                 Some(other) => format!("it lies in block {other}: give block: {other}, or"),
                 None => "it lies in no block:".to_string(),
             };
