@@ -13,29 +13,34 @@ pub(crate) mod jointed;
 /// More blocks than this from one generator is taken as a mistake.
 pub(crate) const MAX_PARTS: usize = 100_000;
 
-/// One block made by a generator.
+/// One block made by an entry, in 2D (`[f64; 2]` corners) or 3D.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Piece {
-    /// Like "voussoir 3" or "course 1, brick 2".
-    pub name: String,
-    /// Counter-clockwise.
-    pub vertices: Vec<[f64; 2]>,
-    /// Held whatever the generator says (an arch's abutments).
+pub(crate) struct Piece<P = [f64; 2]> {
+    /// Like "voussoir 3" or "course 1, brick 2"; none for an entry that
+    /// makes one block.
+    pub name: Option<String>,
+    /// Counter-clockwise in 2D.
+    pub vertices: Vec<P>,
+    /// Each face's corners, counter-clockwise seen from outside; none in 2D.
+    pub faces: Vec<Vec<usize>>,
+    /// Held whatever the entry says (an arch's abutments, blocks below a
+    /// jointed domain's `fixed_below`).
     pub always_fixed: bool,
 }
 
-impl Piece {
-    fn new(name: String, vertices: Vec<[f64; 2]>) -> Self {
+impl<P> Piece<P> {
+    pub fn new(name: Option<String>, vertices: Vec<P>, faces: Vec<Vec<usize>>) -> Self {
         Self {
             name,
             vertices,
+            faces,
             always_fixed: false,
         }
     }
 }
 
 /// The arch's shape, as a scene gives it.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(crate) struct ArchShape {
     pub center: [f64; 2],
     pub radius: f64,
@@ -152,8 +157,9 @@ pub(crate) fn arch(shape: &ArchShape) -> Vec<Piece> {
         .map(|(k, w)| {
             let ([i0, e0], [i1, e1]) = (w[0], w[1]);
             Piece::new(
-                format!("voussoir {k}"),
+                Some(format!("voussoir {k}")),
                 vec![at(i0), at(i1), at(e1), at(e0)],
+                Vec::new(),
             )
         })
         .collect();
@@ -178,9 +184,12 @@ pub(crate) fn arch(shape: &ArchShape) -> Vec<Piece> {
         ];
         for (name, outline) in [("left abutment", left), ("right abutment", right)] {
             pieces.push(Piece {
-                name: name.to_string(),
-                vertices: outline.into_iter().map(at).collect(),
                 always_fixed: true,
+                ..Piece::new(
+                    Some(name.to_string()),
+                    outline.into_iter().map(at).collect(),
+                    Vec::new(),
+                )
             });
         }
     }
@@ -199,8 +208,9 @@ pub(crate) fn column(base: [f64; 2], drums: usize, drum_height: f64, width: f64)
         .map(|k| {
             let (y0, y1) = (y(k), y(k + 1));
             Piece::new(
-                format!("drum {k}"),
+                Some(format!("drum {k}")),
                 vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]],
+                Vec::new(),
             )
         })
         .collect()
@@ -260,8 +270,9 @@ pub(crate) fn wall(
         for (k, w) in cuts.windows(2).enumerate() {
             let (xa, xb) = (x0 + w[0], x0 + w[1]);
             pieces.push(Piece::new(
-                format!("course {c}, brick {k}"),
+                Some(format!("course {c}, brick {k}")),
                 vec![[xa, ya], [xb, ya], [xb, yb], [xa, yb]],
+                Vec::new(),
             ));
         }
     }

@@ -576,45 +576,9 @@ impl BlockSpec {
         )
     }
 
-    /// The 2D blocks of this entry (one for a polygon or rectangle), with
-    /// `entry` as their entry index. A generator with parameters that make
-    /// no sense (see [`Scene::validate`]) gives none, and so does a 3D entry
-    /// (see [`BlockSpec::expand_3d`]).
-    pub fn expand(&self, entry: usize) -> Vec<SceneBlock> {
-        let triple = |v: &[f64]| -> [f64; 3] { [v[0], v[1], v[2]] };
-        let (velocity, stress) = match (self.velocity(), self.stress()) {
-            (v, s) if v.len() == 3 && s.len() == 3 => (triple(v), triple(s)),
-            _ => return Vec::new(),
-        };
-        let single = |vertices: Vec<[f64; 2]>| {
-            vec![SceneBlock {
-                entry,
-                part: None,
-                vertices,
-                faces: Vec::new(),
-                fixed: self.fixed(),
-                velocity,
-                stress,
-            }]
-        };
-        let pieces = match self {
-            BlockSpec::Polygon { vertices, .. } => return single(vertices.clone()),
-            BlockSpec::Rectangle {
-                center,
-                width,
-                height,
-                angle,
-                ..
-            } => {
-                let (s, c) = angle.to_radians().sin_cos();
-                let (hw, hh) = (width / 2.0, height / 2.0);
-                return single(
-                    [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
-                        .iter()
-                        .map(|&(x, y)| [center[0] + c * x - s * y, center[1] + s * x + c * y])
-                        .collect(),
-                );
-            }
+    /// An arch's shape; none for other entries.
+    pub(crate) fn arch_shape(&self) -> Option<crate::generators::ArchShape> {
+        match *self {
             BlockSpec::Arch {
                 center,
                 radius,
@@ -624,22 +588,49 @@ impl BlockSpec {
                 pointed,
                 abutments,
                 ..
-            } => crate::generators::arch(&crate::generators::ArchShape {
-                center: *center,
-                radius: *radius,
-                thickness: *thickness,
-                voussoirs: *voussoirs,
-                span_angle: *span_angle,
-                pointed: *pointed,
-                abutments: *abutments,
+            } => Some(crate::generators::ArchShape {
+                center,
+                radius,
+                thickness,
+                voussoirs,
+                span_angle,
+                pointed,
+                abutments,
             }),
+            _ => None,
+        }
+    }
+
+    /// The 2D blocks of this entry (one for a polygon or rectangle), with
+    /// `entry` as their entry index. A generator with parameters that make
+    /// no sense (see [`Scene::validate`]) gives none, and so does a 3D entry
+    /// (see [`BlockSpec::expand_3d`]).
+    pub fn expand(&self, entry: usize) -> Vec<SceneBlock> {
+        use crate::generators::{self as g, Piece};
+        let pieces = match self {
+            BlockSpec::Polygon { vertices, .. } => vec![Piece::new(None, vertices.clone(), vec![])],
+            BlockSpec::Rectangle {
+                center,
+                width,
+                height,
+                angle,
+                ..
+            } => {
+                let (s, c) = angle.to_radians().sin_cos();
+                let (hw, hh) = (width / 2.0, height / 2.0);
+                let corners = [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
+                    .into_iter()
+                    .map(|(x, y)| [center[0] + c * x - s * y, center[1] + s * x + c * y]);
+                vec![Piece::new(None, corners.collect(), vec![])]
+            }
+            BlockSpec::Arch { .. } => g::arch(&self.arch_shape().unwrap_or_default()),
             BlockSpec::Column {
                 base,
                 drums,
                 drum_height,
                 width,
                 ..
-            } => crate::generators::column(*base, *drums, *drum_height, *width),
+            } => g::column(*base, *drums, *drum_height, *width),
             BlockSpec::Wall {
                 origin,
                 length,
@@ -648,7 +639,7 @@ impl BlockSpec {
                 brick_height,
                 bond,
                 ..
-            } => crate::generators::wall(
+            } => g::wall(
                 *origin,
                 *length,
                 *courses,
@@ -662,101 +653,71 @@ impl BlockSpec {
                 min_block_area,
                 fixed_below,
                 ..
-            } => crate::generators::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
+            } => g::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
                 .map(|j| j.pieces)
                 .unwrap_or_default(),
-            BlockSpec::Polyhedron { .. }
-            | BlockSpec::Box { .. }
-            | BlockSpec::Prism { .. }
-            | BlockSpec::JointedDomain3D { .. } => return Vec::new(),
+            _ => Vec::new(),
         };
-        pieces
-            .into_iter()
-            .map(|p| SceneBlock {
-                entry,
-                part: Some(p.name),
-                vertices: p.vertices,
-                faces: Vec::new(),
-                fixed: self.fixed() || p.always_fixed,
-                // Abutments stay put.
-                velocity: if p.always_fixed { [0.0; 3] } else { velocity },
-                stress,
-            })
-            .collect()
+        self.blocks_of(entry, pieces)
     }
 
-    /// The 3D block of this entry, with `entry` as its entry index; none
-    /// for a 2D entry or for one whose sizes make no sense (see
-    /// [`Scene::validate`]).
+    /// The 3D blocks of this entry (one but for a jointed domain), with
+    /// `entry` as their entry index; none for a 2D entry or for one whose
+    /// sizes make no sense (see [`Scene::validate`]).
     pub fn expand_3d(&self, entry: usize) -> Vec<SceneBlock3> {
-        let block = |vertices: Vec<[f64; 3]>, faces: Vec<Vec<usize>>, velocity, stress| {
-            vec![SceneBlock3 {
-                entry,
-                part: None,
-                vertices,
-                faces,
-                fixed: self.fixed(),
-                velocity,
-                stress,
-            }]
-        };
-        match self {
+        use crate::generators::{self as g, Piece};
+        let whole = |(v, f)| vec![Piece::new(None, v, f)];
+        let pieces = match self {
             BlockSpec::Polyhedron {
-                vertices,
-                faces,
-                velocity,
-                stress,
-                ..
-            } => block(vertices.clone(), faces.clone(), *velocity, *stress),
+                vertices, faces, ..
+            } => whole((vertices.clone(), faces.clone())),
             BlockSpec::Box {
                 center,
                 size,
                 rotation,
-                velocity,
-                stress,
                 ..
-            } => match crate::generators::cuboid(*center, *size, *rotation) {
-                Some((v, f)) => block(v, f, *velocity, *stress),
-                None => Vec::new(),
-            },
+            } => g::cuboid(*center, *size, *rotation).map_or(vec![], whole),
             BlockSpec::Prism {
-                outline,
-                z0,
-                z1,
-                velocity,
-                stress,
-                ..
-            } => match crate::generators::prism(outline, *z0, *z1) {
-                Some((v, f)) => block(v, f, *velocity, *stress),
-                None => Vec::new(),
-            },
+                outline, z0, z1, ..
+            } => g::prism(outline, *z0, *z1).map_or(vec![], whole),
             BlockSpec::JointedDomain3D {
                 region,
                 sets,
                 min_block_volume,
                 fixed_below,
-                velocity,
-                stress,
                 ..
-            } => crate::generators::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
-                .map(|j| {
-                    j.pieces
-                        .into_iter()
-                        .enumerate()
-                        .map(|(k, p)| SceneBlock3 {
-                            entry,
-                            part: Some(format!("block {k}")),
-                            vertices: p.vertices,
-                            faces: p.faces,
-                            fixed: self.fixed() || p.fixed,
-                            velocity: if p.fixed { [0.0; 6] } else { *velocity },
-                            stress: *stress,
-                        })
-                        .collect()
-                })
+            } => g::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
+                .map(|j| j.pieces)
                 .unwrap_or_default(),
             _ => Vec::new(),
-        }
+        };
+        self.blocks_of(entry, pieces)
+    }
+
+    /// The entry's pieces as blocks numbered `entry`, with its initial state
+    /// (none if that has the other dimension's length).
+    fn blocks_of<P, const K: usize>(
+        &self,
+        entry: usize,
+        pieces: Vec<crate::generators::Piece<P>>,
+    ) -> Vec<SceneBlock<P, K>> {
+        let (Ok(velocity), Ok(stress)) = (self.velocity().try_into(), self.stress().try_into())
+        else {
+            return Vec::new();
+        };
+        pieces
+            .into_iter()
+            .map(|p| SceneBlock {
+                entry,
+                part: p.name,
+                vertices: p.vertices,
+                faces: p.faces,
+                fixed: self.fixed() || p.always_fixed,
+                // Abutments and blocks fixed below a level stay put.
+                velocity: if p.always_fixed { [0.0; K] } else { velocity },
+                stress,
+            })
+            .collect()
     }
 }
 

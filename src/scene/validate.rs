@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use dda_2d::polygon;
 use dda_3d::polyhedron::{self as polyhedra, Fault, Polyhedron, PolyhedronError};
-use dda_core::{BlockKind, GroundMotion, Quantity, Record};
+use dda_core::{settings, BlockKind, DdaError, GroundMotion, Quantity, Record};
 use nalgebra::{Point2, Point3, SVector};
 
 use super::locate::{locate_exact, Seg};
@@ -285,43 +285,36 @@ impl Scene {
         self.source.invalid(place, message)
     }
 
+    /// The core's check of a value, at `place`.
+    fn core(&self, place: &Place, check: std::result::Result<(), DdaError>) -> Result {
+        check.map_err(|e| match e {
+            DdaError::Setting { message, .. } => self.error(place, message),
+            e => self.error(place, e.to_string()),
+        })
+    }
+
     fn finite(&self, place: &Place, what: &str, v: f64) -> Result {
-        if v.is_finite() {
-            Ok(())
-        } else {
-            Err(self.error(
-                place,
-                format!("{what} is {v}, not a finite number; write a finite value"),
-            ))
-        }
+        self.core(place, settings::finite("", what, v))
     }
 
     fn finite_all(&self, place: &Place, what: &str, values: &[f64]) -> Result {
-        for v in values {
-            self.finite(place, what, *v)?;
+        values.iter().try_for_each(|v| self.finite(place, what, *v))
+    }
+
+    /// Each point of a list finite, named like "vertex 3".
+    fn points<const D: usize>(&self, at: &Place, what: &str, points: &[[f64; D]]) -> Result {
+        for (i, p) in points.iter().enumerate() {
+            self.finite_all(&at.index(i), &format!("{what} {i}"), p)?;
         }
         Ok(())
     }
 
     fn positive(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
-        self.finite(place, what, v)?;
-        if v > 0.0 {
-            Ok(())
-        } else {
-            Err(self.error(place, format!("{what} must be positive, got {v}; {hint}")))
-        }
+        self.core(place, settings::positive("", what, v, hint))
     }
 
     fn non_negative(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
-        self.finite(place, what, v)?;
-        if v >= 0.0 {
-            Ok(())
-        } else {
-            Err(self.error(
-                place,
-                format!("{what} must not be negative, got {v}; {hint}"),
-            ))
-        }
+        self.core(place, settings::non_negative("", what, v, hint))
     }
 
     fn check_analysis(&self) -> Result {
@@ -675,77 +668,50 @@ impl Scene {
 
     /// A jointed domain's joint sets, in `dimension` 2 or 3.
     fn check_sets(&self, at: &Place, sets: &[JointSet], dimension: u32) -> Result {
+        let three = dimension == 3;
         for (k, set) in sets.iter().enumerate() {
             let at = at.field("sets").index(k);
-            self.finite(&at.field("dip"), "the dip", set.dip)?;
-            let (lo, hi) = if dimension == 3 {
-                (0.0, 90.0)
-            } else {
-                (-90.0, 90.0)
+            let fail = |field: &str, message: &str| -> Result {
+                Err(self.error(&at.field(field), message))
             };
-            if set.dip < lo || set.dip > hi || (dimension == 2 && set.dip == -90.0) {
-                let range = if dimension == 3 {
-                    "[0, 90]"
-                } else {
-                    "(-90, 90]"
-                };
-                return Err(self.error(
-                    &at.field("dip"),
-                    format!("the dip must lie in {range} degrees, got {}; give the angle below the horizontal", set.dip),
-                ));
+            self.finite(&at.field("dip"), "the dip", set.dip)?;
+            let (lo, range) = if three {
+                (0.0, "[0, 90]")
+            } else {
+                (-90.0, "(-90, 90]")
+            };
+            if set.dip < lo || set.dip > 90.0 || (!three && set.dip == -90.0) {
+                let dip = set.dip;
+                return fail("dip", &format!("the dip must lie in {range} degrees, got {dip}; give the angle below the horizontal"));
             }
-            self.positive(
-                &at.field("spacing"),
-                "the spacing",
-                set.spacing,
-                "give the distance between joints in m",
-            )?;
+            let hint = "give the distance between joints in m";
+            self.positive(&at.field("spacing"), "the spacing", set.spacing, hint)?;
             if !set.origin.is_empty() {
                 self.coords(&at.field("origin"), "the origin", &set.origin, self.axes())?;
             }
-            if dimension == 3 {
-                self.finite(
-                    &at.field("dip_direction"),
-                    "the dip direction",
-                    set.dip_direction,
-                )?;
-                if set.trace_length.is_some() || set.bridge != 0.0 {
-                    let field = if set.trace_length.is_some() {
-                        "trace_length"
-                    } else {
-                        "bridge"
-                    };
-                    return Err(self.error(
-                        &at.field(field),
-                        "3D joint sets are persistent planes; remove trace_length and bridge",
-                    ));
+            if three {
+                let direction = set.dip_direction;
+                self.finite(&at.field("dip_direction"), "the dip direction", direction)?;
+                let planes = "3D joint sets are persistent planes; remove trace_length and bridge";
+                if set.trace_length.is_some() {
+                    return fail("trace_length", planes);
+                }
+                if set.bridge != 0.0 {
+                    return fail("bridge", planes);
                 }
             } else {
                 if set.dip_direction != 0.0 {
-                    return Err(self.error(
-                        &at.field("dip_direction"),
-                        "a 2D joint set has no dip direction: a positive dip dips toward +x, a negative one toward -x; remove dip_direction",
-                    ));
+                    return fail("dip_direction", "a 2D joint set has no dip direction: a positive dip dips toward +x, a negative one toward -x; remove dip_direction");
                 }
                 if let Some(length) = set.trace_length {
-                    self.positive(
-                        &at.field("trace_length"),
-                        "the trace length",
-                        length,
-                        "give the length of each trace in m, or leave it out for persistent joints",
-                    )?;
+                    let hint =
+                        "give the length of each trace in m, or leave it out for persistent joints";
+                    self.positive(&at.field("trace_length"), "the trace length", length, hint)?;
                 }
-                self.non_negative(
-                    &at.field("bridge"),
-                    "the bridge",
-                    set.bridge,
-                    "give the intact length between traces in m",
-                )?;
+                let hint = "give the intact length between traces in m";
+                self.non_negative(&at.field("bridge"), "the bridge", set.bridge, hint)?;
                 if set.bridge > 0.0 && set.trace_length.is_none() {
-                    return Err(self.error(
-                        &at.field("bridge"),
-                        "a bridge separates traces, but the set has no trace_length (its joints are persistent); add trace_length or remove bridge",
-                    ));
+                    return fail("bridge", "a bridge separates traces, but the set has no trace_length (its joints are persistent); add trace_length or remove bridge");
                 }
             }
             if let Some(law) = &set.law {
@@ -774,11 +740,14 @@ impl Scene {
     /// The entry's own values: material, sizes, counts, initial state.
     fn check_block(&self, at: &Place, block: &BlockSpec) -> Result {
         self.check_block_material(at, block)?;
+        let positive = |field: &str, what: &str, v: f64, hint: &str| {
+            self.positive(&at.field(field), what, v, hint)
+        };
+        let finite =
+            |field: &str, what: &str, v: &[f64]| self.finite_all(&at.field(field), what, v);
         match block {
             BlockSpec::Polygon { vertices, .. } => {
-                for (i, v) in vertices.iter().enumerate() {
-                    self.finite_all(&at.field("vertices").index(i), &format!("vertex {i}"), v)?;
-                }
+                self.points(&at.field("vertices"), "vertex", vertices)?
             }
             BlockSpec::Rectangle {
                 center,
@@ -787,41 +756,15 @@ impl Scene {
                 angle,
                 ..
             } => {
-                self.finite_all(&at.field("center"), "the center", center)?;
-                self.positive(
-                    &at.field("width"),
-                    "the width",
-                    *width,
-                    "give the rectangle's size",
-                )?;
-                self.positive(
-                    &at.field("height"),
-                    "the height",
-                    *height,
-                    "give the rectangle's size",
-                )?;
-                self.finite(&at.field("angle"), "the angle", *angle)?;
+                let hint = "give the rectangle's size";
+                finite("center", "the center", center)?;
+                positive("width", "the width", *width, hint)?;
+                positive("height", "the height", *height, hint)?;
+                finite("angle", "the angle", &[*angle])?;
             }
-            BlockSpec::Arch {
-                center,
-                radius,
-                thickness,
-                voussoirs,
-                span_angle,
-                pointed,
-                ..
-            } => self.check_arch(
-                &at,
-                &crate::generators::ArchShape {
-                    center: *center,
-                    radius: *radius,
-                    thickness: *thickness,
-                    voussoirs: *voussoirs,
-                    span_angle: *span_angle,
-                    pointed: *pointed,
-                    abutments: true,
-                },
-            )?,
+            BlockSpec::Arch { .. } => {
+                self.check_arch(at, &block.arch_shape().unwrap_or_default())?
+            }
             BlockSpec::Column {
                 base,
                 drums,
@@ -829,16 +772,11 @@ impl Scene {
                 width,
                 ..
             } => {
-                self.finite_all(&at.field("base"), "the base", base)?;
-                self.count(&at.field("drums"), "drums", *drums, 1)?;
                 let hint = "give the column's size in m";
-                self.positive(
-                    &at.field("drum_height"),
-                    "the drum height",
-                    *drum_height,
-                    hint,
-                )?;
-                self.positive(&at.field("width"), "the width", *width, hint)?;
+                finite("base", "the base", base)?;
+                self.count(&at.field("drums"), "drums", *drums, 1)?;
+                positive("drum_height", "the drum height", *drum_height, hint)?;
+                positive("width", "the width", *width, hint)?;
             }
             BlockSpec::Wall {
                 origin,
@@ -848,26 +786,16 @@ impl Scene {
                 brick_height,
                 ..
             } => {
-                self.finite_all(&at.field("origin"), "the origin", origin)?;
                 let hint = "give the wall's sizes in m";
-                self.positive(&at.field("length"), "the length", *length, hint)?;
+                finite("origin", "the origin", origin)?;
+                positive("length", "the length", *length, hint)?;
                 self.count(&at.field("courses"), "courses", *courses, 1)?;
-                self.positive(
-                    &at.field("brick_length"),
-                    "the brick length",
-                    *brick_length,
-                    hint,
-                )?;
-                self.positive(
-                    &at.field("brick_height"),
-                    "the brick height",
-                    *brick_height,
-                    hint,
-                )?;
+                positive("brick_length", "the brick length", *brick_length, hint)?;
+                positive("brick_height", "the brick height", *brick_height, hint)?;
                 let n = crate::generators::wall_count(*length, *courses, *brick_length);
                 if n > MAX_PARTS as f64 {
                     return Err(self.error(
-                        &at,
+                        at,
                         format!(
                             "the wall would have about {n:.0} bricks, more than {MAX_PARTS}; use longer bricks, fewer courses or a shorter wall"
                         ),
@@ -877,40 +805,26 @@ impl Scene {
             BlockSpec::JointedDomain {
                 region,
                 sets,
-                min_block_area,
+                min_block_area: least,
                 fixed_below,
                 ..
             } => {
-                for (i, v) in region.iter().enumerate() {
-                    self.finite_all(
-                        &at.field("region").index(i),
-                        &format!("region corner {i}"),
-                        v,
-                    )?;
-                }
+                self.points(&at.field("region"), "region corner", region)?;
                 polygon::validate(&to_points(region))
                     .map_err(|e| self.error(&at.field("region"), e.to_string()))?;
-                self.check_sets(&at, sets, 2)?;
-                if let Some(a) = min_block_area {
-                    self.non_negative(
-                        &at.field("min_block_area"),
-                        "min_block_area",
-                        *a,
-                        "give an area in m², 0 to keep every block",
-                    )?;
+                self.check_sets(at, sets, 2)?;
+                let hint = "give an area in m², 0 to keep every block";
+                if let Some(v) = least {
+                    self.non_negative(&at.field("min_block_area"), "min_block_area", *v, hint)?;
                 }
-                if let Some(y) = fixed_below {
-                    self.finite(&at.field("fixed_below"), "fixed_below", *y)?;
-                }
-                crate::generators::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
-                    .map_err(|e| self.cut_failure(&at, e))?;
+                finite("fixed_below", "fixed_below", fixed_below.as_slice())?;
+                crate::generators::jointed::cut_2d(region, sets, *least, *fixed_below)
+                    .map_err(|e| self.cut_failure(at, e))?;
             }
             BlockSpec::Polyhedron {
                 vertices, faces, ..
             } => {
-                for (i, v) in vertices.iter().enumerate() {
-                    self.finite_all(&at.field("vertices").index(i), &format!("vertex {i}"), v)?;
-                }
+                self.points(&at.field("vertices"), "vertex", vertices)?;
                 if faces.is_empty() {
                     return Err(self.error(
                         &at.field("faces"),
@@ -924,32 +838,26 @@ impl Scene {
                 rotation,
                 ..
             } => {
-                self.finite_all(&at.field("center"), "the center", center)?;
+                finite("center", "the center", center)?;
                 for (axis, s) in ["x", "y", "z"].iter().zip(size) {
-                    self.positive(
-                        &at.field("size"),
-                        &format!("the size along its own {axis}"),
+                    let what = format!("the size along its own {axis}");
+                    positive(
+                        "size",
+                        &what,
                         *s,
                         "give the box's edge lengths (a, b, c) in m",
                     )?;
                 }
-                self.finite_all(&at.field("rotation"), "the rotation", rotation)?;
+                finite("rotation", "the rotation", rotation)?;
             }
             BlockSpec::Prism {
                 outline, z0, z1, ..
             } => {
-                for (i, v) in outline.iter().enumerate() {
-                    self.finite_all(
-                        &at.field("outline").index(i),
-                        &format!("outline point {i}"),
-                        v,
-                    )?;
-                }
-                let points = to_points(outline);
-                polygon::validate(&points)
+                self.points(&at.field("outline"), "outline point", outline)?;
+                polygon::validate(&to_points(outline))
                     .map_err(|e| self.error(&at.field("outline"), e.to_string()))?;
-                self.finite(&at.field("z0"), "z0", *z0)?;
-                self.finite(&at.field("z1"), "z1", *z1)?;
+                finite("z0", "z0", &[*z0])?;
+                finite("z1", "z1", &[*z1])?;
                 if z1 <= z0 {
                     return Err(self.error(
                         &at.field("z1"),
@@ -960,43 +868,27 @@ impl Scene {
             BlockSpec::JointedDomain3D {
                 region,
                 sets,
-                min_block_volume,
+                min_block_volume: least,
                 fixed_below,
                 ..
             } => {
-                let corners: Vec<[f64; 3]> = match region {
+                let corners = match region {
                     Region3::Box { min, max } => vec![*min, *max],
                     Region3::Hull(c) => c.clone(),
                 };
-                for (i, v) in corners.iter().enumerate() {
-                    self.finite_all(
-                        &at.field("region").index(i),
-                        &format!("region corner {i}"),
-                        v,
-                    )?;
-                }
+                self.points(&at.field("region"), "region corner", &corners)?;
                 self.check_sets(at, sets, 3)?;
-                if let Some(v) = min_block_volume {
-                    self.non_negative(
-                        &at.field("min_block_volume"),
-                        "min_block_volume",
-                        *v,
-                        "give a volume in m³, 0 to keep every block",
-                    )?;
+                let hint = "give a volume in m³, 0 to keep every block";
+                if let Some(v) = least {
+                    self.non_negative(&at.field("min_block_volume"), "min_block_volume", *v, hint)?;
                 }
-                if let Some(z) = fixed_below {
-                    self.finite(&at.field("fixed_below"), "fixed_below", *z)?;
-                }
-                crate::generators::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
+                finite("fixed_below", "fixed_below", fixed_below.as_slice())?;
+                crate::generators::jointed::cut_3d(region, sets, *least, *fixed_below)
                     .map_err(|e| self.cut_failure(at, e))?;
             }
         }
-        self.finite_all(
-            &at.field("velocity"),
-            "the initial velocity",
-            block.velocity(),
-        )?;
-        self.finite_all(&at.field("stress"), "the initial stress", block.stress())
+        finite("velocity", "the initial velocity", block.velocity())?;
+        finite("stress", "the initial stress", block.stress())
     }
 
     /// A number of generated blocks: at least `min`, at most [`MAX_PARTS`].
@@ -1014,74 +906,35 @@ impl Scene {
     }
 
     fn check_arch(&self, at: &Place, arch: &crate::generators::ArchShape) -> Result {
-        self.finite_all(&at.field("center"), "the center", &arch.center)?;
+        let fail =
+            |field: &str, message: String| -> Result { Err(self.error(&at.field(field), message)) };
+        let (r, t, e, span) = (arch.radius, arch.thickness, arch.pointed, arch.span_angle);
         let hint = "give the arch's size in m";
-        self.positive(&at.field("radius"), "the radius", arch.radius, hint)?;
-        self.positive(
-            &at.field("thickness"),
-            "the thickness",
-            arch.thickness,
-            hint,
-        )?;
-        if arch.radius <= arch.thickness / 2.0 {
-            return Err(self.error(
-                &at.field("radius"),
-                format!(
-                    "the radius ({}) must exceed half the thickness ({}): it is the centreline's, with the intrados at radius − thickness/2; use a larger radius or a thinner arch",
-                    arch.radius, arch.thickness
-                ),
-            ));
+        self.finite_all(&at.field("center"), "the center", &arch.center)?;
+        self.positive(&at.field("radius"), "the radius", r, hint)?;
+        self.positive(&at.field("thickness"), "the thickness", t, hint)?;
+        if r <= t / 2.0 {
+            return fail("radius", format!("the radius ({r}) must exceed half the thickness ({t}): it is the centreline's, with the intrados at radius − thickness/2; use a larger radius or a thinner arch"));
         }
         self.count(&at.field("voussoirs"), "voussoirs", arch.voussoirs, 2)?;
-        let span = arch.span_angle;
         self.finite(&at.field("span_angle"), "the span angle", span)?;
         if !(span > 0.0 && span <= 180.0) {
-            return Err(self.error(
-                &at.field("span_angle"),
-                format!(
-                    "the span angle must lie in (0, 180] degrees, got {span}; 180 is a semicircular arch, less a segmental one"
-                ),
-            ));
+            return fail("span_angle", format!("the span angle must lie in (0, 180] degrees, got {span}; 180 is a semicircular arch, less a segmental one"));
         }
-        let e = arch.pointed;
         self.finite(&at.field("pointed"), "pointed", e)?;
         if !(0.0..1.0).contains(&e) {
-            return Err(self.error(
-                &at.field("pointed"),
-                format!(
-                    "pointed must lie in [0, 1), got {e}; it is the offset of the two centres as a fraction of the radius (0 for a round arch)"
-                ),
-            ));
+            return fail("pointed", format!("pointed must lie in [0, 1), got {e}; it is the offset of the two centres as a fraction of the radius (0 for a round arch)"));
         }
-        if e > 0.0 {
-            if arch.voussoirs % 2 == 1 {
-                return Err(self.error(
-                    &at.field("voussoirs"),
-                    format!(
-                        "a pointed arch needs an even number of voussoirs (half on each side of the crown joint), got {}",
-                        arch.voussoirs
-                    ),
-                ));
-            }
-            let (ri, _) = arch.radii();
-            if ri <= e * arch.radius {
-                return Err(self.error(
-                    &at.field("pointed"),
-                    format!(
-                        "the intrados (radius {ri}) does not reach the crown: the centres are {} from it; use a smaller pointed or a thinner arch",
-                        e * arch.radius
-                    ),
-                ));
-            }
+        let (ri, _) = arch.radii();
+        if e > 0.0 && arch.voussoirs % 2 == 1 {
+            return fail("voussoirs", format!("a pointed arch needs an even number of voussoirs (half on each side of the crown joint), got {}", arch.voussoirs));
+        }
+        if e > 0.0 && ri <= e * r {
+            return fail("pointed", format!("the intrados (radius {ri}) does not reach the crown: the centres are {} from it; use a smaller pointed or a thinner arch", e * r));
         }
         if arch.springing_angle() <= arch.crown_angle() {
-            return Err(self.error(
-                &at.field("span_angle"),
-                format!(
-                    "a span angle of {span} degrees ends above the crown of this pointed arch; use more than {} degrees",
-                    2.0 * (arch.crown_angle() - 90.0)
-                ),
-            ));
+            let least = 2.0 * (arch.crown_angle() - 90.0);
+            return fail("span_angle", format!("a span angle of {span} degrees ends above the crown of this pointed arch; use more than {least} degrees"));
         }
         Ok(())
     }
@@ -1250,49 +1103,41 @@ impl Scene {
             }
         }
         let at = root.field("motion");
-        let amplitude = |a: &Coords| SVector::<f64, D>::from_fn(|k, _| a.get(k));
+        let amplitude = |a: &Coords| -> Result<SVector<f64, D>> {
+            self.vector(&at.field("amplitude"), "the amplitude", a, "a")?;
+            Ok(SVector::from_fn(|k, _| a.get(k)))
+        };
+        let positive = |field: &str, what: &str, v: f64, hint: &str| -> Result<f64> {
+            self.positive(&at.field(field), what, v, hint).map(|_| v)
+        };
         let mut note = None;
         let motion = match motion {
             MotionSpec::Sine {
                 amplitude: a,
                 frequency,
                 duration,
-            } => {
-                self.vector(&at.field("amplitude"), "the amplitude", a, "a")?;
-                self.positive(
-                    &at.field("frequency"),
-                    "the frequency",
-                    *frequency,
-                    "give it in Hz",
-                )?;
-                self.positive(
-                    &at.field("duration"),
+            } => GroundMotion::Sine {
+                amplitude: amplitude(a)?,
+                frequency: positive("frequency", "the frequency", *frequency, "give it in Hz")?,
+                duration: positive(
+                    "duration",
                     "the duration",
                     *duration,
                     "give how long the shaking lasts, in s",
-                )?;
-                GroundMotion::Sine {
-                    amplitude: amplitude(a),
-                    frequency: *frequency,
-                    duration: *duration,
-                }
-            }
+                )?,
+            },
             MotionSpec::Pulse {
                 amplitude: a,
                 period,
-            } => {
-                self.vector(&at.field("amplitude"), "the amplitude", a, "a")?;
-                self.positive(
-                    &at.field("period"),
+            } => GroundMotion::Pulse {
+                amplitude: amplitude(a)?,
+                period: positive(
+                    "period",
                     "the period",
                     *period,
                     "give the pulse's length in s",
-                )?;
-                GroundMotion::Pulse {
-                    amplitude: amplitude(a),
-                    period: *period,
-                }
-            }
+                )?,
+            },
             MotionSpec::Record {
                 path,
                 quantity,
