@@ -763,7 +763,10 @@ impl Scene {
                 finite("angle", "the angle", &[*angle])?;
             }
             BlockSpec::Arch { .. } => {
-                self.check_arch(at, &block.arch_shape().unwrap_or_default())?
+                let shape = block.arch_shape().unwrap_or_default();
+                if let Err(DdaError::Setting { field, message }) = shape.check() {
+                    return Err(self.error(&at.field(field), message));
+                }
             }
             BlockSpec::Column {
                 base,
@@ -891,52 +894,9 @@ impl Scene {
         finite("stress", "the initial stress", block.stress())
     }
 
-    /// A number of generated blocks: at least `min`, at most [`MAX_PARTS`].
-    fn count(&self, at: &Place, what: &str, n: usize, min: usize) -> Result {
-        if n < min {
-            Err(self.error(at, format!("{what} must be at least {min}, got {n}")))
-        } else if n > MAX_PARTS {
-            Err(self.error(
-                at,
-                format!("{n} {what} is more than the {MAX_PARTS} a generator makes; use fewer"),
-            ))
-        } else {
-            Ok(())
-        }
-    }
-
-    fn check_arch(&self, at: &Place, arch: &crate::generators::ArchShape) -> Result {
-        let fail =
-            |field: &str, message: String| -> Result { Err(self.error(&at.field(field), message)) };
-        let (r, t, e, span) = (arch.radius, arch.thickness, arch.pointed, arch.span_angle);
-        let hint = "give the arch's size in m";
-        self.finite_all(&at.field("center"), "the center", &arch.center)?;
-        self.positive(&at.field("radius"), "the radius", r, hint)?;
-        self.positive(&at.field("thickness"), "the thickness", t, hint)?;
-        if r <= t / 2.0 {
-            return fail("radius", format!("the radius ({r}) must exceed half the thickness ({t}): it is the centreline's, with the intrados at radius − thickness/2; use a larger radius or a thinner arch"));
-        }
-        self.count(&at.field("voussoirs"), "voussoirs", arch.voussoirs, 2)?;
-        self.finite(&at.field("span_angle"), "the span angle", span)?;
-        if !(span > 0.0 && span <= 180.0) {
-            return fail("span_angle", format!("the span angle must lie in (0, 180] degrees, got {span}; 180 is a semicircular arch, less a segmental one"));
-        }
-        self.finite(&at.field("pointed"), "pointed", e)?;
-        if !(0.0..1.0).contains(&e) {
-            return fail("pointed", format!("pointed must lie in [0, 1), got {e}; it is the offset of the two centres as a fraction of the radius (0 for a round arch)"));
-        }
-        let (ri, _) = arch.radii();
-        if e > 0.0 && arch.voussoirs % 2 == 1 {
-            return fail("voussoirs", format!("a pointed arch needs an even number of voussoirs (half on each side of the crown joint), got {}", arch.voussoirs));
-        }
-        if e > 0.0 && ri <= e * r {
-            return fail("pointed", format!("the intrados (radius {ri}) does not reach the crown: the centres are {} from it; use a smaller pointed or a thinner arch", e * r));
-        }
-        if arch.springing_angle() <= arch.crown_angle() {
-            let least = 2.0 * (arch.crown_angle() - 90.0);
-            return fail("span_angle", format!("a span angle of {span} degrees ends above the crown of this pointed arch; use more than {least} degrees"));
-        }
-        Ok(())
+    /// A generator's count of blocks, at `place`.
+    fn count(&self, place: &Place, what: &str, n: usize, min: usize) -> Result {
+        self.core(place, crate::generators::count("", what, n, min))
     }
 
     fn check_loads(&self, blocks: &[Slot]) -> Result {
