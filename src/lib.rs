@@ -46,6 +46,7 @@ pub mod checkpoint;
 pub mod cli;
 pub mod extrude;
 pub mod features;
+mod generators;
 pub mod guard;
 pub mod import;
 pub mod observe;

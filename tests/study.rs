@@ -125,7 +125,7 @@ fn a_bad_field_path_names_the_file_the_path_and_the_fields_there() {
     );
     assert!(e.contains("bad.ron"), "{e}");
     assert!(e.contains("analysis.dtt"), "{e}");
-    assert!(e.contains("duration, dt, mode"), "{e}");
+    assert!(e.contains("duration, mode, velocity_ratio"), "{e}");
 
     // An unknown study field is located.
     std::fs::write(&path, "Study(\n  scene: File(\"x.ron\"),\n  sweeps: [],\n)").unwrap();

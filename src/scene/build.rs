@@ -2,17 +2,17 @@
 
 use std::collections::HashMap;
 
-use dda_2d::{Block, Driver2d, PlaneElastic, Polygons};
-use dda_3d::{Driver3d, IsotropicElastic, Polyhedra};
+use dda_2d::{Block, Driver2d, PlaneElastic};
+use dda_3d::{Driver3d, IsotropicElastic};
 use dda_contact::{LawRegistry, Params, SlipWeakening};
 use dda_core::{
-    BlockSet, BlockSystem, ConstitutiveLaw, Driver, DynContactLaw, Element, FixedPoint, Force,
-    MeasuredPoint, Settings,
+    BlockKind, BlockSet, BlockSystem, ConstitutiveLaw, Driver, DynContactLaw, Element, FixedPoint,
+    Force, MeasuredPoint, Settings,
 };
 use nalgebra::{Point3, SVector, Vector3, Vector6};
 
 use super::validate::{place_of, to_points, unit_axis, Place, Slot};
-use super::{Coords, JointLaw, Load, Scene, SceneError};
+use super::{Coords, JointLaw, Load, Material, Scene, SceneBlock, SceneError};
 
 /// A scene ready to run: a 2D one by default ([`Driver2d`]), a 3D one as
 /// [`Model3`].
@@ -161,47 +161,29 @@ impl Scene {
         if self.dimension != 2 {
             return Err(self.wrong_dimension(2));
         }
-        let blocks_at = Place::root().field("blocks");
-        let materials: Vec<Box<dyn ConstitutiveLaw<3>>> = self
-            .materials
-            .iter()
-            .map(|(_, m)| {
+        let plane = self.analysis.plane;
+        self.build_blocks(
+            registry,
+            self.expanded_blocks(),
+            |m| -> Box<dyn ConstitutiveLaw<3>> {
                 Box::new(PlaneElastic {
                     young: m.young,
                     poisson: m.poisson,
-                    plane: self.analysis.plane,
-                }) as Box<dyn ConstitutiveLaw<3>>
-            })
-            .collect();
-        let specs = self.expanded_blocks();
-        let mut blocks = Vec::with_capacity(specs.len());
-        for spec in &specs {
-            let at = self.block_place(spec);
-            let material = self
-                .material_index(&self.blocks[spec.entry])
-                .ok_or_else(|| {
-                    self.error(
-                        &blocks_at.index(spec.entry),
-                        "the block's material is not defined",
-                    )
-                })?;
-            let density = self.materials[material].1.density;
-            let mut block = Block::new(&to_points(&spec.vertices), material, density)
-                .map_err(|e| self.error(&at, e.to_string()))?;
-            block.stress = Vector3::from(spec.stress);
-            block.kind = self.kind_of(&self.blocks[spec.entry]);
-            blocks.push(block);
-        }
-
-        let mut system = Polygons::new(blocks, materials);
-        let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
-        let table = self.law_table();
-        let notes = self.equip(&mut system, &table, specs.iter().map(|s| s.fixed), &slots)?;
-        let velocities = specs.iter().map(|spec| {
-            let [vx, vy, w] = spec.velocity;
-            Vector6::new(vx, vy, w, 0.0, 0.0, 0.0)
-        });
-        self.model(system, &table, registry, velocities, notes)
+                    plane,
+                })
+            },
+            |spec, material, density, kind| {
+                let mut block = Block::new(&to_points(&spec.vertices), material, density)
+                    .map_err(|e| e.to_string())?;
+                block.stress = Vector3::from(spec.stress);
+                block.kind = kind;
+                Ok(block)
+            },
+            |spec| {
+                let [vx, vy, w] = spec.velocity;
+                Vector6::new(vx, vy, w, 0.0, 0.0, 0.0)
+            },
+        )
     }
 
     /// Validates a 3D scene and builds it with `Custom` joint laws built
@@ -211,42 +193,74 @@ impl Scene {
         if self.dimension != 3 {
             return Err(self.wrong_dimension(3));
         }
-        let materials: Vec<Box<dyn ConstitutiveLaw<6>>> = self
-            .materials
-            .iter()
-            .map(|(_, m)| {
+        self.build_blocks(
+            registry,
+            self.expanded_blocks_3d(),
+            |m| -> Box<dyn ConstitutiveLaw<6>> {
                 Box::new(IsotropicElastic {
                     young: m.young,
                     poisson: m.poisson,
-                }) as Box<dyn ConstitutiveLaw<6>>
-            })
-            .collect();
-        let specs = self.expanded_blocks_3d();
+                })
+            },
+            |spec, material, density, kind| {
+                let points: Vec<Point3<f64>> = spec.vertices.iter().map(|&v| v.into()).collect();
+                let mut block = dda_3d::Block::new(&points, &spec.faces, material, density)
+                    .map_err(|e| e.to_string())?;
+                block.stress = Vector6::from(spec.stress);
+                block.kind = kind;
+                Ok(block)
+            },
+            |spec| {
+                let mut v = SVector::<f64, 12>::zeros();
+                v.fixed_rows_mut::<6>(0).copy_from_slice(&spec.velocity);
+                v
+            },
+        )
+    }
+
+    /// The block set and driver of either dimension from the expanded
+    /// blocks: `elastic` makes a material's law, `block` a block from its
+    /// corners (and faces), material, density and kind, `velocity` its
+    /// initial velocity.
+    #[allow(clippy::too_many_arguments)]
+    fn build_blocks<
+        P,
+        B,
+        const D: usize,
+        const N: usize,
+        const T: usize,
+        const S: usize,
+        const K: usize,
+    >(
+        &self,
+        registry: &LawRegistry,
+        specs: Vec<SceneBlock<P, K>>,
+        elastic: impl Fn(&Material) -> Box<dyn ConstitutiveLaw<S>>,
+        block: impl Fn(&SceneBlock<P, K>, usize, f64, BlockKind) -> Result<B, String>,
+        velocity: impl Fn(&SceneBlock<P, K>) -> SVector<f64, N>,
+    ) -> Result<Model<Driver<BlockSet<B, D, N, T, S>, N, T>>, SceneError>
+    where
+        B: Element<D, N, T, S>,
+    {
+        let materials = self.materials.iter().map(|(_, m)| elastic(m)).collect();
         let mut blocks = Vec::with_capacity(specs.len());
         for spec in &specs {
             let at = place_of(spec.entry, spec.part.as_deref());
+            let entry = &self.blocks[spec.entry];
             let material = self
-                .material_index(&self.blocks[spec.entry])
+                .material_index(entry)
                 .ok_or_else(|| self.error(&at, "the block's material is not defined"))?;
             let density = self.materials[material].1.density;
-            let points: Vec<Point3<f64>> = spec.vertices.iter().map(|v| Point3::from(*v)).collect();
-            let mut block = dda_3d::Block::new(&points, &spec.faces, material, density)
-                .map_err(|e| self.error(&at, e.to_string()))?;
-            block.stress = Vector6::from(spec.stress);
-            block.kind = self.kind_of(&self.blocks[spec.entry]);
-            blocks.push(block);
+            blocks.push(
+                block(spec, material, density, self.kind_of(entry))
+                    .map_err(|e| self.error(&at, e))?,
+            );
         }
-
-        let mut system = Polyhedra::new(blocks, materials);
+        let mut system = BlockSet::new(blocks, materials);
         let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
         let table = self.law_table();
         let notes = self.equip(&mut system, &table, specs.iter().map(|s| s.fixed), &slots)?;
-        let velocities = specs.iter().map(|spec| {
-            let mut v = SVector::<f64, 12>::zeros();
-            v.fixed_rows_mut::<6>(0).copy_from_slice(&spec.velocity);
-            v
-        });
-        self.model(system, &table, registry, velocities, notes)
+        self.model(system, &table, registry, specs.iter().map(velocity), notes)
     }
 
     /// What a block set takes from the scene alike in 2D and 3D: gravity,
@@ -374,26 +388,14 @@ impl Scene {
         })
     }
 
-    /// The driver settings the analysis asks for.
+    /// The driver settings the analysis asks for: as written, with the
+    /// velocity ratio of the mode and the damping's coefficient.
     pub(super) fn settings(&self) -> Settings {
         let a = &self.analysis;
         Settings {
             velocity_ratio: a.velocity_ratio.unwrap_or(a.mode.velocity_ratio()),
-            dt: a.dt,
-            min_dt_ratio: a.min_dt_ratio,
-            open_close_limit: a.open_close_limit,
-            max_displacement_ratio: a.max_displacement_ratio,
-            max_penetration_ratio: a.max_penetration_ratio,
-            penalty: a.penalty,
-            raise_penalty: a.raise_penalty,
-            length_scale: a.length_scale,
             mass_damping: a.damping.map_or(0.0, |d| d.mass_coefficient()),
-            contact_damping: a.contact_damping,
-            restitution: a.restitution,
-            integrator: a.integrator,
-            local_damping: a.local_damping,
-            solver: a.solver,
-            ..Settings::default()
+            ..a.settings.clone()
         }
     }
 
@@ -450,7 +452,7 @@ impl Scene {
                 min_block_area,
                 fixed_below,
                 ..
-            } => super::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
+            } => crate::generators::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
                 .map_or((0, Vec::new()), |j| (j.pieces.len(), j.joints)),
             BlockSpec::JointedDomain3D {
                 region,
@@ -458,7 +460,7 @@ impl Scene {
                 min_block_volume,
                 fixed_below,
                 ..
-            } => super::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
+            } => crate::generators::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
                 .map_or((0, Vec::new()), |j| (j.pieces.len(), j.joints)),
             _ if self.dimension == 3 => (spec.expand_3d(0).len(), Vec::new()),
             _ => (spec.expand(0).len(), Vec::new()),

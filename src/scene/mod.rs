@@ -11,10 +11,9 @@
 //! gravity and ground-motion amplitudes are tuples with one number per
 //! dimension ([`Coords`]).
 
+mod analysis;
 mod build;
 mod error;
-mod generate;
-mod jointed;
 mod locate;
 mod motion;
 mod overlap;
@@ -28,9 +27,10 @@ pub use dda_2d::{Plane, RotationUpdate};
 pub use dda_contact::{Coulomb, RateFriction, ThresholdBond, Weakening};
 pub use dda_core::{BlockKind, Integrator, Quantity, Solver};
 
+pub use crate::generators::jointed::{JointSet, Placement, Region3};
+pub use analysis::{Analysis, Damping, Mode};
 pub use build::{AnyModel, LawTable, Model, Model3};
 pub use error::{Location, SceneError};
-pub use jointed::{JointSet, Placement, Region3};
 
 /// One experiment. Field order and names are the file format.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -39,7 +39,7 @@ pub struct Scene {
     /// 2 (the default) or 3.
     #[serde(default = "default_dimension")]
     pub dimension: u32,
-    #[serde(default)]
+    #[serde(default, with = "analysis")]
     pub analysis: Analysis,
     #[serde(default)]
     pub output: Output,
@@ -81,185 +81,6 @@ struct Source {
     /// The folder that files named in the scene are relative to; `None`
     /// for the current one.
     dir: Option<PathBuf>,
-}
-
-/// Analysis settings: the driver's [`dda_core::Settings`] as a scene writes
-/// them (defaults from there), plus what the scene decides itself. `None`
-/// means automatic.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Analysis {
-    /// Simulated time, s; required (0 is rejected).
-    pub duration: f64,
-    /// Nominal time step, s; default automatic, from the contact frequency.
-    pub dt: Option<f64>,
-    /// `Dynamic` (default) carries velocities from step to step, `Static`
-    /// starts each step at rest.
-    pub mode: Mode,
-    /// Fraction of the velocity carried into the next step, in [0, 1];
-    /// default the mode's (1 dynamic, 0 static).
-    pub velocity_ratio: Option<f64>,
-    /// Open-close passes before a step is cut to a third; default 6.
-    pub open_close_limit: usize,
-    /// Largest step displacement as a fraction of w0 (Shi's g2); default 0.01.
-    pub max_displacement_ratio: f64,
-    /// Deepest penetration as a fraction of w0; default 1e-3.
-    pub max_penetration_ratio: f64,
-    /// Smallest step as a fraction of `dt`; default 1e-3.
-    pub min_dt_ratio: f64,
-    /// Normal contact stiffness per unit contact length (2D) or area (3D),
-    /// N/m³; default automatic (see [`dda_core::Settings::penalty`]).
-    pub penalty: Option<f64>,
-    /// Shi's remedy for deep penetration, penalty × 10; default `false`.
-    pub raise_penalty: bool,
-    /// w0, m; default half the diagonal of the model's bounding box.
-    pub length_scale: Option<f64>,
-    /// (gx, gy) in 2D, (gx, gy, gz) in 3D, m/s²; default (0, −9.81) or
-    /// (0, 0, −9.81): see [`Scene::gravity`].
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub gravity: Option<Coords>,
-    /// Plane strain (default) or plane stress: 2D scenes only (an error in 3D).
-    #[serde(with = "PlaneDef", skip_serializing_if = "is_plane_strain")]
-    pub plane: Plane,
-    /// `Exact` (default) turns blocks by the exact rotation, `Linear` by
-    /// Shi's first-order update.
-    #[serde(with = "RotationUpdateDef")]
-    pub rotation_update: RotationUpdate,
-    /// Stiffness of the springs holding fixed points, N/m; default 10 × a
-    /// typical contact's spring.
-    pub fixed_penalty: Option<f64>,
-    /// Mass-proportional viscous damping; default none.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub damping: Option<Damping>,
-    /// Contact damping, a share of critical; default 0 (off), 1 critical:
-    /// see [`dda_core::Settings::contact_damping`].
-    pub contact_damping: f64,
-    /// Coefficient of restitution of impacts in [0, 1]; default none (the
-    /// springs decide): see [`dda_core::Settings::restitution`].
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub restitution: Option<f64>,
-    /// `Implicit` (default: Shi's Newmark steps with open-close
-    /// iterations) or `Explicit` (central differences below the critical
-    /// step): see [`dda_core::Settings::integrator`].
-    #[serde(skip_serializing_if = "is_implicit")]
-    pub integrator: Integrator,
-    /// Local damping of the explicit integrator, a share of each DOF's
-    /// unbalanced force; default 0 (off): see
-    /// [`dda_core::Settings::local_damping`].
-    #[serde(skip_serializing_if = "is_off")]
-    pub local_damping: f64,
-    /// The step's linear solver: `Direct` (default, sparse Cholesky) or
-    /// `Iterative(tolerance, max_iterations)` (preconditioned conjugate
-    /// gradients): see [`dda_core::Settings::solver`].
-    #[serde(skip_serializing_if = "is_direct")]
-    pub solver: Solver,
-    /// What a run does when a guard trips (energy growth in a scene nothing
-    /// works on, a penetration past the bound or a step without open-close
-    /// agreement, both at the smallest step): `Stop` (default) ends it,
-    /// status "failed", with a report; `Continue` runs on and warns.
-    #[serde(skip_serializing_if = "is_stop")]
-    pub on_failure: crate::guard::OnFailure,
-}
-
-fn is_stop(on_failure: &crate::guard::OnFailure) -> bool {
-    *on_failure == crate::guard::OnFailure::Stop
-}
-
-fn is_implicit(integrator: &Integrator) -> bool {
-    *integrator == Integrator::Implicit
-}
-
-fn is_direct(solver: &Solver) -> bool {
-    *solver == Solver::Direct
-}
-
-fn is_off(value: &f64) -> bool {
-    *value == 0.0
-}
-
-fn is_plane_strain(plane: &Plane) -> bool {
-    *plane == Plane::Strain
-}
-
-/// Mass-proportional damping giving the ratio `ratio` of critical damping
-/// at `frequency` (Hz): α = 2·ratio·2π·frequency (1/s), a force −α·m·v on
-/// every block. Lower frequencies are damped more, higher ones less.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Damping {
-    pub ratio: f64,
-    pub frequency: f64,
-}
-
-impl Damping {
-    /// The coefficient α in 1/s.
-    pub fn mass_coefficient(&self) -> f64 {
-        2.0 * self.ratio * std::f64::consts::TAU * self.frequency
-    }
-}
-
-impl Default for Analysis {
-    fn default() -> Self {
-        // The driver's defaults, so the two never drift apart.
-        let s = dda_core::Settings::default();
-        Self {
-            duration: 0.0,
-            dt: None,
-            mode: Mode::Dynamic,
-            velocity_ratio: None,
-            open_close_limit: s.open_close_limit,
-            max_displacement_ratio: s.max_displacement_ratio,
-            max_penetration_ratio: s.max_penetration_ratio,
-            min_dt_ratio: s.min_dt_ratio,
-            penalty: None,
-            raise_penalty: s.raise_penalty,
-            length_scale: None,
-            gravity: None,
-            plane: Plane::Strain,
-            rotation_update: RotationUpdate::Exact,
-            fixed_penalty: None,
-            damping: None,
-            contact_damping: s.contact_damping,
-            restitution: s.restitution,
-            integrator: s.integrator,
-            local_damping: s.local_damping,
-            solver: s.solver,
-            on_failure: crate::guard::OnFailure::Stop,
-        }
-    }
-}
-
-/// Dynamic carries the velocity from step to step; static starts each step at rest.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-pub enum Mode {
-    #[default]
-    Dynamic,
-    Static,
-}
-
-impl Mode {
-    pub fn velocity_ratio(self) -> f64 {
-        match self {
-            Mode::Dynamic => 1.0,
-            Mode::Static => 0.0,
-        }
-    }
-}
-
-/// The file names of [`Plane`] (serde's mirror of the 2D crate's enum).
-#[derive(Serialize, Deserialize)]
-#[serde(remote = "Plane")]
-enum PlaneDef {
-    Strain,
-    Stress,
-}
-
-/// The file names of [`RotationUpdate`].
-#[derive(Serialize, Deserialize)]
-#[serde(remote = "RotationUpdate")]
-enum RotationUpdateDef {
-    Exact,
-    Linear,
 }
 
 /// How many output times an automatic output interval makes.
@@ -640,42 +461,31 @@ pub enum Bond {
     Running,
 }
 
-/// One block of a 2D scene once generators are expanded: the numbering used
-/// by loads, fixed points, joint sets, the ground motion and the outputs.
+/// One block once generators are expanded: the numbering used by loads,
+/// fixed points, joint sets, the ground motion and the outputs. In 2D
+/// (`SceneBlock`) corners are (x, y), the velocity (vx, vy, ω) and the
+/// stress (σx, σy, τxy); in 3D ([`SceneBlock3`]) corners are (x, y, z), the
+/// velocity (vx, vy, vz, ωx, ωy, ωz) and the stress (σx, σy, σz, τyz, τzx,
+/// τxy); tension positive.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SceneBlock {
+pub struct SceneBlock<P = [f64; 2], const K: usize = 3> {
     /// Index of the `blocks` entry that makes it.
     pub entry: usize,
-    /// Which block of a generator it is, like "voussoir 3"; `None` for a
-    /// `Polygon` or `Rectangle`.
+    /// Which block of a generator it is, like "voussoir 3"; `None` for an
+    /// entry that makes one block.
     pub part: Option<String>,
-    /// The outline (as written for a polygon, counter-clockwise otherwise).
-    pub vertices: Vec<[f64; 2]>,
-    pub fixed: bool,
-    /// (vx, vy, ω).
-    pub velocity: [f64; 3],
-    /// (σx, σy, τxy), tension positive.
-    pub stress: [f64; 3],
-}
-
-/// One block of a 3D scene: the numbering used by loads, fixed points,
-/// joint sets, the ground motion and the outputs.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SceneBlock3 {
-    /// Index of the `blocks` entry that makes it.
-    pub entry: usize,
-    /// Which block of a generator it is; `None` for the 3D entries, which
-    /// all make one block.
-    pub part: Option<String>,
-    pub vertices: Vec<[f64; 3]>,
-    /// Each face's corners, counter-clockwise seen from outside.
+    /// The outline (as written for a polygon, counter-clockwise otherwise)
+    /// or the corners of a polyhedron.
+    pub vertices: Vec<P>,
+    /// Each face's corners, counter-clockwise seen from outside; none in 2D.
     pub faces: Vec<Vec<usize>>,
     pub fixed: bool,
-    /// (vx, vy, vz, ωx, ωy, ωz).
-    pub velocity: [f64; 6],
-    /// (σx, σy, σz, τyz, τzx, τxy), tension positive.
-    pub stress: [f64; 6],
+    pub velocity: [f64; K],
+    pub stress: [f64; K],
 }
+
+/// One block of a 3D scene.
+pub type SceneBlock3 = SceneBlock<[f64; 3], 6>;
 
 /// The same field of every entry, whatever its shape.
 macro_rules! common {
@@ -766,44 +576,9 @@ impl BlockSpec {
         )
     }
 
-    /// The 2D blocks of this entry (one for a polygon or rectangle), with
-    /// `entry` as their entry index. A generator with parameters that make
-    /// no sense (see [`Scene::validate`]) gives none, and so does a 3D entry
-    /// (see [`BlockSpec::expand_3d`]).
-    pub fn expand(&self, entry: usize) -> Vec<SceneBlock> {
-        let triple = |v: &[f64]| -> [f64; 3] { [v[0], v[1], v[2]] };
-        let (velocity, stress) = match (self.velocity(), self.stress()) {
-            (v, s) if v.len() == 3 && s.len() == 3 => (triple(v), triple(s)),
-            _ => return Vec::new(),
-        };
-        let single = |vertices: Vec<[f64; 2]>| {
-            vec![SceneBlock {
-                entry,
-                part: None,
-                vertices,
-                fixed: self.fixed(),
-                velocity,
-                stress,
-            }]
-        };
-        let pieces = match self {
-            BlockSpec::Polygon { vertices, .. } => return single(vertices.clone()),
-            BlockSpec::Rectangle {
-                center,
-                width,
-                height,
-                angle,
-                ..
-            } => {
-                let (s, c) = angle.to_radians().sin_cos();
-                let (hw, hh) = (width / 2.0, height / 2.0);
-                return single(
-                    [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
-                        .iter()
-                        .map(|&(x, y)| [center[0] + c * x - s * y, center[1] + s * x + c * y])
-                        .collect(),
-                );
-            }
+    /// An arch's shape; none for other entries.
+    pub(crate) fn arch_shape(&self) -> Option<crate::generators::ArchShape> {
+        match *self {
             BlockSpec::Arch {
                 center,
                 radius,
@@ -813,22 +588,49 @@ impl BlockSpec {
                 pointed,
                 abutments,
                 ..
-            } => generate::arch(&generate::ArchShape {
-                center: *center,
-                radius: *radius,
-                thickness: *thickness,
-                voussoirs: *voussoirs,
-                span_angle: *span_angle,
-                pointed: *pointed,
-                abutments: *abutments,
+            } => Some(crate::generators::ArchShape {
+                center,
+                radius,
+                thickness,
+                voussoirs,
+                span_angle,
+                pointed,
+                abutments,
             }),
+            _ => None,
+        }
+    }
+
+    /// The 2D blocks of this entry (one for a polygon or rectangle), with
+    /// `entry` as their entry index. A generator with parameters that make
+    /// no sense (see [`Scene::validate`]) gives none, and so does a 3D entry
+    /// (see [`BlockSpec::expand_3d`]).
+    pub fn expand(&self, entry: usize) -> Vec<SceneBlock> {
+        use crate::generators::{self as g, Piece};
+        let pieces = match self {
+            BlockSpec::Polygon { vertices, .. } => vec![Piece::new(None, vertices.clone(), vec![])],
+            BlockSpec::Rectangle {
+                center,
+                width,
+                height,
+                angle,
+                ..
+            } => {
+                let (s, c) = angle.to_radians().sin_cos();
+                let (hw, hh) = (width / 2.0, height / 2.0);
+                let corners = [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
+                    .into_iter()
+                    .map(|(x, y)| [center[0] + c * x - s * y, center[1] + s * x + c * y]);
+                vec![Piece::new(None, corners.collect(), vec![])]
+            }
+            BlockSpec::Arch { .. } => g::arch(&self.arch_shape().unwrap_or_default()),
             BlockSpec::Column {
                 base,
                 drums,
                 drum_height,
                 width,
                 ..
-            } => generate::column(*base, *drums, *drum_height, *width),
+            } => g::column(*base, *drums, *drum_height, *width),
             BlockSpec::Wall {
                 origin,
                 length,
@@ -837,7 +639,7 @@ impl BlockSpec {
                 brick_height,
                 bond,
                 ..
-            } => generate::wall(
+            } => g::wall(
                 *origin,
                 *length,
                 *courses,
@@ -851,100 +653,71 @@ impl BlockSpec {
                 min_block_area,
                 fixed_below,
                 ..
-            } => jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
+            } => g::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
                 .map(|j| j.pieces)
                 .unwrap_or_default(),
-            BlockSpec::Polyhedron { .. }
-            | BlockSpec::Box { .. }
-            | BlockSpec::Prism { .. }
-            | BlockSpec::JointedDomain3D { .. } => return Vec::new(),
+            _ => Vec::new(),
         };
-        pieces
-            .into_iter()
-            .map(|p| SceneBlock {
-                entry,
-                part: Some(p.name),
-                vertices: p.vertices,
-                fixed: self.fixed() || p.always_fixed,
-                // Abutments stay put.
-                velocity: if p.always_fixed { [0.0; 3] } else { velocity },
-                stress,
-            })
-            .collect()
+        self.blocks_of(entry, pieces)
     }
 
-    /// The 3D block of this entry, with `entry` as its entry index; none
-    /// for a 2D entry or for one whose sizes make no sense (see
-    /// [`Scene::validate`]).
+    /// The 3D blocks of this entry (one but for a jointed domain), with
+    /// `entry` as their entry index; none for a 2D entry or for one whose
+    /// sizes make no sense (see [`Scene::validate`]).
     pub fn expand_3d(&self, entry: usize) -> Vec<SceneBlock3> {
-        let block = |vertices: Vec<[f64; 3]>, faces: Vec<Vec<usize>>, velocity, stress| {
-            vec![SceneBlock3 {
-                entry,
-                part: None,
-                vertices,
-                faces,
-                fixed: self.fixed(),
-                velocity,
-                stress,
-            }]
-        };
-        match self {
+        use crate::generators::{self as g, Piece};
+        let whole = |(v, f)| vec![Piece::new(None, v, f)];
+        let pieces = match self {
             BlockSpec::Polyhedron {
-                vertices,
-                faces,
-                velocity,
-                stress,
-                ..
-            } => block(vertices.clone(), faces.clone(), *velocity, *stress),
+                vertices, faces, ..
+            } => whole((vertices.clone(), faces.clone())),
             BlockSpec::Box {
                 center,
                 size,
                 rotation,
-                velocity,
-                stress,
                 ..
-            } => match generate::cuboid(*center, *size, *rotation) {
-                Some((v, f)) => block(v, f, *velocity, *stress),
-                None => Vec::new(),
-            },
+            } => g::cuboid(*center, *size, *rotation).map_or(vec![], whole),
             BlockSpec::Prism {
-                outline,
-                z0,
-                z1,
-                velocity,
-                stress,
-                ..
-            } => match generate::prism(outline, *z0, *z1) {
-                Some((v, f)) => block(v, f, *velocity, *stress),
-                None => Vec::new(),
-            },
+                outline, z0, z1, ..
+            } => g::prism(outline, *z0, *z1).map_or(vec![], whole),
             BlockSpec::JointedDomain3D {
                 region,
                 sets,
                 min_block_volume,
                 fixed_below,
-                velocity,
-                stress,
                 ..
-            } => jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
-                .map(|j| {
-                    j.pieces
-                        .into_iter()
-                        .enumerate()
-                        .map(|(k, p)| SceneBlock3 {
-                            entry,
-                            part: Some(format!("block {k}")),
-                            vertices: p.vertices,
-                            faces: p.faces,
-                            fixed: self.fixed() || p.fixed,
-                            velocity: if p.fixed { [0.0; 6] } else { *velocity },
-                            stress: *stress,
-                        })
-                        .collect()
-                })
+            } => g::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
+                .map(|j| j.pieces)
                 .unwrap_or_default(),
             _ => Vec::new(),
-        }
+        };
+        self.blocks_of(entry, pieces)
+    }
+
+    /// The entry's pieces as blocks numbered `entry`, with its initial state
+    /// (none if that has the other dimension's length).
+    fn blocks_of<P, const K: usize>(
+        &self,
+        entry: usize,
+        pieces: Vec<crate::generators::Piece<P>>,
+    ) -> Vec<SceneBlock<P, K>> {
+        let (Ok(velocity), Ok(stress)) = (self.velocity().try_into(), self.stress().try_into())
+        else {
+            return Vec::new();
+        };
+        pieces
+            .into_iter()
+            .map(|p| SceneBlock {
+                entry,
+                part: p.name,
+                vertices: p.vertices,
+                faces: p.faces,
+                fixed: self.fixed() || p.always_fixed,
+                // Abutments and blocks fixed below a level stay put.
+                velocity: if p.always_fixed { [0.0; K] } else { velocity },
+                stress,
+            })
+            .collect()
     }
 }
 
@@ -1177,6 +950,7 @@ impl Scene {
         let mut scene: Scene = ron_options()
             .from_str(text)
             .map_err(|e| source.syntax(&e))?;
+        scene.analysis.settings = analysis::settings_of(text).map_err(|e| source.syntax(&e))?;
         scene.source = source;
         scene.validate()?;
         Ok(scene)

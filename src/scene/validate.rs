@@ -6,10 +6,9 @@ use std::sync::Arc;
 
 use dda_2d::polygon;
 use dda_3d::polyhedron::{self as polyhedra, Fault, Polyhedron, PolyhedronError};
-use dda_core::{BlockKind, GroundMotion, Quantity, Record};
+use dda_core::{settings, BlockKind, DdaError, GroundMotion, Quantity, Record};
 use nalgebra::{Point2, Point3, SVector};
 
-use super::generate::{self, MAX_PARTS};
 use super::locate::{locate_exact, Seg};
 use super::motion::{read_record, Layout};
 use super::overlap::{first_overlap_2d, first_overlap_3d};
@@ -17,6 +16,7 @@ use super::{
     BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Region3, Scene,
     SceneBlock, SceneBlock3, SceneError,
 };
+use crate::generators::MAX_PARTS;
 
 /// A path into the scene, like `blocks[2].vertices[1]`.
 #[derive(Debug, Clone, Default)]
@@ -111,8 +111,8 @@ pub(super) struct Slot {
     pub fixed: bool,
 }
 
-impl From<&SceneBlock> for Slot {
-    fn from(b: &SceneBlock) -> Self {
+impl<P, const K: usize> From<&SceneBlock<P, K>> for Slot {
+    fn from(b: &SceneBlock<P, K>) -> Self {
         Slot {
             entry: b.entry,
             part: b.part.clone(),
@@ -121,32 +121,34 @@ impl From<&SceneBlock> for Slot {
     }
 }
 
-impl From<&SceneBlock3> for Slot {
-    fn from(b: &SceneBlock3) -> Self {
-        Slot {
-            entry: b.entry,
-            part: b.part.clone(),
-            fixed: b.fixed,
+/// The blocks' shapes, for overlaps and the points that must lie on them.
+enum Shapes {
+    Polygons(Vec<Vec<Point2<f64>>>),
+    Polyhedra(Vec<Polyhedron>),
+}
+
+impl Shapes {
+    fn len(&self) -> usize {
+        match self {
+            Shapes::Polygons(o) => o.len(),
+            Shapes::Polyhedra(s) => s.len(),
         }
     }
-}
 
-/// A block's shape, for the points that must lie on it.
-enum Shape {
-    Polygon(Outline),
-    Polyhedron(Box<Polyhedron>),
-}
+    fn first_overlap(&self) -> Option<(usize, usize)> {
+        match self {
+            Shapes::Polygons(o) => first_overlap_2d(o),
+            Shapes::Polyhedra(s) => first_overlap_3d(s),
+        }
+    }
 
-/// A polygon's corners.
-type Outline = Vec<Point2<f64>>;
-
-impl Shape {
-    /// How far `p` lies outside, 0 inside or within a millionth of the
-    /// block's size of its boundary (a point written on a corner keeps its
-    /// round-off).
-    fn outside(&self, p: &[f64]) -> f64 {
+    /// How far `p` lies outside block `i`, 0 inside or within a millionth
+    /// of the block's size of its boundary (a point written on a corner
+    /// keeps its round-off).
+    fn outside(&self, i: usize, p: &[f64]) -> f64 {
         let (inside, distance, size) = match self {
-            Shape::Polygon(outline) => {
+            Shapes::Polygons(outlines) => {
+                let outline = &outlines[i];
                 let q = Point2::new(p[0], p[1]);
                 let distance = (0..outline.len())
                     .map(|i| {
@@ -160,7 +162,8 @@ impl Shape {
                     .fold(0.0, f64::max);
                 (polygon::contains(outline, &q), distance, size)
             }
-            Shape::Polyhedron(shape) => {
+            Shapes::Polyhedra(shapes) => {
+                let shape = &shapes[i];
                 let q = Point3::new(p[0], p[1], p[2]);
                 let (lo, hi) = shape.bounds();
                 (
@@ -218,15 +221,7 @@ impl Scene {
             }
         }
         self.check_materials()?;
-        let (blocks, shapes): (Vec<Slot>, Vec<Shape>) = if self.dimension == 3 {
-            let (blocks, shapes) = self.check_blocks_3d()?;
-            let shapes = shapes.into_iter().map(|s| Shape::Polyhedron(Box::new(s)));
-            (blocks.iter().map(Slot::from).collect(), shapes.collect())
-        } else {
-            let (blocks, outlines) = self.check_blocks()?;
-            let shapes = outlines.into_iter().map(Shape::Polygon);
-            (blocks.iter().map(Slot::from).collect(), shapes.collect())
-        };
+        let (blocks, shapes) = self.check_blocks()?;
         self.check_joints(&blocks)?;
         self.check_loads(&blocks)?;
         self.check_measured_points(&blocks, &shapes)?;
@@ -290,43 +285,36 @@ impl Scene {
         self.source.invalid(place, message)
     }
 
+    /// The core's check of a value, at `place`.
+    fn core(&self, place: &Place, check: std::result::Result<(), DdaError>) -> Result {
+        check.map_err(|e| match e {
+            DdaError::Setting { message, .. } => self.error(place, message),
+            e => self.error(place, e.to_string()),
+        })
+    }
+
     fn finite(&self, place: &Place, what: &str, v: f64) -> Result {
-        if v.is_finite() {
-            Ok(())
-        } else {
-            Err(self.error(
-                place,
-                format!("{what} is {v}, not a finite number; write a finite value"),
-            ))
-        }
+        self.core(place, settings::finite("", what, v))
     }
 
     fn finite_all(&self, place: &Place, what: &str, values: &[f64]) -> Result {
-        for v in values {
-            self.finite(place, what, *v)?;
+        values.iter().try_for_each(|v| self.finite(place, what, *v))
+    }
+
+    /// Each point of a list finite, named like "vertex 3".
+    fn points<const D: usize>(&self, at: &Place, what: &str, points: &[[f64; D]]) -> Result {
+        for (i, p) in points.iter().enumerate() {
+            self.finite_all(&at.index(i), &format!("{what} {i}"), p)?;
         }
         Ok(())
     }
 
     fn positive(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
-        self.finite(place, what, v)?;
-        if v > 0.0 {
-            Ok(())
-        } else {
-            Err(self.error(place, format!("{what} must be positive, got {v}; {hint}")))
-        }
+        self.core(place, settings::positive("", what, v, hint))
     }
 
     fn non_negative(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
-        self.finite(place, what, v)?;
-        if v >= 0.0 {
-            Ok(())
-        } else {
-            Err(self.error(
-                place,
-                format!("{what} must not be negative, got {v}; {hint}"),
-            ))
-        }
+        self.core(place, settings::non_negative("", what, v, hint))
     }
 
     fn check_analysis(&self) -> Result {
@@ -551,32 +539,32 @@ impl Scene {
     }
 
     /// Checks every entry, expands the generators and checks the blocks
-    /// they make; returns the expanded blocks and their outlines.
-    fn check_blocks(&self) -> Result<(Vec<SceneBlock>, Vec<Outline>)> {
+    /// they make; returns them and their shapes.
+    fn check_blocks(&self) -> Result<(Vec<Slot>, Shapes)> {
+        let root = Place::root().field("blocks");
+        let three = self.dimension == 3;
         if self.blocks.is_empty() {
+            let like = if three {
+                "Box(center: (0.0, 0.0, 0.5), size: (1.0, 1.0, 1.0))"
+            } else {
+                "Rectangle(center: (0.0, 0.0), width: 1.0, height: 1.0)"
+            };
             return Err(self.error(
-                &Place::root().field("blocks"),
-                "the scene has no blocks; add at least one, like Rectangle(center: (0.0, 0.0), width: 1.0, height: 1.0)",
+                &root,
+                format!("the scene has no blocks; add at least one, like {like}"),
             ));
         }
-        let mut blocks = Vec::new();
-        let mut outlines = Vec::new();
+        let (mut slots, mut outlines, mut polyhedra) = (Vec::new(), Vec::new(), Vec::new());
         for (k, spec) in self.blocks.iter().enumerate() {
-            if spec.dimension() == 3 {
-                let d = if self.written(&Place::root().field("dimension")) {
-                    "dimension: 2"
-                } else {
-                    "dimension: 2, the default"
-                };
-                return Err(self.error(
-                    &Place::root().field("blocks").index(k),
-                    format!(
-                        "{} is a 3D block, but this is a 2D scene ({d}); add dimension: 3 at the top for a 3D scene, or use Polygon or Rectangle",
-                        spec.kind()
-                    ),
-                ));
+            let at = root.index(k);
+            if spec.dimension() != self.dimension {
+                return Err(self.error(&at, self.wrong_entry(spec)));
             }
-            self.check_block(k, spec)?;
+            self.check_block(&at, spec)?;
+            for block in spec.expand_3d(k) {
+                polyhedra.push(self.check_polyhedron(&at, &block)?);
+                slots.push(Slot::from(&block));
+            }
             for block in spec.expand(k) {
                 let points = to_points(&block.vertices);
                 polygon::validate(&points).map_err(|e| {
@@ -589,20 +577,42 @@ impl Scene {
                         ),
                         None => message,
                     };
-                    self.error(&self.block_place(&block), message)
+                    self.error(&place_of(k, block.part.as_deref()), message)
                 })?;
                 outlines.push(points);
-                blocks.push(block);
+                slots.push(Slot::from(&block));
             }
         }
-        let places: Vec<Place> = blocks.iter().map(|b| self.block_place(b)).collect();
-        self.overlaps(&places, first_overlap_2d(&outlines))?;
-        Ok((blocks, outlines))
+        let shapes = if three {
+            Shapes::Polyhedra(polyhedra)
+        } else {
+            Shapes::Polygons(outlines)
+        };
+        if let Some((i, j)) = shapes.first_overlap() {
+            let place = |b: &Slot| place_of(b.entry, b.part.as_deref());
+            return Err(self.error(
+                &place(&slots[i]),
+                format!(
+                    "the block overlaps {} at the start; move or resize one of them so they touch at most",
+                    place(&slots[j])
+                ),
+            ));
+        }
+        Ok((slots, shapes))
     }
 
-    /// `blocks[k]`, with the part for a generated block.
-    pub(super) fn block_place(&self, block: &SceneBlock) -> Place {
-        place_of(block.entry, block.part.as_deref())
+    /// Why an entry of the other dimension does not belong.
+    fn wrong_entry(&self, spec: &BlockSpec) -> String {
+        let kind = spec.kind();
+        if self.dimension == 3 {
+            return format!("{kind} is a 2D block, but this is a 3D scene (dimension: 3); use Polyhedron, Box or Prism (`dda extrude` turns a 2D scene into prisms)");
+        }
+        let d = if self.written(&Place::root().field("dimension")) {
+            "dimension: 2"
+        } else {
+            "dimension: 2, the default"
+        };
+        format!("{kind} is a 3D block, but this is a 2D scene ({d}); add dimension: 3 at the top for a 3D scene, or use Polygon or Rectangle")
     }
 
     /// "block 7", and which entry makes it when that is not plain.
@@ -647,145 +657,8 @@ impl Scene {
         Ok(())
     }
 
-    /// Checks every entry of a 3D scene and the polyhedra they make;
-    /// returns them, as entries and as shapes.
-    fn check_blocks_3d(&self) -> Result<(Vec<SceneBlock3>, Vec<Polyhedron>)> {
-        let root = Place::root().field("blocks");
-        if self.blocks.is_empty() {
-            return Err(self.error(
-                &root,
-                "the scene has no blocks; add at least one, like Box(center: (0.0, 0.0, 0.5), size: (1.0, 1.0, 1.0))",
-            ));
-        }
-        let mut blocks = Vec::new();
-        let mut shapes = Vec::new();
-        for (k, spec) in self.blocks.iter().enumerate() {
-            let at = root.index(k);
-            if spec.dimension() == 2 {
-                return Err(self.error(
-                    &at,
-                    format!(
-                        "{} is a 2D block, but this is a 3D scene (dimension: 3); use Polyhedron, Box or Prism (`dda extrude` turns a 2D scene into prisms)",
-                        spec.kind()
-                    ),
-                ));
-            }
-            self.check_block_3d(&at, spec)?;
-            for block in spec.expand_3d(k) {
-                let shape = self.check_polyhedron(&at, &block)?;
-                shapes.push(shape);
-                blocks.push(block);
-            }
-        }
-        let places: Vec<Place> = blocks
-            .iter()
-            .map(|b| place_of(b.entry, b.part.as_deref()))
-            .collect();
-        self.overlaps(&places, first_overlap_3d(&shapes))?;
-        Ok((blocks, shapes))
-    }
-
-    /// A 3D entry's own values: material, sizes, initial state.
-    fn check_block_3d(&self, at: &Place, block: &BlockSpec) -> Result {
-        self.check_block_material(at, block)?;
-        match block {
-            BlockSpec::Polyhedron {
-                vertices, faces, ..
-            } => {
-                for (i, v) in vertices.iter().enumerate() {
-                    self.finite_all(&at.field("vertices").index(i), &format!("vertex {i}"), v)?;
-                }
-                if faces.is_empty() {
-                    return Err(self.error(
-                        &at.field("faces"),
-                        "the polyhedron has no faces; list each face's corners counter-clockwise seen from outside, like [0, 3, 2, 1]",
-                    ));
-                }
-            }
-            BlockSpec::Box {
-                center,
-                size,
-                rotation,
-                ..
-            } => {
-                self.finite_all(&at.field("center"), "the center", center)?;
-                for (axis, s) in ["x", "y", "z"].iter().zip(size) {
-                    self.positive(
-                        &at.field("size"),
-                        &format!("the size along its own {axis}"),
-                        *s,
-                        "give the box's edge lengths (a, b, c) in m",
-                    )?;
-                }
-                self.finite_all(&at.field("rotation"), "the rotation", rotation)?;
-            }
-            BlockSpec::Prism {
-                outline, z0, z1, ..
-            } => {
-                for (i, v) in outline.iter().enumerate() {
-                    self.finite_all(
-                        &at.field("outline").index(i),
-                        &format!("outline point {i}"),
-                        v,
-                    )?;
-                }
-                let points = to_points(outline);
-                polygon::validate(&points)
-                    .map_err(|e| self.error(&at.field("outline"), e.to_string()))?;
-                self.finite(&at.field("z0"), "z0", *z0)?;
-                self.finite(&at.field("z1"), "z1", *z1)?;
-                if z1 <= z0 {
-                    return Err(self.error(
-                        &at.field("z1"),
-                        format!("the prism's top z1 = {z1} must lie above its bottom z0 = {z0}"),
-                    ));
-                }
-            }
-            BlockSpec::JointedDomain3D {
-                region,
-                sets,
-                min_block_volume,
-                fixed_below,
-                ..
-            } => {
-                let corners: Vec<[f64; 3]> = match region {
-                    Region3::Box { min, max } => vec![*min, *max],
-                    Region3::Hull(c) => c.clone(),
-                };
-                for (i, v) in corners.iter().enumerate() {
-                    self.finite_all(
-                        &at.field("region").index(i),
-                        &format!("region corner {i}"),
-                        v,
-                    )?;
-                }
-                self.check_sets(at, sets, 3)?;
-                if let Some(v) = min_block_volume {
-                    self.non_negative(
-                        &at.field("min_block_volume"),
-                        "min_block_volume",
-                        *v,
-                        "give a volume in m³, 0 to keep every block",
-                    )?;
-                }
-                if let Some(z) = fixed_below {
-                    self.finite(&at.field("fixed_below"), "fixed_below", *z)?;
-                }
-                super::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
-                    .map_err(|e| self.cut_failure(at, e))?;
-            }
-            _ => {}
-        }
-        self.finite_all(
-            &at.field("velocity"),
-            "the initial velocity",
-            block.velocity(),
-        )?;
-        self.finite_all(&at.field("stress"), "the initial stress", block.stress())
-    }
-
     /// A jointed domain that cannot be cut, at the field to change.
-    fn cut_failure(&self, at: &Place, e: super::jointed::Failure) -> SceneError {
+    fn cut_failure(&self, at: &Place, e: crate::generators::jointed::Failure) -> SceneError {
         let place = match e.set {
             Some(k) => at.field("sets").index(k).field(e.field),
             None => at.field(e.field),
@@ -795,77 +668,50 @@ impl Scene {
 
     /// A jointed domain's joint sets, in `dimension` 2 or 3.
     fn check_sets(&self, at: &Place, sets: &[JointSet], dimension: u32) -> Result {
+        let three = dimension == 3;
         for (k, set) in sets.iter().enumerate() {
             let at = at.field("sets").index(k);
-            self.finite(&at.field("dip"), "the dip", set.dip)?;
-            let (lo, hi) = if dimension == 3 {
-                (0.0, 90.0)
-            } else {
-                (-90.0, 90.0)
+            let fail = |field: &str, message: &str| -> Result {
+                Err(self.error(&at.field(field), message))
             };
-            if set.dip < lo || set.dip > hi || (dimension == 2 && set.dip == -90.0) {
-                let range = if dimension == 3 {
-                    "[0, 90]"
-                } else {
-                    "(-90, 90]"
-                };
-                return Err(self.error(
-                    &at.field("dip"),
-                    format!("the dip must lie in {range} degrees, got {}; give the angle below the horizontal", set.dip),
-                ));
+            self.finite(&at.field("dip"), "the dip", set.dip)?;
+            let (lo, range) = if three {
+                (0.0, "[0, 90]")
+            } else {
+                (-90.0, "(-90, 90]")
+            };
+            if set.dip < lo || set.dip > 90.0 || (!three && set.dip == -90.0) {
+                let dip = set.dip;
+                return fail("dip", &format!("the dip must lie in {range} degrees, got {dip}; give the angle below the horizontal"));
             }
-            self.positive(
-                &at.field("spacing"),
-                "the spacing",
-                set.spacing,
-                "give the distance between joints in m",
-            )?;
+            let hint = "give the distance between joints in m";
+            self.positive(&at.field("spacing"), "the spacing", set.spacing, hint)?;
             if !set.origin.is_empty() {
                 self.coords(&at.field("origin"), "the origin", &set.origin, self.axes())?;
             }
-            if dimension == 3 {
-                self.finite(
-                    &at.field("dip_direction"),
-                    "the dip direction",
-                    set.dip_direction,
-                )?;
-                if set.trace_length.is_some() || set.bridge != 0.0 {
-                    let field = if set.trace_length.is_some() {
-                        "trace_length"
-                    } else {
-                        "bridge"
-                    };
-                    return Err(self.error(
-                        &at.field(field),
-                        "3D joint sets are persistent planes; remove trace_length and bridge",
-                    ));
+            if three {
+                let direction = set.dip_direction;
+                self.finite(&at.field("dip_direction"), "the dip direction", direction)?;
+                let planes = "3D joint sets are persistent planes; remove trace_length and bridge";
+                if set.trace_length.is_some() {
+                    return fail("trace_length", planes);
+                }
+                if set.bridge != 0.0 {
+                    return fail("bridge", planes);
                 }
             } else {
                 if set.dip_direction != 0.0 {
-                    return Err(self.error(
-                        &at.field("dip_direction"),
-                        "a 2D joint set has no dip direction: a positive dip dips toward +x, a negative one toward -x; remove dip_direction",
-                    ));
+                    return fail("dip_direction", "a 2D joint set has no dip direction: a positive dip dips toward +x, a negative one toward -x; remove dip_direction");
                 }
                 if let Some(length) = set.trace_length {
-                    self.positive(
-                        &at.field("trace_length"),
-                        "the trace length",
-                        length,
-                        "give the length of each trace in m, or leave it out for persistent joints",
-                    )?;
+                    let hint =
+                        "give the length of each trace in m, or leave it out for persistent joints";
+                    self.positive(&at.field("trace_length"), "the trace length", length, hint)?;
                 }
-                self.non_negative(
-                    &at.field("bridge"),
-                    "the bridge",
-                    set.bridge,
-                    "give the intact length between traces in m",
-                )?;
+                let hint = "give the intact length between traces in m";
+                self.non_negative(&at.field("bridge"), "the bridge", set.bridge, hint)?;
                 if set.bridge > 0.0 && set.trace_length.is_none() {
-                    return Err(self.error(
-                        &at.field("bridge"),
-                        "a bridge separates traces, but the set has no trace_length (its joints are persistent); add trace_length or remove bridge",
-                    ));
+                    return fail("bridge", "a bridge separates traces, but the set has no trace_length (its joints are persistent); add trace_length or remove bridge");
                 }
             }
             if let Some(law) = &set.law {
@@ -892,14 +738,16 @@ impl Scene {
     }
 
     /// The entry's own values: material, sizes, counts, initial state.
-    fn check_block(&self, k: usize, block: &BlockSpec) -> Result {
-        let at = Place::root().field("blocks").index(k);
-        self.check_block_material(&at, block)?;
+    fn check_block(&self, at: &Place, block: &BlockSpec) -> Result {
+        self.check_block_material(at, block)?;
+        let positive = |field: &str, what: &str, v: f64, hint: &str| {
+            self.positive(&at.field(field), what, v, hint)
+        };
+        let finite =
+            |field: &str, what: &str, v: &[f64]| self.finite_all(&at.field(field), what, v);
         match block {
             BlockSpec::Polygon { vertices, .. } => {
-                for (i, v) in vertices.iter().enumerate() {
-                    self.finite_all(&at.field("vertices").index(i), &format!("vertex {i}"), v)?;
-                }
+                self.points(&at.field("vertices"), "vertex", vertices)?
             }
             BlockSpec::Rectangle {
                 center,
@@ -908,41 +756,18 @@ impl Scene {
                 angle,
                 ..
             } => {
-                self.finite_all(&at.field("center"), "the center", center)?;
-                self.positive(
-                    &at.field("width"),
-                    "the width",
-                    *width,
-                    "give the rectangle's size",
-                )?;
-                self.positive(
-                    &at.field("height"),
-                    "the height",
-                    *height,
-                    "give the rectangle's size",
-                )?;
-                self.finite(&at.field("angle"), "the angle", *angle)?;
+                let hint = "give the rectangle's size";
+                finite("center", "the center", center)?;
+                positive("width", "the width", *width, hint)?;
+                positive("height", "the height", *height, hint)?;
+                finite("angle", "the angle", &[*angle])?;
             }
-            BlockSpec::Arch {
-                center,
-                radius,
-                thickness,
-                voussoirs,
-                span_angle,
-                pointed,
-                ..
-            } => self.check_arch(
-                &at,
-                &generate::ArchShape {
-                    center: *center,
-                    radius: *radius,
-                    thickness: *thickness,
-                    voussoirs: *voussoirs,
-                    span_angle: *span_angle,
-                    pointed: *pointed,
-                    abutments: true,
-                },
-            )?,
+            BlockSpec::Arch { .. } => {
+                let shape = block.arch_shape().unwrap_or_default();
+                if let Err(DdaError::Setting { field, message }) = shape.check() {
+                    return Err(self.error(&at.field(field), message));
+                }
+            }
             BlockSpec::Column {
                 base,
                 drums,
@@ -950,16 +775,11 @@ impl Scene {
                 width,
                 ..
             } => {
-                self.finite_all(&at.field("base"), "the base", base)?;
-                self.count(&at.field("drums"), "drums", *drums, 1)?;
                 let hint = "give the column's size in m";
-                self.positive(
-                    &at.field("drum_height"),
-                    "the drum height",
-                    *drum_height,
-                    hint,
-                )?;
-                self.positive(&at.field("width"), "the width", *width, hint)?;
+                finite("base", "the base", base)?;
+                self.count(&at.field("drums"), "drums", *drums, 1)?;
+                positive("drum_height", "the drum height", *drum_height, hint)?;
+                positive("width", "the width", *width, hint)?;
             }
             BlockSpec::Wall {
                 origin,
@@ -969,26 +789,16 @@ impl Scene {
                 brick_height,
                 ..
             } => {
-                self.finite_all(&at.field("origin"), "the origin", origin)?;
                 let hint = "give the wall's sizes in m";
-                self.positive(&at.field("length"), "the length", *length, hint)?;
+                finite("origin", "the origin", origin)?;
+                positive("length", "the length", *length, hint)?;
                 self.count(&at.field("courses"), "courses", *courses, 1)?;
-                self.positive(
-                    &at.field("brick_length"),
-                    "the brick length",
-                    *brick_length,
-                    hint,
-                )?;
-                self.positive(
-                    &at.field("brick_height"),
-                    "the brick height",
-                    *brick_height,
-                    hint,
-                )?;
-                let n = generate::wall_count(*length, *courses, *brick_length);
+                positive("brick_length", "the brick length", *brick_length, hint)?;
+                positive("brick_height", "the brick height", *brick_height, hint)?;
+                let n = crate::generators::wall_count(*length, *courses, *brick_length);
                 if n > MAX_PARTS as f64 {
                     return Err(self.error(
-                        &at,
+                        at,
                         format!(
                             "the wall would have about {n:.0} bricks, more than {MAX_PARTS}; use longer bricks, fewer courses or a shorter wall"
                         ),
@@ -998,147 +808,95 @@ impl Scene {
             BlockSpec::JointedDomain {
                 region,
                 sets,
-                min_block_area,
+                min_block_area: least,
                 fixed_below,
                 ..
             } => {
-                for (i, v) in region.iter().enumerate() {
-                    self.finite_all(
-                        &at.field("region").index(i),
-                        &format!("region corner {i}"),
-                        v,
-                    )?;
-                }
+                self.points(&at.field("region"), "region corner", region)?;
                 polygon::validate(&to_points(region))
                     .map_err(|e| self.error(&at.field("region"), e.to_string()))?;
-                self.check_sets(&at, sets, 2)?;
-                if let Some(a) = min_block_area {
-                    self.non_negative(
-                        &at.field("min_block_area"),
-                        "min_block_area",
-                        *a,
-                        "give an area in m², 0 to keep every block",
+                self.check_sets(at, sets, 2)?;
+                let hint = "give an area in m², 0 to keep every block";
+                if let Some(v) = least {
+                    self.non_negative(&at.field("min_block_area"), "min_block_area", *v, hint)?;
+                }
+                finite("fixed_below", "fixed_below", fixed_below.as_slice())?;
+                crate::generators::jointed::cut_2d(region, sets, *least, *fixed_below)
+                    .map_err(|e| self.cut_failure(at, e))?;
+            }
+            BlockSpec::Polyhedron {
+                vertices, faces, ..
+            } => {
+                self.points(&at.field("vertices"), "vertex", vertices)?;
+                if faces.is_empty() {
+                    return Err(self.error(
+                        &at.field("faces"),
+                        "the polyhedron has no faces; list each face's corners counter-clockwise seen from outside, like [0, 3, 2, 1]",
+                    ));
+                }
+            }
+            BlockSpec::Box {
+                center,
+                size,
+                rotation,
+                ..
+            } => {
+                finite("center", "the center", center)?;
+                for (axis, s) in ["x", "y", "z"].iter().zip(size) {
+                    let what = format!("the size along its own {axis}");
+                    positive(
+                        "size",
+                        &what,
+                        *s,
+                        "give the box's edge lengths (a, b, c) in m",
                     )?;
                 }
-                if let Some(y) = fixed_below {
-                    self.finite(&at.field("fixed_below"), "fixed_below", *y)?;
+                finite("rotation", "the rotation", rotation)?;
+            }
+            BlockSpec::Prism {
+                outline, z0, z1, ..
+            } => {
+                self.points(&at.field("outline"), "outline point", outline)?;
+                polygon::validate(&to_points(outline))
+                    .map_err(|e| self.error(&at.field("outline"), e.to_string()))?;
+                finite("z0", "z0", &[*z0])?;
+                finite("z1", "z1", &[*z1])?;
+                if z1 <= z0 {
+                    return Err(self.error(
+                        &at.field("z1"),
+                        format!("the prism's top z1 = {z1} must lie above its bottom z0 = {z0}"),
+                    ));
                 }
-                super::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
-                    .map_err(|e| self.cut_failure(&at, e))?;
             }
-            BlockSpec::Polyhedron { .. }
-            | BlockSpec::Box { .. }
-            | BlockSpec::Prism { .. }
-            | BlockSpec::JointedDomain3D { .. } => {}
-        }
-        self.finite_all(
-            &at.field("velocity"),
-            "the initial velocity",
-            block.velocity(),
-        )?;
-        self.finite_all(&at.field("stress"), "the initial stress", block.stress())
-    }
-
-    /// A number of generated blocks: at least `min`, at most [`MAX_PARTS`].
-    fn count(&self, at: &Place, what: &str, n: usize, min: usize) -> Result {
-        if n < min {
-            Err(self.error(at, format!("{what} must be at least {min}, got {n}")))
-        } else if n > MAX_PARTS {
-            Err(self.error(
-                at,
-                format!("{n} {what} is more than the {MAX_PARTS} a generator makes; use fewer"),
-            ))
-        } else {
-            Ok(())
-        }
-    }
-
-    fn check_arch(&self, at: &Place, arch: &generate::ArchShape) -> Result {
-        self.finite_all(&at.field("center"), "the center", &arch.center)?;
-        let hint = "give the arch's size in m";
-        self.positive(&at.field("radius"), "the radius", arch.radius, hint)?;
-        self.positive(
-            &at.field("thickness"),
-            "the thickness",
-            arch.thickness,
-            hint,
-        )?;
-        if arch.radius <= arch.thickness / 2.0 {
-            return Err(self.error(
-                &at.field("radius"),
-                format!(
-                    "the radius ({}) must exceed half the thickness ({}): it is the centreline's, with the intrados at radius − thickness/2; use a larger radius or a thinner arch",
-                    arch.radius, arch.thickness
-                ),
-            ));
-        }
-        self.count(&at.field("voussoirs"), "voussoirs", arch.voussoirs, 2)?;
-        let span = arch.span_angle;
-        self.finite(&at.field("span_angle"), "the span angle", span)?;
-        if !(span > 0.0 && span <= 180.0) {
-            return Err(self.error(
-                &at.field("span_angle"),
-                format!(
-                    "the span angle must lie in (0, 180] degrees, got {span}; 180 is a semicircular arch, less a segmental one"
-                ),
-            ));
-        }
-        let e = arch.pointed;
-        self.finite(&at.field("pointed"), "pointed", e)?;
-        if !(0.0..1.0).contains(&e) {
-            return Err(self.error(
-                &at.field("pointed"),
-                format!(
-                    "pointed must lie in [0, 1), got {e}; it is the offset of the two centres as a fraction of the radius (0 for a round arch)"
-                ),
-            ));
-        }
-        if e > 0.0 {
-            if arch.voussoirs % 2 == 1 {
-                return Err(self.error(
-                    &at.field("voussoirs"),
-                    format!(
-                        "a pointed arch needs an even number of voussoirs (half on each side of the crown joint), got {}",
-                        arch.voussoirs
-                    ),
-                ));
-            }
-            let (ri, _) = arch.radii();
-            if ri <= e * arch.radius {
-                return Err(self.error(
-                    &at.field("pointed"),
-                    format!(
-                        "the intrados (radius {ri}) does not reach the crown: the centres are {} from it; use a smaller pointed or a thinner arch",
-                        e * arch.radius
-                    ),
-                ));
+            BlockSpec::JointedDomain3D {
+                region,
+                sets,
+                min_block_volume: least,
+                fixed_below,
+                ..
+            } => {
+                let corners = match region {
+                    Region3::Box { min, max } => vec![*min, *max],
+                    Region3::Hull(c) => c.clone(),
+                };
+                self.points(&at.field("region"), "region corner", &corners)?;
+                self.check_sets(at, sets, 3)?;
+                let hint = "give a volume in m³, 0 to keep every block";
+                if let Some(v) = least {
+                    self.non_negative(&at.field("min_block_volume"), "min_block_volume", *v, hint)?;
+                }
+                finite("fixed_below", "fixed_below", fixed_below.as_slice())?;
+                crate::generators::jointed::cut_3d(region, sets, *least, *fixed_below)
+                    .map_err(|e| self.cut_failure(at, e))?;
             }
         }
-        if arch.springing_angle() <= arch.crown_angle() {
-            return Err(self.error(
-                &at.field("span_angle"),
-                format!(
-                    "a span angle of {span} degrees ends above the crown of this pointed arch; use more than {} degrees",
-                    2.0 * (arch.crown_angle() - 90.0)
-                ),
-            ));
-        }
-        Ok(())
+        finite("velocity", "the initial velocity", block.velocity())?;
+        finite("stress", "the initial stress", block.stress())
     }
 
-    /// Blocks may touch at the start but not overlap (beyond 1e-6 of the
-    /// model size): the first overlapping pair found, if any, is an error.
-    fn overlaps(&self, places: &[Place], first: Option<(usize, usize)>) -> Result {
-        match first {
-            Some((i, j)) => Err(self.error(
-                &places[i],
-                format!(
-                    "the block overlaps {} at the start; move or resize one of them so they touch at most",
-                    places[j]
-                ),
-            )),
-            None => Ok(()),
-        }
+    /// A generator's count of blocks, at `place`.
+    fn count(&self, place: &Place, what: &str, n: usize, min: usize) -> Result {
+        self.core(place, crate::generators::count("", what, n, min))
     }
 
     fn check_loads(&self, blocks: &[Slot]) -> Result {
@@ -1205,19 +963,19 @@ impl Scene {
     }
 
     /// Each measured point names a block and lies inside or on it.
-    fn check_measured_points(&self, blocks: &[Slot], shapes: &[Shape]) -> Result {
+    fn check_measured_points(&self, blocks: &[Slot], shapes: &Shapes) -> Result {
         for (k, m) in self.measured_points.iter().enumerate() {
             let at = Place::root().field("measured_points").index(k);
             self.check_block_index(&at.field("block"), m.block, blocks)?;
             let at = at.field("point");
             self.vector(&at, "the measured point", &m.point, "")?;
             let p = m.point.as_slice();
-            let off = shapes[m.block].outside(p);
+            let off = shapes.outside(m.block, p);
             if off == 0.0 {
                 continue;
             }
             let shown: Vec<String> = p.iter().map(|x| x.to_string()).collect();
-            let hint = match shapes.iter().position(|s| s.outside(p) == 0.0) {
+            let hint = match (0..shapes.len()).position(|i| shapes.outside(i, p) == 0.0) {
                 Some(other) => format!("it lies in block {other}: give block: {other}, or"),
                 None => "it lies in no block:".to_string(),
             };
@@ -1305,49 +1063,41 @@ impl Scene {
             }
         }
         let at = root.field("motion");
-        let amplitude = |a: &Coords| SVector::<f64, D>::from_fn(|k, _| a.get(k));
+        let amplitude = |a: &Coords| -> Result<SVector<f64, D>> {
+            self.vector(&at.field("amplitude"), "the amplitude", a, "a")?;
+            Ok(SVector::from_fn(|k, _| a.get(k)))
+        };
+        let positive = |field: &str, what: &str, v: f64, hint: &str| -> Result<f64> {
+            self.positive(&at.field(field), what, v, hint).map(|_| v)
+        };
         let mut note = None;
         let motion = match motion {
             MotionSpec::Sine {
                 amplitude: a,
                 frequency,
                 duration,
-            } => {
-                self.vector(&at.field("amplitude"), "the amplitude", a, "a")?;
-                self.positive(
-                    &at.field("frequency"),
-                    "the frequency",
-                    *frequency,
-                    "give it in Hz",
-                )?;
-                self.positive(
-                    &at.field("duration"),
+            } => GroundMotion::Sine {
+                amplitude: amplitude(a)?,
+                frequency: positive("frequency", "the frequency", *frequency, "give it in Hz")?,
+                duration: positive(
+                    "duration",
                     "the duration",
                     *duration,
                     "give how long the shaking lasts, in s",
-                )?;
-                GroundMotion::Sine {
-                    amplitude: amplitude(a),
-                    frequency: *frequency,
-                    duration: *duration,
-                }
-            }
+                )?,
+            },
             MotionSpec::Pulse {
                 amplitude: a,
                 period,
-            } => {
-                self.vector(&at.field("amplitude"), "the amplitude", a, "a")?;
-                self.positive(
-                    &at.field("period"),
+            } => GroundMotion::Pulse {
+                amplitude: amplitude(a)?,
+                period: positive(
+                    "period",
                     "the period",
                     *period,
                     "give the pulse's length in s",
-                )?;
-                GroundMotion::Pulse {
-                    amplitude: amplitude(a),
-                    period: *period,
-                }
-            }
+                )?,
+            },
             MotionSpec::Record {
                 path,
                 quantity,

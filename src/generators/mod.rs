@@ -1,38 +1,48 @@
 //! Generators: scene entries that stand for several blocks (arches, columns,
-//! walls), and the shapes of the 3D boxes and prisms. The geometry here assumes parameters already checked by
-//! `validate`; nonsense (too few voussoirs, non-positive sizes, too many
-//! blocks) gives no blocks rather than a panic or an endless loop.
+//! walls, jointed domains), and the shapes of the 3D boxes and prisms. The
+//! scene checks the parameters first (an arch's and a jointed domain's by
+//! the checks here); nonsense (too few voussoirs, non-positive sizes, too
+//! many blocks) gives no blocks rather than a panic or an endless loop.
 
+use dda_core::settings::{finite, positive};
+use dda_core::DdaError;
 use nalgebra::{Point2, Point3, Rotation3, Vector3};
 
-use super::Bond;
+use crate::scene::Bond;
+
+pub(crate) mod jointed;
 
 /// More blocks than this from one generator is taken as a mistake.
 pub(crate) const MAX_PARTS: usize = 100_000;
 
-/// One block made by a generator.
+/// One block made by an entry, in 2D (`[f64; 2]` corners) or 3D.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Piece {
-    /// Like "voussoir 3" or "course 1, brick 2".
-    pub name: String,
-    /// Counter-clockwise.
-    pub vertices: Vec<[f64; 2]>,
-    /// Held whatever the generator says (an arch's abutments).
+pub(crate) struct Piece<P = [f64; 2]> {
+    /// Like "voussoir 3" or "course 1, brick 2"; none for an entry that
+    /// makes one block.
+    pub name: Option<String>,
+    /// Counter-clockwise in 2D.
+    pub vertices: Vec<P>,
+    /// Each face's corners, counter-clockwise seen from outside; none in 2D.
+    pub faces: Vec<Vec<usize>>,
+    /// Held whatever the entry says (an arch's abutments, blocks below a
+    /// jointed domain's `fixed_below`).
     pub always_fixed: bool,
 }
 
-impl Piece {
-    fn new(name: String, vertices: Vec<[f64; 2]>) -> Self {
+impl<P> Piece<P> {
+    pub fn new(name: Option<String>, vertices: Vec<P>, faces: Vec<Vec<usize>>) -> Self {
         Self {
             name,
             vertices,
+            faces,
             always_fixed: false,
         }
     }
 }
 
 /// The arch's shape, as a scene gives it.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(crate) struct ArchShape {
     pub center: [f64; 2],
     pub radius: f64,
@@ -70,20 +80,54 @@ impl ArchShape {
         }
     }
 
-    fn makes_sense(&self) -> bool {
+    /// Whether the shape makes an arch: the first field at fault and what
+    /// to change, as the core's checks say it.
+    pub fn check(&self) -> Result<(), DdaError> {
+        let fail = |field, message| Err(DdaError::Setting { field, message });
+        let (r, t, e, span) = (self.radius, self.thickness, self.pointed, self.span_angle);
+        let hint = "give the arch's size in m";
+        self.center
+            .iter()
+            .try_for_each(|c| finite("center", "the center", *c))?;
+        positive("radius", "the radius", r, hint)?;
+        positive("thickness", "the thickness", t, hint)?;
+        if r <= t / 2.0 {
+            return fail("radius", format!("the radius ({r}) must exceed half the thickness ({t}): it is the centreline's, with the intrados at radius − thickness/2; use a larger radius or a thinner arch"));
+        }
+        count("voussoirs", "voussoirs", self.voussoirs, 2)?;
+        finite("span_angle", "the span angle", span)?;
+        if !(span > 0.0 && span <= 180.0) {
+            return fail("span_angle", format!("the span angle must lie in (0, 180] degrees, got {span}; 180 is a semicircular arch, less a segmental one"));
+        }
+        finite("pointed", "pointed", e)?;
+        if !(0.0..1.0).contains(&e) {
+            return fail("pointed", format!("pointed must lie in [0, 1), got {e}; it is the offset of the two centres as a fraction of the radius (0 for a round arch)"));
+        }
         let (ri, _) = self.radii();
-        let e = self.pointed;
-        self.center.iter().all(|c| c.is_finite())
-            && self.radius.is_finite()
-            && self.thickness > 0.0
-            && ri > 0.0
-            && (2..=MAX_PARTS).contains(&self.voussoirs)
-            && self.span_angle > 0.0
-            && self.span_angle <= 180.0
-            && (0.0..1.0).contains(&e)
-            && (e == 0.0 || (self.voussoirs.is_multiple_of(2) && ri > e * self.radius))
-            && self.springing_angle() > self.crown_angle()
+        if e > 0.0 && self.voussoirs % 2 == 1 {
+            return fail("voussoirs", format!("a pointed arch needs an even number of voussoirs (half on each side of the crown joint), got {}", self.voussoirs));
+        }
+        if e > 0.0 && ri <= e * r {
+            return fail("pointed", format!("the intrados (radius {ri}) does not reach the crown: the centres are {} from it; use a smaller pointed or a thinner arch", e * r));
+        }
+        if self.springing_angle() <= self.crown_angle() {
+            let least = 2.0 * (self.crown_angle() - 90.0);
+            return fail("span_angle", format!("a span angle of {span} degrees ends above the crown of this pointed arch; use more than {least} degrees"));
+        }
+        Ok(())
     }
+}
+
+/// A number of generated blocks: at least `min`, at most [`MAX_PARTS`].
+pub(crate) fn count(field: &'static str, what: &str, n: usize, min: usize) -> Result<(), DdaError> {
+    let message = if n < min {
+        format!("{what} must be at least {min}, got {n}")
+    } else if n > MAX_PARTS {
+        format!("{n} {what} is more than the {MAX_PARTS} a generator makes; use fewer")
+    } else {
+        return Ok(());
+    };
+    Err(DdaError::Setting { field, message })
 }
 
 /// (cos, sin) of an angle in degrees, exact at multiples of 90°.
@@ -108,7 +152,7 @@ fn direction(degrees: f64) -> [f64; 2] {
 /// for a round arch); a pointed arch's crown joint is the vertical through
 /// the centre. The right half mirrors the left exactly.
 pub(crate) fn arch(shape: &ArchShape) -> Vec<Piece> {
-    if !shape.makes_sense() {
+    if shape.check().is_err() {
         return Vec::new();
     }
     let n = shape.voussoirs;
@@ -149,8 +193,9 @@ pub(crate) fn arch(shape: &ArchShape) -> Vec<Piece> {
         .map(|(k, w)| {
             let ([i0, e0], [i1, e1]) = (w[0], w[1]);
             Piece::new(
-                format!("voussoir {k}"),
+                Some(format!("voussoir {k}")),
                 vec![at(i0), at(i1), at(e1), at(e0)],
+                Vec::new(),
             )
         })
         .collect();
@@ -175,9 +220,12 @@ pub(crate) fn arch(shape: &ArchShape) -> Vec<Piece> {
         ];
         for (name, outline) in [("left abutment", left), ("right abutment", right)] {
             pieces.push(Piece {
-                name: name.to_string(),
-                vertices: outline.into_iter().map(at).collect(),
                 always_fixed: true,
+                ..Piece::new(
+                    Some(name.to_string()),
+                    outline.into_iter().map(at).collect(),
+                    Vec::new(),
+                )
             });
         }
     }
@@ -196,8 +244,9 @@ pub(crate) fn column(base: [f64; 2], drums: usize, drum_height: f64, width: f64)
         .map(|k| {
             let (y0, y1) = (y(k), y(k + 1));
             Piece::new(
-                format!("drum {k}"),
+                Some(format!("drum {k}")),
                 vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]],
+                Vec::new(),
             )
         })
         .collect()
@@ -257,8 +306,9 @@ pub(crate) fn wall(
         for (k, w) in cuts.windows(2).enumerate() {
             let (xa, xb) = (x0 + w[0], x0 + w[1]);
             pieces.push(Piece::new(
-                format!("course {c}, brick {k}"),
+                Some(format!("course {c}, brick {k}")),
                 vec![[xa, ya], [xb, ya], [xb, yb], [xa, yb]],
+                Vec::new(),
             ));
         }
     }

@@ -10,8 +10,8 @@ use std::ops::Not;
 use nalgebra::{Point2, Point3, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
-use super::generate::Piece;
-use super::{Coords, JointLaw};
+use super::Piece;
+use crate::scene::{Coords, JointLaw};
 
 /// At most this many joints from one set.
 pub const MAX_JOINTS: usize = 10_000;
@@ -191,10 +191,10 @@ fn offsets(
     Some(out)
 }
 
-/// The blocks of a 2D jointed domain, counter-clockwise, and the set that
-/// separates each pair of them, as (block, block, set).
-pub(crate) struct Jointed2 {
-    pub pieces: Vec<Piece>,
+/// The blocks of a jointed domain (in 2D counter-clockwise) and the set
+/// that separates each pair of them, as (block, block, set).
+pub(crate) struct Jointed<P> {
+    pub pieces: Vec<Piece<P>>,
     pub joints: Vec<(usize, usize, usize)>,
 }
 
@@ -220,7 +220,7 @@ pub(crate) fn cut_2d(
     sets: &[JointSet],
     min_area: Option<f64>,
     fixed_below: Option<f64>,
-) -> Result<Jointed2, Failure> {
+) -> Result<Jointed<[f64; 2]>, Failure> {
     let outline: Vec<Point2<f64>> = region.iter().map(|p| Point2::new(p[0], p[1])).collect();
     let (lo, hi) = outline.iter().fold(
         (
@@ -298,12 +298,15 @@ pub(crate) fn cut_2d(
         .iter()
         .enumerate()
         .map(|(k, b)| Piece {
-            name: format!("block {k}"),
-            vertices: b.iter().map(|p| [p.x, p.y]).collect(),
             always_fixed: fixed_below.is_some_and(|y| b.iter().all(|p| p.y <= y + tol)),
+            ..Piece::new(
+                Some(format!("block {k}")),
+                b.iter().map(|p| [p.x, p.y]).collect(),
+                Vec::new(),
+            )
         })
         .collect();
-    Ok(Jointed2 {
+    Ok(Jointed {
         pieces,
         joints: cut
             .joints
@@ -311,19 +314,6 @@ pub(crate) fn cut_2d(
             .map(|j| (j.blocks.0, j.blocks.1, j.set))
             .collect(),
     })
-}
-
-/// One block of a 3D jointed domain.
-pub(crate) struct Piece3 {
-    pub vertices: Vec<[f64; 3]>,
-    pub faces: Vec<Vec<usize>>,
-    pub fixed: bool,
-}
-
-/// The blocks of a 3D jointed domain and the set between each pair of them.
-pub(crate) struct Jointed3 {
-    pub pieces: Vec<Piece3>,
-    pub joints: Vec<(usize, usize, usize)>,
 }
 
 /// The unit normal of a 3D set's planes, pointing up.
@@ -339,7 +329,7 @@ pub(crate) fn cut_3d(
     sets: &[JointSet],
     min_volume: Option<f64>,
     fixed_below: Option<f64>,
-) -> Result<Jointed3, Failure> {
+) -> Result<Jointed<[f64; 3]>, Failure> {
     use dda_3d::cut::{Convex, JointPlane};
     let convex = match region {
         Region3::Box { min, max } => Convex::cuboid(Point3::from(*min), Point3::from(*max)),
@@ -377,10 +367,10 @@ pub(crate) fn cut_3d(
         };
         let cs = offsets(set, n.dot(&origin), nlo, nhi, &mut random).ok_or_else(|| too_many(k))?;
         most *= cs.len() as f64 + 1.0;
-        if most > super::generate::MAX_PARTS as f64 {
+        if most > super::MAX_PARTS as f64 {
             return Err(Failure::of_set(k, "spacing", format!(
                 "the sets would cut the region into up to {most:.3e} blocks, more than {}; give larger spacings or a smaller region",
-                super::generate::MAX_PARTS
+                super::MAX_PARTS
             )));
         }
         planes.extend(cs.into_iter().enumerate().map(|(j, c)| JointPlane {
@@ -402,13 +392,17 @@ pub(crate) fn cut_3d(
     let pieces = cut
         .blocks
         .into_iter()
-        .map(|(v, faces)| Piece3 {
-            fixed: fixed_below.is_some_and(|z| v.iter().all(|p| p.z <= z + tol)),
-            vertices: v.iter().map(|p| [p.x, p.y, p.z]).collect(),
-            faces,
+        .enumerate()
+        .map(|(k, (v, faces))| Piece {
+            always_fixed: fixed_below.is_some_and(|z| v.iter().all(|p| p.z <= z + tol)),
+            ..Piece::new(
+                Some(format!("block {k}")),
+                v.iter().map(|p| [p.x, p.y, p.z]).collect(),
+                faces,
+            )
         })
         .collect();
-    Ok(Jointed3 {
+    Ok(Jointed {
         pieces,
         joints: cut
             .joints
