@@ -161,7 +161,7 @@ fn a_damped_wall_that_cannot_settle_is_told_what_removes_the_cause() {
         std::fs::write(&path, text).unwrap();
         let result = run_with(&path, &dir.join(format!("out_{damping}")), quiet);
         if damping == "1.0" {
-            let error = format!("{:#}", result.err().expect("the damped wall stops"));
+            let error = format!("{:#}", result.expect_err("the damped wall stops"));
             assert!(error.contains("open-close agreement"), "{error}");
             assert!(error.contains("analysis.contact_damping: 0.0"), "{error}");
             assert!(!error.contains("contact_damping: 1.0"), "{error}");
