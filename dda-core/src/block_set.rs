@@ -36,7 +36,9 @@ pub enum RotationUpdate {
 /// One block of a dimension: a body in `D` dimensions with `N` DOF about its
 /// centroid (translation and rotation first, the `S` strains last), meeting
 /// others through contacts with `T` tangential directions.
-pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize>: Sized {
+pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize>:
+    Sized + Sync
+{
     fn vertices(&self) -> &[Point<f64, D>];
     fn centroid(&self) -> Point<f64, D>;
     /// Area (2D, per unit thickness) or volume (3D).

@@ -10,6 +10,7 @@
 use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector, SVector};
+use rayon::prelude::*;
 
 use crate::assembly::BlockSparse;
 use crate::contact::{ContactResponse, ContactState, DynContactLaw, LocalKinematics};
@@ -60,6 +61,10 @@ const BOUND_BLOCK_SHARE: f64 = 0.25;
 
 /// The most halvings of a coupled Newton-Raphson step.
 const LINE_SEARCH_HALVINGS: usize = 12;
+
+/// Block pairs a narrow-phase task takes at least: fewer would cost more
+/// in scheduling than they save.
+const PAIRS_PER_TASK: usize = 64;
 
 /// How a sliding contact's friction force changes with its normal gap:
 /// the tangent gains `slope`·u·vᵀ, u the friction's rows along the slip
@@ -476,10 +481,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let pairs = self.system.near_pairs(range);
         let searched = Instant::now();
         self.stats.times.broad_phase += searched - started;
-        let mut fresh = Vec::new();
-        for (i, j) in pairs {
-            fresh.extend(self.system.pair_contacts(i, j, range));
-        }
+        // Each pair's contacts on any thread, gathered in pair order.
+        let system = &self.system;
+        let found: Vec<Vec<Contact<N, T>>> = pairs
+            .par_iter()
+            .with_min_len(PAIRS_PER_TASK)
+            .map(|&(i, j)| system.pair_contacts(i, j, range))
+            .collect();
+        let mut fresh: Vec<Contact<N, T>> = found.into_iter().flatten().collect();
         transfer_records(&mut self.contacts, &mut fresh);
         let at_start = self.stats.steps == 0;
         let touching = self.settings.contact_tolerance * self.length_scale;

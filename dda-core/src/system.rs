@@ -39,7 +39,7 @@ impl BlockKind {
 /// directions. Everything is evaluated about the geometry at the start of the
 /// step; nothing changes until [`BlockSystem::commit`], so a rejected step
 /// leaves no trace.
-pub trait BlockSystem<const N: usize, const T: usize> {
+pub trait BlockSystem<const N: usize, const T: usize>: Sync {
     /// Number of blocks.
     fn block_count(&self) -> usize;
 
