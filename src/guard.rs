@@ -127,7 +127,7 @@ impl Guards {
                 "at t = {t} s, the step could not reach open-close agreement even at the smallest time step (analysis.min_dt_ratio × dt); still changing: {}; {}{}",
                 if contacts.is_empty() { "no contact named".into() } else { contacts.join(", ") },
                 if self.damped {
-                    "a smaller dt or a larger analysis.open_close_limit lets the contacts settle; with contact damping on, a contact at almost no normal force can also alternate because locking adds its shear dashpot, which analysis.contact_damping: 0.0 removes"
+                    "a smaller dt or a larger analysis.open_close_limit lets the contacts settle"
                 } else {
                     "a smaller dt, analysis.contact_damping: 1.0 or a larger analysis.open_close_limit lets the contacts settle"
                 },

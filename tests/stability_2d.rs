@@ -183,6 +183,28 @@ fn a_step_that_cannot_converge_stops_the_run() {
     assert!(summary["time"].as_f64().unwrap() < 0.3, "{summary}");
 }
 
+/// The same with contact damping on: the advice does not ask for the
+/// damping the run already has.
+#[test]
+fn a_damped_step_that_cannot_converge_is_not_told_to_add_damping() {
+    let (summary, _) = stopped(
+        "unconverged-damped-stop",
+        "penalty: 1e10, dt: 0.01, open_close_limit: 1, contact_damping: 1.0",
+        0.55,
+        0.0,
+    );
+    let error = summary["error"].as_str().unwrap();
+    assert!(
+        error.contains("could not reach open-close agreement even at the smallest time step"),
+        "{error}"
+    );
+    assert!(
+        error.contains("a smaller dt or a larger analysis.open_close_limit"),
+        "{error}"
+    );
+    assert!(!error.contains("contact_damping"), "{error}");
+}
+
 /// Too soft a penalty: the advice is a stiffer one, not a smaller dt.
 #[test]
 fn a_soft_penalty_stops_the_run_and_asks_for_a_stiffer_one() {

@@ -62,6 +62,11 @@ const BOUND_BLOCK_SHARE: f64 = 0.25;
 /// The most halvings of a coupled Newton-Raphson step.
 const LINE_SEARCH_HALVINGS: usize = 12;
 
+/// Forces below this share of a contact's normal spring force at the
+/// contact tolerance are round-off: a contact whose friction and shear
+/// force both lie below it keeps its state between locked and sliding.
+const ROUND_OFF_FORCE: f64 = 1e-9;
+
 /// Block pairs a narrow-phase task takes at least: fewer would cost more
 /// in scheduling than they save.
 const PAIRS_PER_TASK: usize = 64;
@@ -755,6 +760,19 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                         next = ContactState::Open;
                         trial.pulled[i] = true;
                     }
+                }
+            }
+            if state.is_closed() && next.is_closed() && next != state {
+                // Where the contact can carry almost no shear and carries
+                // almost none (a wall's head joint, at no normal force),
+                // locked and sliding differ by round-off: with a shear
+                // dashpot it would pass between them at every pass.
+                let locked = law.response(ContactState::Locked, &kin, history);
+                let floor = ROUND_OFF_FORCE * locked.normal_stiffness * kin.tolerance;
+                let friction = law.response(ContactState::Sliding, &kin, history);
+                if friction.shear_force.abs() < floor && locked.shear_stiffness * kin.shear < floor
+                {
+                    next = state;
                 }
             }
             // The slip direction is the trial spring stretch's (the
