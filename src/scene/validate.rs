@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use dda_2d::polygon;
 use dda_3d::polyhedron::{self as polyhedra, Fault, Polyhedron, PolyhedronError};
-use dda_core::{settings, BlockKind, DdaError, GroundMotion, Quantity, Record};
+use dda_core::{settings, BlockKind, ConstitutiveLaw, DdaError, GroundMotion, Quantity, Record};
 use nalgebra::{Point2, Point3, SVector};
 
 use super::locate::{locate_exact, Seg};
@@ -361,41 +361,29 @@ impl Scene {
         Ok(())
     }
 
+    /// A material's values are checked by the core (its density) and by
+    /// the elastic law of the scene's dimension; the scene names the place.
     fn check_materials(&self) -> Result {
         for (name, m) in &self.materials {
-            let at = |f: &str| Place::root().field("materials").key(name).field(f);
-            self.positive(
-                &at("density"),
-                "the density",
-                m.density,
-                "give the mass per unit volume (kg/m³)",
-            )?;
-            self.positive(
-                &at("young"),
-                "Young's modulus",
-                m.young,
-                "give the elastic modulus (Pa)",
-            )?;
-            // Below 1 Pa a block's springs and the automatic penalty and
-            // dt lose meaning (1e-300 once ran without a word).
-            if m.young < 1.0 {
-                return Err(self.error(
-                    &at("young"),
-                    format!(
-                        "Young's modulus {:e} Pa is below 1 Pa, softer than any solid; give it in Pa (granite about 5e10, brick about 1e10)",
-                        m.young
-                    ),
-                ));
-            }
-            self.finite(&at("poisson"), "Poisson's ratio", m.poisson)?;
-            if !(0.0..0.5).contains(&m.poisson) {
-                return Err(self.error(
-                    &at("poisson"),
-                    format!(
-                        "Poisson's ratio must lie in [0, 0.5), got {}; rock is usually 0.2–0.3",
-                        m.poisson
-                    ),
-                ));
+            let checked = dda_core::constitutive::check_density(m.density).and_then(|()| {
+                if self.dimension == 3 {
+                    dda_3d::IsotropicElastic {
+                        young: m.young,
+                        poisson: m.poisson,
+                    }
+                    .check()
+                } else {
+                    dda_2d::PlaneElastic {
+                        young: m.young,
+                        poisson: m.poisson,
+                        plane: self.analysis.plane,
+                    }
+                    .check()
+                }
+            });
+            if let Err(DdaError::Setting { field, message }) = checked {
+                let at = Place::root().field("materials").key(name).field(field);
+                return Err(self.error(&at, message));
             }
         }
         Ok(())
