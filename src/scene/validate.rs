@@ -654,53 +654,17 @@ impl Scene {
         self.error(&place, e.message)
     }
 
-    /// A jointed domain's joint sets, in `dimension` 2 or 3.
+    /// A jointed domain's joint sets, in `dimension` 2 or 3: each set
+    /// checks its own values, the scene its origin's axes and its law, and
+    /// names the place.
     fn check_sets(&self, at: &Place, sets: &[JointSet], dimension: u32) -> Result {
-        let three = dimension == 3;
         for (k, set) in sets.iter().enumerate() {
             let at = at.field("sets").index(k);
-            let fail = |field: &str, message: &str| -> Result {
-                Err(self.error(&at.field(field), message))
-            };
-            self.finite(&at.field("dip"), "the dip", set.dip)?;
-            let (lo, range) = if three {
-                (0.0, "[0, 90]")
-            } else {
-                (-90.0, "(-90, 90]")
-            };
-            if set.dip < lo || set.dip > 90.0 || (!three && set.dip == -90.0) {
-                let dip = set.dip;
-                return fail("dip", &format!("the dip must lie in {range} degrees, got {dip}; give the angle below the horizontal"));
+            if let Err(DdaError::Setting { field, message }) = set.check(dimension) {
+                return Err(self.error(&at.field(field), message));
             }
-            let hint = "give the distance between joints in m";
-            self.positive(&at.field("spacing"), "the spacing", set.spacing, hint)?;
             if !set.origin.is_empty() {
                 self.coords(&at.field("origin"), "the origin", &set.origin, self.axes())?;
-            }
-            if three {
-                let direction = set.dip_direction;
-                self.finite(&at.field("dip_direction"), "the dip direction", direction)?;
-                let planes = "3D joint sets are persistent planes; remove trace_length and bridge";
-                if set.trace_length.is_some() {
-                    return fail("trace_length", planes);
-                }
-                if set.bridge != 0.0 {
-                    return fail("bridge", planes);
-                }
-            } else {
-                if set.dip_direction != 0.0 {
-                    return fail("dip_direction", "a 2D joint set has no dip direction: a positive dip dips toward +x, a negative one toward -x; remove dip_direction");
-                }
-                if let Some(length) = set.trace_length {
-                    let hint =
-                        "give the length of each trace in m, or leave it out for persistent joints";
-                    self.positive(&at.field("trace_length"), "the trace length", length, hint)?;
-                }
-                let hint = "give the intact length between traces in m";
-                self.non_negative(&at.field("bridge"), "the bridge", set.bridge, hint)?;
-                if set.bridge > 0.0 && set.trace_length.is_none() {
-                    return fail("bridge", "a bridge separates traces, but the set has no trace_length (its joints are persistent); add trace_length or remove bridge");
-                }
             }
             if let Some(law) = &set.law {
                 self.check_law(&at.field("law"), law)?;
