@@ -72,6 +72,10 @@ impl ConstitutiveLaw<3> for PlaneElastic {
     fn modulus(&self) -> f64 {
         self.young
     }
+
+    fn check(&self) -> Result<(), dda_core::DdaError> {
+        dda_core::constitutive::check_elastic(self.young, self.poisson)
+    }
 }
 
 #[cfg(test)]

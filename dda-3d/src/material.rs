@@ -43,6 +43,10 @@ impl ConstitutiveLaw<6> for IsotropicElastic {
     fn modulus(&self) -> f64 {
         self.young
     }
+
+    fn check(&self) -> Result<(), dda_core::DdaError> {
+        dda_core::constitutive::check_elastic(self.young, self.poisson)
+    }
 }
 
 #[cfg(test)]

@@ -7,6 +7,8 @@
 
 use std::ops::Not;
 
+use dda_core::settings::{finite, non_negative, positive};
+use dda_core::DdaError;
 use nalgebra::{Point2, Point3, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -53,6 +55,59 @@ pub struct JointSet {
     /// the blocks' materials (`joints` by material, or `default_joint`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub law: Option<JointLaw>,
+}
+
+impl JointSet {
+    /// Whether the set's own values make joints in `dimension` 2 or 3: the
+    /// first field at fault and what to change. Its origin is checked
+    /// against the scene's axes, and its law by the law, where the scene
+    /// reads them.
+    pub fn check(&self, dimension: u32) -> Result<(), DdaError> {
+        let fail = |field, message: &str| {
+            Err(DdaError::Setting {
+                field,
+                message: message.to_string(),
+            })
+        };
+        let three = dimension == 3;
+        finite("dip", "the dip", self.dip)?;
+        let (lo, range) = if three {
+            (0.0, "[0, 90]")
+        } else {
+            (-90.0, "(-90, 90]")
+        };
+        if self.dip < lo || self.dip > 90.0 || (!three && self.dip == -90.0) {
+            let dip = self.dip;
+            return fail("dip", &format!("the dip must lie in {range} degrees, got {dip}; give the angle below the horizontal"));
+        }
+        let hint = "give the distance between joints in m";
+        positive("spacing", "the spacing", self.spacing, hint)?;
+        if three {
+            finite("dip_direction", "the dip direction", self.dip_direction)?;
+            let planes = "3D joint sets are persistent planes; remove trace_length and bridge";
+            if self.trace_length.is_some() {
+                return fail("trace_length", planes);
+            }
+            if self.bridge != 0.0 {
+                return fail("bridge", planes);
+            }
+        } else {
+            if self.dip_direction != 0.0 {
+                return fail("dip_direction", "a 2D joint set has no dip direction: a positive dip dips toward +x, a negative one toward -x; remove dip_direction");
+            }
+            if let Some(length) = self.trace_length {
+                let hint =
+                    "give the length of each trace in m, or leave it out for persistent joints";
+                positive("trace_length", "the trace length", length, hint)?;
+            }
+            let hint = "give the intact length between traces in m";
+            non_negative("bridge", "the bridge", self.bridge, hint)?;
+            if self.bridge > 0.0 && self.trace_length.is_none() {
+                return fail("bridge", "a bridge separates traces, but the set has no trace_length (its joints are persistent); add trace_length or remove bridge");
+            }
+        }
+        Ok(())
+    }
 }
 
 fn is_zero(v: &f64) -> bool {
@@ -427,6 +482,39 @@ mod tests {
             placement: Placement::Regular,
             law: None,
         }
+    }
+
+    /// A set names its own field at fault, by the dimension's rules.
+    #[test]
+    fn sets_check_their_own_values() {
+        let field = |set: &JointSet, dimension| match set.check(dimension) {
+            Err(DdaError::Setting { field, .. }) => field,
+            other => panic!("expected a setting error, got {other:?}"),
+        };
+        assert!(set(35.0, 1.0).check(2).is_ok());
+        assert!(set(-35.0, 1.0).check(2).is_ok());
+        assert_eq!(field(&set(-35.0, 1.0), 3), "dip");
+        assert_eq!(field(&set(-90.0, 1.0), 2), "dip");
+        assert_eq!(field(&set(f64::NAN, 1.0), 2), "dip");
+        assert_eq!(field(&set(30.0, 0.0), 2), "spacing");
+        let turned = JointSet {
+            dip_direction: 45.0,
+            ..set(30.0, 1.0)
+        };
+        assert!(turned.check(3).is_ok());
+        assert_eq!(field(&turned, 2), "dip_direction");
+        let bridged = JointSet {
+            bridge: 0.5,
+            ..set(30.0, 1.0)
+        };
+        assert_eq!(field(&bridged, 2), "bridge");
+        assert_eq!(field(&bridged, 3), "bridge");
+        let traced = JointSet {
+            trace_length: Some(1.5),
+            ..bridged
+        };
+        assert!(traced.check(2).is_ok());
+        assert_eq!(field(&traced, 3), "trace_length");
     }
 
     #[test]

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use dda_2d::polygon;
 use dda_3d::polyhedron::{self as polyhedra, Fault, Polyhedron, PolyhedronError};
-use dda_core::{settings, BlockKind, DdaError, GroundMotion, Quantity, Record};
+use dda_core::{settings, BlockKind, ConstitutiveLaw, DdaError, GroundMotion, Quantity, Record};
 use nalgebra::{Point2, Point3, SVector};
 
 use super::locate::{locate_exact, Seg};
@@ -361,41 +361,29 @@ impl Scene {
         Ok(())
     }
 
+    /// A material's values are checked by the core (its density) and by
+    /// the elastic law of the scene's dimension; the scene names the place.
     fn check_materials(&self) -> Result {
         for (name, m) in &self.materials {
-            let at = |f: &str| Place::root().field("materials").key(name).field(f);
-            self.positive(
-                &at("density"),
-                "the density",
-                m.density,
-                "give the mass per unit volume (kg/m³)",
-            )?;
-            self.positive(
-                &at("young"),
-                "Young's modulus",
-                m.young,
-                "give the elastic modulus (Pa)",
-            )?;
-            // Below 1 Pa a block's springs and the automatic penalty and
-            // dt lose meaning (1e-300 once ran without a word).
-            if m.young < 1.0 {
-                return Err(self.error(
-                    &at("young"),
-                    format!(
-                        "Young's modulus {:e} Pa is below 1 Pa, softer than any solid; give it in Pa (granite about 5e10, brick about 1e10)",
-                        m.young
-                    ),
-                ));
-            }
-            self.finite(&at("poisson"), "Poisson's ratio", m.poisson)?;
-            if !(0.0..0.5).contains(&m.poisson) {
-                return Err(self.error(
-                    &at("poisson"),
-                    format!(
-                        "Poisson's ratio must lie in [0, 0.5), got {}; rock is usually 0.2–0.3",
-                        m.poisson
-                    ),
-                ));
+            let checked = dda_core::constitutive::check_density(m.density).and_then(|()| {
+                if self.dimension == 3 {
+                    dda_3d::IsotropicElastic {
+                        young: m.young,
+                        poisson: m.poisson,
+                    }
+                    .check()
+                } else {
+                    dda_2d::PlaneElastic {
+                        young: m.young,
+                        poisson: m.poisson,
+                        plane: self.analysis.plane,
+                    }
+                    .check()
+                }
+            });
+            if let Err(DdaError::Setting { field, message }) = checked {
+                let at = Place::root().field("materials").key(name).field(field);
+                return Err(self.error(&at, message));
             }
         }
         Ok(())
@@ -666,53 +654,17 @@ impl Scene {
         self.error(&place, e.message)
     }
 
-    /// A jointed domain's joint sets, in `dimension` 2 or 3.
+    /// A jointed domain's joint sets, in `dimension` 2 or 3: each set
+    /// checks its own values, the scene its origin's axes and its law, and
+    /// names the place.
     fn check_sets(&self, at: &Place, sets: &[JointSet], dimension: u32) -> Result {
-        let three = dimension == 3;
         for (k, set) in sets.iter().enumerate() {
             let at = at.field("sets").index(k);
-            let fail = |field: &str, message: &str| -> Result {
-                Err(self.error(&at.field(field), message))
-            };
-            self.finite(&at.field("dip"), "the dip", set.dip)?;
-            let (lo, range) = if three {
-                (0.0, "[0, 90]")
-            } else {
-                (-90.0, "(-90, 90]")
-            };
-            if set.dip < lo || set.dip > 90.0 || (!three && set.dip == -90.0) {
-                let dip = set.dip;
-                return fail("dip", &format!("the dip must lie in {range} degrees, got {dip}; give the angle below the horizontal"));
+            if let Err(DdaError::Setting { field, message }) = set.check(dimension) {
+                return Err(self.error(&at.field(field), message));
             }
-            let hint = "give the distance between joints in m";
-            self.positive(&at.field("spacing"), "the spacing", set.spacing, hint)?;
             if !set.origin.is_empty() {
                 self.coords(&at.field("origin"), "the origin", &set.origin, self.axes())?;
-            }
-            if three {
-                let direction = set.dip_direction;
-                self.finite(&at.field("dip_direction"), "the dip direction", direction)?;
-                let planes = "3D joint sets are persistent planes; remove trace_length and bridge";
-                if set.trace_length.is_some() {
-                    return fail("trace_length", planes);
-                }
-                if set.bridge != 0.0 {
-                    return fail("bridge", planes);
-                }
-            } else {
-                if set.dip_direction != 0.0 {
-                    return fail("dip_direction", "a 2D joint set has no dip direction: a positive dip dips toward +x, a negative one toward -x; remove dip_direction");
-                }
-                if let Some(length) = set.trace_length {
-                    let hint =
-                        "give the length of each trace in m, or leave it out for persistent joints";
-                    self.positive(&at.field("trace_length"), "the trace length", length, hint)?;
-                }
-                let hint = "give the intact length between traces in m";
-                self.non_negative(&at.field("bridge"), "the bridge", set.bridge, hint)?;
-                if set.bridge > 0.0 && set.trace_length.is_none() {
-                    return fail("bridge", "a bridge separates traces, but the set has no trace_length (its joints are persistent); add trace_length or remove bridge");
-                }
             }
             if let Some(law) = &set.law {
                 self.check_law(&at.field("law"), law)?;
