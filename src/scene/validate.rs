@@ -285,6 +285,15 @@ impl Scene {
         self.source.invalid(place, message)
     }
 
+    /// A check that names its own field: the error at that field of
+    /// `base` (any other error at `base` itself, never dropped).
+    fn core_field(&self, base: &Place, check: std::result::Result<(), DdaError>) -> Result {
+        check.map_err(|e| match e {
+            DdaError::Setting { field, message } => self.error(&base.field(field), message),
+            e => self.error(base, e.to_string()),
+        })
+    }
+
     /// The core's check of a value, at `place`.
     fn core(&self, place: &Place, check: std::result::Result<(), DdaError>) -> Result {
         check.map_err(|e| match e {
@@ -355,9 +364,7 @@ impl Scene {
             )?;
         }
         // The driver checks its own settings; the scene names the place.
-        if let Err(dda_core::DdaError::Setting { field, message }) = self.settings().validate() {
-            return Err(self.error(&at(field), message));
-        }
+        self.core_field(&Place::root().field("analysis"), self.settings().validate())?;
         Ok(())
     }
 
@@ -381,10 +388,7 @@ impl Scene {
                     .check()
                 }
             });
-            if let Err(DdaError::Setting { field, message }) = checked {
-                let at = Place::root().field("materials").key(name).field(field);
-                return Err(self.error(&at, message));
-            }
+            self.core_field(&Place::root().field("materials").key(name), checked)?;
         }
         Ok(())
     }
@@ -660,9 +664,7 @@ impl Scene {
     fn check_sets(&self, at: &Place, sets: &[JointSet], dimension: u32) -> Result {
         for (k, set) in sets.iter().enumerate() {
             let at = at.field("sets").index(k);
-            if let Err(DdaError::Setting { field, message }) = set.check(dimension) {
-                return Err(self.error(&at.field(field), message));
-            }
+            self.core_field(&at, set.check(dimension))?;
             if !set.origin.is_empty() {
                 self.coords(&at.field("origin"), "the origin", &set.origin, self.axes())?;
             }
@@ -716,9 +718,7 @@ impl Scene {
             }
             BlockSpec::Arch { .. } => {
                 let shape = block.arch_shape().unwrap_or_default();
-                if let Err(DdaError::Setting { field, message }) = shape.check() {
-                    return Err(self.error(&at.field(field), message));
-                }
+                self.core_field(at, shape.check())?;
             }
             BlockSpec::Column {
                 base,
