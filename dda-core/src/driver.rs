@@ -71,6 +71,14 @@ const ROUND_OFF_FORCE: f64 = 1e-9;
 /// in scheduling than they save.
 const PAIRS_PER_TASK: usize = 64;
 
+/// The largest share of the last residual that a Newton-Raphson move made
+/// with an earlier iterate's factor may leave for the factor to be kept: a
+/// factor costs several residual assemblies and solves, and between the
+/// iterates of one step the tangent changes only where a contact reaches
+/// its strength. 0.3 kept one factor a step on the 40 × 40 wall (0.1 took
+/// two).
+const KEPT_FACTOR_CONTRACTION: f64 = 0.3;
+
 /// How a sliding contact's friction force changes with its normal gap:
 /// the tangent gains `slope`·u·vᵀ, u the friction's rows along the slip
 /// direction, v the gap's rows, on blocks `blocks`.
@@ -99,6 +107,18 @@ struct Trial<const T: usize> {
     within: Vec<bool>,
 }
 
+/// What [`Driver::load`] assembles.
+#[derive(Clone, Copy)]
+enum Motion<'a> {
+    /// An implicit step's residual and its tangent matrix.
+    Tangent,
+    /// An implicit step's residual alone (the factor is kept).
+    Implicit,
+    /// An explicit step's forces, its dashpots on the displacement its
+    /// start velocities make in dt.
+    Explicit(&'a [f64]),
+}
+
 /// Runs a [`BlockSystem`] in time.
 pub struct Driver<S, const N: usize, const T: usize> {
     pub system: S,
@@ -112,6 +132,10 @@ pub struct Driver<S, const N: usize, const T: usize> {
     factored: Option<Vec<f64>>,
     /// Whether the solver holds the symbolic analysis of the matrix pattern.
     analysed: bool,
+    /// Whether the factor was made in the current attempt at a step: an
+    /// attempt starts with its own, so a step solves the same whether the
+    /// run went on or resumed before it.
+    factored_in_attempt: bool,
     /// Where each contact's block pair sits in the matrix pattern (`None`:
     /// not in it, so the contact must stay open).
     slots: Vec<Option<usize>>,
@@ -241,6 +265,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             values: Vec::new(),
             factored: None,
             analysed: false,
+            factored_in_attempt: false,
             slots: Vec::new(),
             pattern_reach: PATTERN_REACH_SHARE * block_size,
             last_moved: 0.0,
@@ -611,6 +636,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// Solves one step of length `dt` with open-close iterations.
     fn attempt(&mut self, dt: f64) -> Result<Trial<T>, DdaError> {
         let nb = self.system.block_count();
+        self.factored_in_attempt = false;
         self.striking.clear();
         self.sliding_impact.clear();
         let mut trial = Trial {
@@ -862,14 +888,20 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut best = (f64::INFINITY, trial.d.clone());
         let mut anderson = Anderson::default();
         let mut last = f64::INFINITY;
+        // Whether the last move was made with an earlier iterate's factor.
+        let mut kept = false;
         for iteration in 0..=self.settings.newton_limit {
             couplings.clear();
+            // The tangent is assembled where a new factor is sure to be
+            // needed; elsewhere only if the kept one falls short.
+            let tangent = coupled || !self.factored_in_attempt || self.factored.is_none();
             self.assemble(
                 dt,
                 masses,
                 trial,
                 &mut residual,
                 coupled.then_some(&mut couplings),
+                tangent,
             );
             if residual.iter().any(|v| !v.is_finite()) {
                 return Err(DdaError::NotFinite {
@@ -884,21 +916,36 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 best = (norm, trial.d.clone());
             }
             let converged = iteration > 0 && norm <= self.settings.residual_tolerance * first;
-            let diverging = norm > 1e3 * best.0;
+            let diverging = !kept && norm > 1e3 * best.0;
             if converged || diverging || iteration == self.settings.newton_limit {
                 if !converged {
                     trial.d = best.1;
                 }
                 return Ok(converged);
             }
-            if norm > last {
+            // A kept factor that does not carry the iteration (a contact
+            // closed, opened or reached its strength) gives way to this
+            // iterate's own tangent.
+            let refresh = coupled
+                || !self.factored_in_attempt
+                || self.factored.is_none()
+                || (kept && norm > KEPT_FACTOR_CONTRACTION * last);
+            if norm > last || (kept && refresh) {
                 // A mixed move that did not lower the residual (a contact
-                // crossed its strength): mix again from here.
+                // crossed its strength), or a new factor: mix again from
+                // here.
                 anderson.restart();
             }
             last = norm;
             self.stats.newton_iterations += 1;
-            self.factorize()?;
+            if refresh {
+                if !tangent {
+                    self.assemble(dt, masses, trial, &mut residual, None, true);
+                }
+                self.factorize()?;
+                self.factored_in_attempt = true;
+            }
+            kept = !refresh;
             let solving = Instant::now();
             self.solver.solve(&mut residual);
             if !couplings.is_empty() {
@@ -929,7 +976,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                             *d = d0 + scale * dd;
                         }
                     }
-                    self.assemble(dt, masses, trial, &mut probe, None);
+                    self.assemble(dt, masses, trial, &mut probe, None, false);
                     let trial_norm = probe.iter().map(|r| r * r).sum::<f64>().sqrt();
                     if trial_norm < (1.0 - 1e-4 * scale) * norm {
                         break;
@@ -951,7 +998,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     time: self.time + dt,
                 });
             }
-            if largest <= self.settings.increment_tolerance * self.length_scale {
+            // A kept factor stiffer than the tangent makes short moves
+            // that are no sign of convergence.
+            if !kept && largest <= self.settings.increment_tolerance * self.length_scale {
                 return Ok(true);
             }
         }
@@ -1019,8 +1068,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         Ok(())
     }
 
-    /// Fills the matrix with the tangent and `residual` with applied minus
-    /// internal forces at the trial displacement.
+    /// Fills `residual` with applied minus internal forces at the trial
+    /// displacement and, with `tangent`, the matrix with the tangent.
     fn assemble(
         &mut self,
         dt: f64,
@@ -1028,13 +1077,19 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         trial: &Trial<T>,
         residual: &mut [f64],
         couplings: Option<&mut Vec<FrictionCoupling<N>>>,
+        tangent: bool,
     ) {
-        self.load(dt, masses, trial, residual, couplings, None);
+        let motion = if tangent {
+            Motion::Tangent
+        } else {
+            Motion::Implicit
+        };
+        self.load(dt, masses, trial, residual, couplings, motion);
     }
 
-    /// [`Driver::assemble`]; or, given the `approach` of an explicit step
-    /// (the displacement its start velocities make in dt), the forces alone
-    /// at the trial: no inertia, no matrix, dashpots on those velocities.
+    /// [`Driver::assemble`]; or, for [`Motion::Explicit`], the forces alone
+    /// at the trial: no inertia, no matrix, dashpots on the start
+    /// velocities.
     fn load(
         &mut self,
         dt: f64,
@@ -1042,14 +1097,18 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         trial: &Trial<T>,
         residual: &mut [f64],
         mut couplings: Option<&mut Vec<FrictionCoupling<N>>>,
-        approach: Option<&[f64]>,
+        motion: Motion<'_>,
     ) {
         let started = Instant::now();
-        let implicit = approach.is_none();
+        let (implicit, tangent, approach) = match motion {
+            Motion::Tangent => (true, true, None),
+            Motion::Implicit => (true, false, None),
+            Motion::Explicit(approach) => (false, false, Some(approach)),
+        };
         // Where the dashpots read the blocks' motion in the step.
         let moving = approach.unwrap_or(&trial.d);
         let mut matrix = std::mem::take(&mut self.matrix);
-        if implicit {
+        if tangent {
             matrix.clear();
         }
         residual.fill(0.0);
@@ -1070,7 +1129,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 (BlockMatrix::<N>::zeros(), BlockVector::<N>::zeros())
             };
             self.system.block_terms(i, end, &d, &mut k, &mut r);
-            if implicit {
+            if tangent {
                 matrix.add(i, i, &k);
             }
             matrix.add_block(residual, i, &r);
@@ -1082,7 +1141,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let zero = BlockVector::<N>::zeros();
             let c = self.dashpot(i, i, &[*g, zero], support.stiffness);
             let moved = g.dot(&block(moving, i)) - support.target_step;
-            if implicit {
+            if tangent {
                 matrix.add(i, i, &(g * g.transpose() * (c / dt)));
             }
             matrix.add_block(residual, i, &(g * (-c * moved / dt)));
@@ -1098,7 +1157,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let history = c.record.history.as_ref().expect("history set at search");
             let mut response = self.laws[c.law].response(state, &kin, history);
             let [a, b] = c.blocks;
-            let slot = if implicit {
+            let slot = if tangent {
                 Some(self.slots[i].expect("closed contacts are in the pattern"))
             } else {
                 None

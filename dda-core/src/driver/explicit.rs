@@ -20,7 +20,7 @@
 
 use nalgebra::DMatrix;
 
-use super::{widest_entrance, Driver, Trial};
+use super::{widest_entrance, Driver, Motion, Trial};
 use crate::contact::ContactState;
 use crate::error::DdaError;
 use crate::settings::Integrator;
@@ -144,7 +144,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         };
         let approach = self.approach(dt);
         let mut force = vec![0.0; self.matrix.dim()];
-        self.load(dt, masses, trial, &mut force, None, Some(&approach));
+        self.load(dt, masses, trial, &mut force, None, Motion::Explicit(&approach));
         let h = self.last_dt.map_or(0.5 * dt, |last| 0.5 * (last + dt));
         let alpha = self.settings.mass_damping;
         let local = self.settings.local_damping;
