@@ -23,11 +23,13 @@ use crate::statistics::CYCLES_KEPT;
 pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
 use anderson::Anderson;
+use terms::{ContactLoad, ContactTerms};
 
 mod anderson;
 mod checkpoint;
 mod explicit;
 mod impact;
+mod terms;
 
 /// The automatic step's ceiling is sqrt(block size / g) over this: a block
 /// starting from rest moves 1/800 of its size in such a step.
@@ -70,6 +72,9 @@ const ROUND_OFF_FORCE: f64 = 1e-9;
 /// Block pairs a narrow-phase task takes at least: fewer would cost more
 /// in scheduling than they save.
 const PAIRS_PER_TASK: usize = 64;
+
+/// Contacts an assembly task takes at least, for the same reason.
+const CONTACTS_PER_TASK: usize = 256;
 
 /// The largest share of the last residual that a Newton-Raphson move made
 /// with an earlier iterate's factor may leave for the factor to be kept: a
@@ -132,6 +137,8 @@ pub struct Driver<S, const N: usize, const T: usize> {
     factored: Option<Vec<f64>>,
     /// Whether the solver holds the symbolic analysis of the matrix pattern.
     analysed: bool,
+    /// Each contact's load at the last assembly (kept for its storage).
+    contact_loads: Vec<Option<ContactLoad<N, T>>>,
     /// Whether the factor was made in the current attempt at a step: an
     /// attempt starts with its own, so a step solves the same whether the
     /// run went on or resumed before it.
@@ -266,6 +273,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             factored: None,
             analysed: false,
             factored_in_attempt: false,
+            contact_loads: Vec::new(),
             slots: Vec::new(),
             pattern_reach: PATTERN_REACH_SHARE * block_size,
             last_moved: 0.0,
@@ -554,41 +562,27 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// one analysis for thousands of steps.
     fn update_pattern(&mut self) {
         let reach = self.pattern_reach;
-        let mut wanted = Vec::new();
-        let mut kept = Vec::new();
-        for c in &self.contacts {
-            let [a, b] = c.blocks;
-            let pair = (a.max(b), a.min(b));
-            let closed = c.record.state.is_closed();
-            // Shi's contact closes through its widest entrance, so it is as
-            // far from closing as that entrance's gap.
-            let gap = c
-                .entrances
-                .iter()
-                .map(|e| e.gap)
-                .fold(f64::NEG_INFINITY, f64::max);
-            if closed || gap <= reach {
-                wanted.push(pair);
-            }
-            if closed || gap <= 2.0 * reach {
-                kept.push(pair);
-            }
-        }
-        kept.sort_unstable();
-        kept.dedup();
-        let missing = wanted
-            .iter()
-            .any(|&(a, b)| self.matrix.slot(a, b).is_none());
-        let current = self.matrix.pairs().len();
-        let held = kept
-            .iter()
-            .filter(|&&(a, b)| self.matrix.slot(a, b).is_some())
-            .count();
-        let stale = current - held;
-        if missing || 8 * stale > current || self.matrix.block_count() == 0 {
-            self.rebuild_pattern(kept);
-        }
         self.find_slots();
+        let mut missing = self.matrix.block_count() == 0;
+        let mut held = vec![false; self.matrix.pairs().len()];
+        for (c, slot) in self.contacts.iter().zip(&self.slots) {
+            let (wanted, kept) = pattern_wants(c, reach);
+            match slot {
+                None => missing |= wanted,
+                Some(s) => held[*s] |= kept,
+            }
+        }
+        let stale = held.iter().filter(|h| !**h).count();
+        if missing || 8 * stale > held.len() {
+            let kept: Vec<(usize, usize)> = self
+                .contacts
+                .iter()
+                .filter(|c| pattern_wants(c, reach).1)
+                .map(|c| (c.blocks[0], c.blocks[1]))
+                .collect();
+            self.rebuild_pattern(kept);
+            self.find_slots();
+        }
     }
 
     /// A new matrix pattern with these block pairs.
@@ -739,11 +733,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         for i in 0..self.contacts.len() {
             let c = &self.contacts[i];
             let e = trial.entrances[i];
-            let mut kin = self.kinematics(i, e, trial, dt);
+            let mut kin = self.terms().kinematics(i, e, trial, dt);
             let law = &self.laws[c.law];
             let history = c.record.history.as_ref().expect("history set at search");
             let state = trial.states[i];
-            if self.damped(i) {
+            if self.terms().damped(i) {
                 // Friction bounds the whole tangential force, the shear
                 // dashpot's too: test the spring stretch that carries
                 // it, so locked and sliding stay complementary.
@@ -755,16 +749,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     let [a, b] = c.blocks;
                     let ds = entrance.shear_at(&block(&trial.d, a), &block(&trial.d, b));
                     let rate = entrance.shear_at(&block(moving, a), &block(moving, b));
-                    let carried = self.carried_shear(c, e);
+                    let carried = self.terms().carried_shear(c, e);
                     let loaded = SVector::<f64, T>::from_fn(|r, _| {
-                        let damper = self.dashpot(a, b, &entrance.tangents[r], k);
+                        let damper = self.terms().dashpot(a, b, &entrance.tangents[r], k);
                         carried[r] + ds[r] + rate[r] * damper / (k * dt)
                     });
                     kin.shear = loaded.norm();
                 }
             }
             let mut next = law.next_state(state, &kin, history);
-            if self.damped(i) && state.is_closed() && next.is_closed() {
+            if self.terms().damped(i) && state.is_closed() && next.is_closed() {
                 // The normal dashpot pushes only: a contact whose spring
                 // and dashpot together pull (a corner leaving its base
                 // faster than its spring unloads) opens, as the spring
@@ -775,7 +769,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 if k > 0.0 {
                     let entrance = &c.entrances[e];
                     let [a, b] = c.blocks;
-                    let damper = self.dashpot(a, b, &entrance.normal, k);
+                    let damper = self.terms().dashpot(a, b, &entrance.normal, k);
                     let approached =
                         entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap;
                     let loaded = LocalKinematics {
@@ -804,7 +798,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // The slip direction is the trial spring stretch's (the
             // return map's), so a sliding contact's friction opposes
             // where the stretch points now, never a stale direction.
-            if let Some(dir) = self.stretch(i, e, trial).try_normalize(1e-300) {
+            if let Some(dir) = self.terms().stretch(i, e, trial).try_normalize(1e-300) {
                 trial.directions[i] = dir;
             }
             // A sliding contact found within its strength carried the
@@ -816,15 +810,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // locking adds its shear dashpot.
             trial.within[i] = state == ContactState::Sliding
                 && next == ContactState::Locked
-                && !self.damped(i)
+                && !self.terms().damped(i)
                 && !self.laws[c.law].yields_at_strength();
             if trial.within[i] {
                 next = ContactState::Sliding;
             }
             // Where both states take the return map they load the blocks
             // alike: the pass's forces stand whichever is recorded.
-            let alike =
-                state.is_closed() && next.is_closed() && self.yields(i, ContactState::Locked);
+            let alike = state.is_closed()
+                && next.is_closed()
+                && self.terms().yields(i, ContactState::Locked);
             let entrance = widest_entrance(c, &trial.d, e, tolerance);
             if (next != state && !alike) || entrance != e {
                 changed = true;
@@ -1139,202 +1134,78 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // contact's: a supporting block does not ring on its springs.
             let (i, g) = (support.block, &support.row);
             let zero = BlockVector::<N>::zeros();
-            let c = self.dashpot(i, i, &[*g, zero], support.stiffness);
+            let c = self.terms().dashpot(i, i, &[*g, zero], support.stiffness);
             let moved = g.dot(&block(moving, i)) - support.target_step;
             if tangent {
                 matrix.add(i, i, &(g * g.transpose() * (c / dt)));
             }
             matrix.add_block(residual, i, &(g * (-c * moved / dt)));
         }
-        for (i, c) in self.contacts.iter().enumerate() {
-            let state = trial.states[i];
-            if !state.is_closed() {
+        let couple = couplings.is_some();
+        let mut loads = std::mem::take(&mut self.contact_loads);
+        let terms = self.terms();
+        (0..self.contacts.len())
+            .into_par_iter()
+            .with_min_len(CONTACTS_PER_TASK)
+            .map(|i| terms.load(i, trial, dt, moving, couple))
+            .collect_into_vec(&mut loads);
+        for (i, load) in loads.iter().enumerate() {
+            let Some(load) = load else {
                 continue;
-            }
-            let e = trial.entrances[i];
-            let entrance = &c.entrances[e];
-            let kin = self.kinematics(i, e, trial, dt);
-            let history = c.record.history.as_ref().expect("history set at search");
-            let mut response = self.laws[c.law].response(state, &kin, history);
-            let [a, b] = c.blocks;
-            let slot = if tangent {
-                Some(self.slots[i].expect("closed contacts are in the pattern"))
-            } else {
-                None
             };
-            if self.damped(i) {
-                // A dashpot beside the normal spring, a share of critical
-                // for the contact's own effective mass: impacts end in a
-                // few steps instead of ringing on the penalty springs, and
-                // a block released onto its contacts does not bounce. Its
-                // force on the step's approach dissipates only.
-                let c = self.dashpot(a, b, &entrance.normal, response.normal_stiffness);
-                let approached =
-                    entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap;
-                response.normal_force -= c * approached / dt;
-                response.normal_stiffness += c / dt;
-            }
-            let mut ra = BlockVector::<N>::zeros();
-            let mut rb = BlockVector::<N>::zeros();
-            // Normal spring: force along the gap gradient.
+            let c = &self.contacts[i];
+            let [a, b] = c.blocks;
+            let entrance = &c.entrances[trial.entrances[i]];
             let [na, nb] = &entrance.normal;
-            if let Some(slot) = slot {
-                add_spring(&mut matrix, slot, a, b, na, nb, response.normal_stiffness);
-            }
-            ra += na * response.normal_force;
-            rb += nb * response.normal_force;
-            // Shear: a spring when locked; when sliding, the friction force
-            // along the trial stretch (the radial return of an elastoplastic
-            // spring), whose tangent turns the force with the stretch in 3D.
-            let stretch = self.stretch(i, e, trial);
-            let length = stretch.norm();
-            // A sliding contact's force is the return map's, min(k_s·|s|,
-            // strength) along the stretch s: within the elastic limit (an
-            // iterate that reverses the slip) it is the spring's, so the
-            // force stays continuous and Newton-Raphson does not jump
-            // between opposite friction forces. A locked contact of a law
-            // that yields at its sliding strength takes the same return
-            // map, so passing between the two states changes no force.
-            let mut slipping = state == ContactState::Sliding;
-            if slipping {
-                let spring = self.laws[c.law].response(ContactState::Locked, &kin, history);
-                if spring.shear_stiffness > 0.0 && spring.shear_force < response.shear_force {
-                    response.shear_force = spring.shear_force;
-                    response.shear_stiffness = spring.shear_stiffness;
-                    slipping = false;
+            if tangent {
+                let slot = self.slots[i].expect("closed contacts are in the pattern");
+                add_spring(&mut matrix, slot, a, b, na, nb, load.normal_stiffness);
+                for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
+                    add_spring(&mut matrix, slot, a, b, ta, tb, load.shear_stiffness[k]);
                 }
-            } else if self.yields(i, state) {
-                let friction = self.laws[c.law].response(ContactState::Sliding, &kin, history);
-                if response.shear_force > friction.shear_force {
-                    response.shear_force = friction.shear_force;
-                    response.shear_stiffness = friction.shear_stiffness;
-                    slipping = true;
-                }
-            }
-            let direction = stretch.try_normalize(1e-300).unwrap_or(trial.directions[i]);
-            let step_shear = entrance.shear_at(&block(moving, a), &block(moving, b));
-            for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
-                let mut stiffness = response.shear_stiffness;
-                let mut force = -response.shear_force * direction[k];
-                if self.damped(i) && state == ContactState::Locked {
-                    // The shear spring's dashpot, as the normal one's.
-                    let c = self.dashpot(a, b, &[*ta, *tb], stiffness);
-                    force -= c * step_shear[k] / dt;
-                    stiffness += c / dt;
-                }
-                if let Some(slot) = slot {
-                    add_spring(&mut matrix, slot, a, b, ta, tb, stiffness);
-                }
-                ra += ta * force;
-                rb += tb * force;
-            }
-            if let (Some(couplings), true) = (couplings.as_deref_mut(), slipping) {
-                // d(friction)/d(gap), by central differences: laws are pure.
-                let h = 1e-6 * kin.gap.abs().max(kin.tolerance);
-                let at = |gap: f64| {
-                    let kin = LocalKinematics { gap, ..kin };
-                    self.laws[c.law].response(state, &kin, history).shear_force
-                };
-                let slope = (at(kin.gap + h) - at(kin.gap - h)) / (2.0 * h);
-                if slope != 0.0 {
-                    let mut u = [BlockVector::<N>::zeros(), BlockVector::<N>::zeros()];
-                    for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
-                        u[0] += ta * direction[k];
-                        u[1] += tb * direction[k];
-                    }
-                    couplings.push(FrictionCoupling {
-                        blocks: [a, b],
-                        u,
-                        v: [*na, *nb],
-                        slope,
-                    });
-                }
-            }
-            if let (Some(slot), true) = (slot, slipping && T > 1 && length > 0.0) {
-                let turning = response.shear_force / length;
-                for (k, gk) in entrance.tangents.iter().enumerate() {
-                    for (l, gl) in entrance.tangents.iter().enumerate() {
-                        let identity = if k == l { 1.0 } else { 0.0 };
-                        let projector = identity - direction[k] * direction[l];
-                        let (gk, gl) = ((&gk[0], &gk[1]), (&gl[0], &gl[1]));
-                        add_coupling(&mut matrix, slot, a, b, gk, gl, turning * projector);
+                if load.turning != 0.0 {
+                    let direction = &load.direction;
+                    for (k, gk) in entrance.tangents.iter().enumerate() {
+                        for (l, gl) in entrance.tangents.iter().enumerate() {
+                            let identity = if k == l { 1.0 } else { 0.0 };
+                            let projector = identity - direction[k] * direction[l];
+                            let (gk, gl) = ((&gk[0], &gk[1]), (&gl[0], &gl[1]));
+                            add_coupling(&mut matrix, slot, a, b, gk, gl, load.turning * projector);
+                        }
                     }
                 }
             }
-            matrix.add_block(residual, a, &ra);
-            matrix.add_block(residual, b, &rb);
+            if let (Some(couplings), true) = (couplings.as_deref_mut(), load.slope != 0.0) {
+                let mut u = [BlockVector::<N>::zeros(), BlockVector::<N>::zeros()];
+                for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
+                    u[0] += ta * load.direction[k];
+                    u[1] += tb * load.direction[k];
+                }
+                couplings.push(FrictionCoupling {
+                    blocks: [a, b],
+                    u,
+                    v: [*na, *nb],
+                    slope: load.slope,
+                });
+            }
+            matrix.add_block(residual, a, &load.force[0]);
+            matrix.add_block(residual, b, &load.force[1]);
         }
+        self.contact_loads = loads;
         self.matrix = matrix;
         self.stats.times.assembly += started.elapsed();
     }
 
-    /// Elastic shear displacement carried from earlier steps, valid only on
-    /// the entrance it was measured on.
-    fn carried_shear(&self, c: &Contact<N, T>, entrance: usize) -> SVector<f64, T> {
-        if c.record.state.is_closed() && c.record.entrance == entrance {
-            c.record.shear
-        } else {
-            SVector::zeros()
-        }
-    }
-
-    /// Whether contact `i` has dashpots this pass: with contact damping,
-    /// unless it strikes (its impulse is the impact's loss).
-    fn damped(&self, i: usize) -> bool {
-        self.settings.contact_damping > 0.0 && !self.striking.contains(&i)
-    }
-
-    /// Whether contact `i`, held in `state`, takes the return map when
-    /// locked: its law yields at its sliding strength, and no shear dashpot
-    /// (which locking adds) makes the two states load the blocks
-    /// differently.
-    fn yields(&self, i: usize, state: ContactState) -> bool {
-        state == ContactState::Locked
-            && !self.damped(i)
-            && self.laws[self.contacts[i].law].yields_at_strength()
-    }
-
-    /// The coefficient of the dashpot beside a spring of stiffness `k`
-    /// along a contact's rows: `contact_damping` × 2·sqrt(k·m), with m the
-    /// two blocks' effective mass along the rows, 1 / (gₐᵀ Mₐ⁻¹ gₐ + g_bᵀ
-    /// M_b⁻¹ g_b) (rotation and strain included).
-    fn dashpot(&self, a: usize, b: usize, [ga, gb]: &[BlockVector<N>; 2], k: f64) -> f64 {
-        let compliance =
-            ga.dot(&(self.inverse_masses[a] * ga)) + gb.dot(&(self.inverse_masses[b] * gb));
-        if compliance > 0.0 && k > 0.0 {
-            self.settings.contact_damping * 2.0 * (k / compliance).sqrt()
-        } else {
-            0.0
-        }
-    }
-
-    /// The shear spring's trial stretch: the carried stretch plus this
-    /// step's relative tangential displacement.
-    fn stretch(&self, i: usize, e: usize, trial: &Trial<T>) -> SVector<f64, T> {
-        let c = &self.contacts[i];
-        let ds =
-            c.entrances[e].shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
-        self.carried_shear(c, e) + ds
-    }
-
-    fn kinematics(&self, i: usize, e: usize, trial: &Trial<T>, dt: f64) -> LocalKinematics {
-        let c = &self.contacts[i];
-        let entrance = &c.entrances[e];
-        let da = block(&trial.d, c.blocks[0]);
-        let db = block(&trial.d, c.blocks[1]);
-        let ds = entrance.shear_at(&da, &db);
-        LocalKinematics {
-            gap: entrance.gap_at(&da, &db),
-            gap_start: entrance.gap,
-            shear: (self.carried_shear(c, e) + ds).norm(),
-            slip: ds.dot(&trial.directions[i]),
-            slip_path: c.record.slip_path,
-            slip_rate: c.record.slip_rate,
-            length: c.length,
-            spring_length: c.spring_length,
-            penalty: self.penalty,
+    /// The step's contacts as one contact's terms read them.
+    fn terms(&self) -> ContactTerms<'_, N, T> {
+        ContactTerms {
+            contacts: &self.contacts,
+            laws: &self.laws,
+            inverse_masses: &self.inverse_masses,
+            striking: &self.striking,
+            damping: self.settings.contact_damping,
             tolerance: self.settings.contact_tolerance * self.length_scale,
-            dt,
+            penalty: self.penalty,
         }
     }
 
@@ -1389,7 +1260,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut spring_energy = 0.0;
         for i in 0..self.contacts.len() {
             let c = &self.contacts[i];
-            let kin = self.kinematics(i, trial.entrances[i], trial, dt);
+            let kin = self.terms().kinematics(i, trial.entrances[i], trial, dt);
             let history = c.record.history.as_ref().expect("history set at search");
             let state = if trial.within[i] {
                 ContactState::Locked
@@ -1404,7 +1275,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let e = trial.entrances[i];
             let ds = c.entrances[e]
                 .shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
-            let shear = self.carried_shear(c, e) + ds;
+            let shear = self.terms().carried_shear(c, e) + ds;
             let sliding_stiffness = if state == ContactState::Sliding {
                 self.laws[c.law]
                     .response(ContactState::Locked, &kin, history)
@@ -1545,6 +1416,21 @@ fn add_coupling<const N: usize>(
     matrix.add(a, a, &(ga * ha.transpose() * k));
     matrix.add(b, b, &(gb * hb.transpose() * k));
     matrix.add_at(slot, a, b, &(ga * hb.transpose() * k));
+}
+
+/// Whether a contact's block pair must be in the matrix pattern (closed,
+/// or open within `reach`), and whether a pattern holding it may keep it
+/// (closed, or open within twice the reach).
+fn pattern_wants<const N: usize, const T: usize>(c: &Contact<N, T>, reach: f64) -> (bool, bool) {
+    let closed = c.record.state.is_closed();
+    // Shi's contact closes through its widest entrance, so it is as far
+    // from closing as that entrance's gap.
+    let gap = c
+        .entrances
+        .iter()
+        .map(|e| e.gap)
+        .fold(f64::NEG_INFINITY, f64::max);
+    (closed || gap <= reach, closed || gap <= 2.0 * reach)
 }
 
 fn block<const N: usize>(d: &[f64], i: usize) -> BlockVector<N> {

@@ -144,7 +144,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         };
         let approach = self.approach(dt);
         let mut force = vec![0.0; self.matrix.dim()];
-        self.load(dt, masses, trial, &mut force, None, Motion::Explicit(&approach));
+        self.load(
+            dt,
+            masses,
+            trial,
+            &mut force,
+            None,
+            Motion::Explicit(&approach),
+        );
         let h = self.last_dt.map_or(0.5 * dt, |last| 0.5 * (last + dt));
         let alpha = self.settings.mass_damping;
         let local = self.settings.local_damping;
@@ -237,7 +244,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let [a, b] = c.blocks;
             let (mut spring, mut damper): (f64, f64) = (0.0, 0.0);
             for (entrance, e) in c.entrances.iter().enumerate() {
-                let kin = self.kinematics(i, entrance, rest, self.dt);
+                let kin = self.terms().kinematics(i, entrance, rest, self.dt);
                 let springs = self.laws[c.law].response(ContactState::Locked, &kin, history);
                 let rows = std::iter::once((&e.normal, springs.normal_stiffness))
                     .chain(e.tangents.iter().map(|t| (t, springs.shear_stiffness)));
@@ -246,7 +253,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     let k = k.max(0.0);
                     k_sum += k * compliance(a, b, g);
                     if damped {
-                        c_sum += self.dashpot(a, b, g, k) * compliance(a, b, g);
+                        c_sum += self.terms().dashpot(a, b, g, k) * compliance(a, b, g);
                     }
                 }
                 spring = spring.max(k_sum);
@@ -261,7 +268,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             for support in self.system.supports(self.time, self.time + self.dt) {
                 let i = support.block;
                 let g = [support.row, BlockVector::<N>::zeros()];
-                dampers[i] += self.dashpot(i, i, &g, support.stiffness) * compliance(i, i, &g);
+                dampers[i] +=
+                    self.terms().dashpot(i, i, &g, support.stiffness) * compliance(i, i, &g);
             }
         }
         let (limiting, highest) =

@@ -192,7 +192,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let c = &self.contacts[i];
             let law = &self.laws[c.law];
             let history = c.record.history.as_ref().expect("history set at search");
-            let kin = self.kinematics(i, trial.entrances[i], trial, dt);
+            let kin = self.terms().kinematics(i, trial.entrances[i], trial, dt);
             let k = law
                 .response(ContactState::Locked, &kin, history)
                 .normal_stiffness;

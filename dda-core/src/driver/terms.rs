@@ -1,0 +1,225 @@
+//! One contact's kinematics and forces at a trial. They read the step's
+//! contacts and laws and write nothing, so the contacts' loads are computed
+//! in parallel and gathered in contact order (the sums are those of one
+//! thread, bit for bit).
+
+use nalgebra::SVector;
+
+use super::{block, Trial};
+use crate::contact::{ContactState, DynContactLaw, LocalKinematics};
+use crate::contacts::{BlockVector, Contact};
+use crate::system::BlockMatrix;
+
+/// What a closed contact adds to a step's equations at a trial.
+#[derive(Clone, Copy)]
+pub(super) struct ContactLoad<const N: usize, const T: usize> {
+    /// The contact's forces on its two blocks' unknowns.
+    pub force: [BlockVector<N>; 2],
+    /// The normal spring's stiffness, with its dashpot's share.
+    pub normal_stiffness: f64,
+    /// Each shear row's stiffness, with its dashpot's share.
+    pub shear_stiffness: SVector<f64, T>,
+    /// A sliding contact's friction over its stretch (3D): how fast its
+    /// force turns with the stretch across the slip direction (0 if none).
+    pub turning: f64,
+    /// The slip direction in the entrance's tangent frame.
+    pub direction: SVector<f64, T>,
+    /// A sliding contact's d(friction)/d(gap) (computed only for coupled
+    /// solves; 0 otherwise).
+    pub slope: f64,
+}
+
+/// The step's contacts as one contact's terms read them.
+pub(super) struct ContactTerms<'a, const N: usize, const T: usize> {
+    pub contacts: &'a [Contact<N, T>],
+    pub laws: &'a [Box<dyn DynContactLaw>],
+    /// Inverse mass matrices of the blocks in the step.
+    pub inverse_masses: &'a [BlockMatrix<N>],
+    /// Contacts struck in the attempt: no dashpots.
+    pub striking: &'a [usize],
+    /// `Settings::contact_damping`.
+    pub damping: f64,
+    /// The contact tolerance (m).
+    pub tolerance: f64,
+    pub penalty: f64,
+}
+
+impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
+    /// Elastic shear displacement carried from earlier steps, valid only on
+    /// the entrance it was measured on.
+    pub fn carried_shear(&self, c: &Contact<N, T>, entrance: usize) -> SVector<f64, T> {
+        if c.record.state.is_closed() && c.record.entrance == entrance {
+            c.record.shear
+        } else {
+            SVector::zeros()
+        }
+    }
+
+    /// Whether contact `i` has dashpots this pass: with contact damping,
+    /// unless it strikes (its impulse is the impact's loss).
+    pub fn damped(&self, i: usize) -> bool {
+        self.damping > 0.0 && !self.striking.contains(&i)
+    }
+
+    /// Whether contact `i`, held in `state`, takes the return map when
+    /// locked: its law yields at its sliding strength, and no shear dashpot
+    /// (which locking adds) makes the two states load the blocks
+    /// differently.
+    pub fn yields(&self, i: usize, state: ContactState) -> bool {
+        state == ContactState::Locked
+            && !self.damped(i)
+            && self.laws[self.contacts[i].law].yields_at_strength()
+    }
+
+    /// The coefficient of the dashpot beside a spring of stiffness `k`
+    /// along a contact's rows: `contact_damping` × 2·sqrt(k·m), with m the
+    /// two blocks' effective mass along the rows, 1 / (gₐᵀ Mₐ⁻¹ gₐ + g_bᵀ
+    /// M_b⁻¹ g_b) (rotation and strain included).
+    pub fn dashpot(&self, a: usize, b: usize, [ga, gb]: &[BlockVector<N>; 2], k: f64) -> f64 {
+        let compliance =
+            ga.dot(&(self.inverse_masses[a] * ga)) + gb.dot(&(self.inverse_masses[b] * gb));
+        if compliance > 0.0 && k > 0.0 {
+            self.damping * 2.0 * (k / compliance).sqrt()
+        } else {
+            0.0
+        }
+    }
+
+    /// The shear spring's trial stretch: the carried stretch plus this
+    /// step's relative tangential displacement.
+    pub fn stretch(&self, i: usize, e: usize, trial: &Trial<T>) -> SVector<f64, T> {
+        let c = &self.contacts[i];
+        let ds =
+            c.entrances[e].shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
+        self.carried_shear(c, e) + ds
+    }
+
+    pub fn kinematics(&self, i: usize, e: usize, trial: &Trial<T>, dt: f64) -> LocalKinematics {
+        let c = &self.contacts[i];
+        let entrance = &c.entrances[e];
+        let da = block(&trial.d, c.blocks[0]);
+        let db = block(&trial.d, c.blocks[1]);
+        let ds = entrance.shear_at(&da, &db);
+        LocalKinematics {
+            gap: entrance.gap_at(&da, &db),
+            gap_start: entrance.gap,
+            shear: (self.carried_shear(c, e) + ds).norm(),
+            slip: ds.dot(&trial.directions[i]),
+            slip_path: c.record.slip_path,
+            slip_rate: c.record.slip_rate,
+            length: c.length,
+            spring_length: c.spring_length,
+            penalty: self.penalty,
+            tolerance: self.tolerance,
+            dt,
+        }
+    }
+
+    /// Contact `i`'s load at the trial (`None` where it is open). The
+    /// dashpots act on `moving`, the step's motion (or an explicit step's
+    /// approach); `couple` asks for the friction's slope.
+    pub fn load(
+        &self,
+        i: usize,
+        trial: &Trial<T>,
+        dt: f64,
+        moving: &[f64],
+        couple: bool,
+    ) -> Option<ContactLoad<N, T>> {
+        let state = trial.states[i];
+        if !state.is_closed() {
+            return None;
+        }
+        let c = &self.contacts[i];
+        let e = trial.entrances[i];
+        let entrance = &c.entrances[e];
+        let kin = self.kinematics(i, e, trial, dt);
+        let history = c.record.history.as_ref().expect("history set at search");
+        let law = &self.laws[c.law];
+        let mut response = law.response(state, &kin, history);
+        let [a, b] = c.blocks;
+        let damped = self.damped(i);
+        if damped {
+            // A dashpot beside the normal spring, a share of critical for
+            // the contact's own effective mass: impacts end in a few steps
+            // instead of ringing on the penalty springs, and a block
+            // released onto its contacts does not bounce. Its force on the
+            // step's approach dissipates only.
+            let c = self.dashpot(a, b, &entrance.normal, response.normal_stiffness);
+            let approached = entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap;
+            response.normal_force -= c * approached / dt;
+            response.normal_stiffness += c / dt;
+        }
+        // Normal spring: force along the gap gradient.
+        let [na, nb] = &entrance.normal;
+        let mut force = [na * response.normal_force, nb * response.normal_force];
+        // Shear: a spring when locked; when sliding, the friction force
+        // along the trial stretch (the radial return of an elastoplastic
+        // spring), whose tangent turns the force with the stretch in 3D.
+        let stretch = self.stretch(i, e, trial);
+        let length = stretch.norm();
+        // A sliding contact's force is the return map's, min(k_s·|s|,
+        // strength) along the stretch s: within the elastic limit (an
+        // iterate that reverses the slip) it is the spring's, so the force
+        // stays continuous and Newton-Raphson does not jump between
+        // opposite friction forces. A locked contact of a law that yields
+        // at its sliding strength takes the same return map, so passing
+        // between the two states changes no force.
+        let mut slipping = state == ContactState::Sliding;
+        if slipping {
+            let spring = law.response(ContactState::Locked, &kin, history);
+            if spring.shear_stiffness > 0.0 && spring.shear_force < response.shear_force {
+                response.shear_force = spring.shear_force;
+                response.shear_stiffness = spring.shear_stiffness;
+                slipping = false;
+            }
+        } else if self.yields(i, state) {
+            let friction = law.response(ContactState::Sliding, &kin, history);
+            if response.shear_force > friction.shear_force {
+                response.shear_force = friction.shear_force;
+                response.shear_stiffness = friction.shear_stiffness;
+                slipping = true;
+            }
+        }
+        let direction = stretch.try_normalize(1e-300).unwrap_or(trial.directions[i]);
+        let step_shear = entrance.shear_at(&block(moving, a), &block(moving, b));
+        let mut shear_stiffness = SVector::<f64, T>::zeros();
+        for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
+            let mut stiffness = response.shear_stiffness;
+            let mut f = -response.shear_force * direction[k];
+            if damped && state == ContactState::Locked {
+                // The shear spring's dashpot, as the normal one's.
+                let c = self.dashpot(a, b, &[*ta, *tb], stiffness);
+                f -= c * step_shear[k] / dt;
+                stiffness += c / dt;
+            }
+            shear_stiffness[k] = stiffness;
+            force[0] += ta * f;
+            force[1] += tb * f;
+        }
+        let slope = if couple && slipping {
+            // d(friction)/d(gap), by central differences: laws are pure.
+            let h = 1e-6 * kin.gap.abs().max(kin.tolerance);
+            let at = |gap: f64| {
+                let kin = LocalKinematics { gap, ..kin };
+                law.response(state, &kin, history).shear_force
+            };
+            (at(kin.gap + h) - at(kin.gap - h)) / (2.0 * h)
+        } else {
+            0.0
+        };
+        let turning = if slipping && T > 1 && length > 0.0 {
+            response.shear_force / length
+        } else {
+            0.0
+        };
+        Some(ContactLoad {
+            force,
+            normal_stiffness: response.normal_stiffness,
+            shear_stiffness,
+            turning,
+            direction,
+            slope,
+        })
+    }
+}
