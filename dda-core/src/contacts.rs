@@ -6,8 +6,6 @@
 //! of the contact frame. The dimension crates fill these in; nothing here knows
 //! what they are.
 
-use std::collections::HashMap;
-
 use nalgebra::SVector;
 
 use crate::contact::{ContactState, History};
@@ -133,26 +131,53 @@ pub struct Contact<const N: usize, const T: usize> {
 /// key, then by the coarse key (same vertex against the same block) when the
 /// vertex has moved onto a neighbouring edge or face. A record only moves
 /// between contacts of the same law.
+///
+/// Both keys name the contact's block pair, so matches are looked for
+/// within each pair's contacts: the two lists are walked together in
+/// block-pair order (the order the search finds them in; a list out of it
+/// is sorted first), with no hashing.
 pub fn transfer_records<const N: usize, const T: usize>(
     old: &mut [Contact<N, T>],
     new: &mut [Contact<N, T>],
 ) {
-    let mut exact: HashMap<ContactKey, usize> = HashMap::with_capacity(old.len());
-    let mut coarse: HashMap<(u32, u32, u32), usize> = HashMap::with_capacity(old.len());
-    for (i, c) in old.iter().enumerate() {
-        exact.insert(c.key, i);
-        // Prefer a closed contact when several share the coarse key.
-        let prefer = coarse
-            .get(&c.key.coarse())
-            .is_none_or(|&j| !old[j].record.state.is_closed());
-        if prefer {
-            coarse.insert(c.key.coarse(), i);
+    for list in [&mut *old, &mut *new] {
+        if !list.is_sorted_by_key(pair) {
+            list.sort_by_key(pair);
         }
     }
     let mut taken = vec![false; old.len()];
+    let (mut o, mut n) = (0, 0);
+    while o < old.len() && n < new.len() {
+        let (po, pn) = (pair(&old[o]), pair(&new[n]));
+        let o_end = o + old[o..].iter().take_while(|c| pair(c) == po).count();
+        let n_end = n + new[n..].iter().take_while(|c| pair(c) == pn).count();
+        match po.cmp(&pn) {
+            std::cmp::Ordering::Less => o = o_end,
+            std::cmp::Ordering::Greater => n = n_end,
+            std::cmp::Ordering::Equal => {
+                transfer_within(&mut old[o..o_end], &mut new[n..n_end], &mut taken[o..o_end]);
+                (o, n) = (o_end, n_end);
+            }
+        }
+    }
+}
+
+/// The ordered block pair a contact belongs to.
+fn pair<const N: usize, const T: usize>(c: &Contact<N, T>) -> (usize, usize) {
+    let [a, b] = c.blocks;
+    (a.min(b), a.max(b))
+}
+
+/// [`transfer_records`] between one block pair's contacts.
+fn transfer_within<const N: usize, const T: usize>(
+    old: &mut [Contact<N, T>],
+    new: &mut [Contact<N, T>],
+    taken: &mut [bool],
+) {
     // Exact matches first so a coarse match never steals an exact one.
     for c in new.iter_mut() {
-        if let Some(&i) = exact.get(&c.key) {
+        // The last of equal keys, as a map built in order would hold.
+        if let Some(i) = old.iter().rposition(|o| o.key == c.key) {
             if !taken[i] && old[i].law == c.law {
                 taken[i] = true;
                 c.record = std::mem::take(&mut old[i].record);
@@ -160,7 +185,19 @@ pub fn transfer_records<const N: usize, const T: usize>(
         }
     }
     for c in new.iter_mut().filter(|c| c.record.history.is_none()) {
-        if let Some(&i) = coarse.get(&c.key.coarse()) {
+        // Among the old contacts of the coarse key, the first closed one,
+        // else the last.
+        let coarse = c.key.coarse();
+        let mut found = None;
+        for (i, o) in old.iter().enumerate() {
+            if o.key.coarse() == coarse {
+                let closed = found.is_some_and(|j: usize| old[j].record.state.is_closed());
+                if !closed {
+                    found = Some(i);
+                }
+            }
+        }
+        if let Some(i) = found {
             if !taken[i] && old[i].law == c.law && old[i].record.state.is_closed() {
                 taken[i] = true;
                 let mut record = std::mem::take(&mut old[i].record);
@@ -170,5 +207,127 @@ pub fn transfer_records<const N: usize, const T: usize>(
                 c.record = record;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A contact of vertex `fa` of block `a` against feature `fb` of block
+    /// `b`, its record marked by `slip_path` and closed or not.
+    fn contact(
+        a: u32,
+        fa: u32,
+        b: u32,
+        fb: u32,
+        law: usize,
+        mark: Option<(f64, bool)>,
+    ) -> Contact<2, 1> {
+        let mut record = ContactRecord::default();
+        if let Some((m, closed)) = mark {
+            record.slip_path = m;
+            record.entrance = 1;
+            record.shear = SVector::from_element(m);
+            record.history = Some(Box::new(()));
+            if closed {
+                record.state = ContactState::Locked;
+            }
+        }
+        Contact {
+            key: ContactKey {
+                block_a: a,
+                feature_a: fa,
+                block_b: b,
+                feature_b: fb,
+            },
+            blocks: [a as usize, b as usize],
+            law,
+            length: 0.0,
+            spring_length: 1.0,
+            entrances: Vec::new(),
+            record,
+        }
+    }
+
+    fn marks(list: &[Contact<2, 1>]) -> Vec<Option<(f64, usize)>> {
+        list.iter()
+            .map(|c| {
+                c.record
+                    .history
+                    .as_ref()
+                    .map(|_| (c.record.slip_path, c.record.entrance))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn records_move_by_key_then_by_vertex_within_each_pair() {
+        let mut old = vec![
+            contact(0, 1, 1, 2, 0, Some((1.0, true))),
+            // Vertex 3 of block 0 touched two edges of block 1: the closed
+            // one is the coarse match.
+            contact(0, 3, 1, 0, 0, Some((2.0, false))),
+            contact(0, 3, 1, 1, 0, Some((3.0, true))),
+            contact(1, 0, 2, 0, 0, Some((4.0, true))),
+            // Another law's record never moves.
+            contact(2, 0, 3, 1, 1, Some((5.0, true))),
+            contact(3, 2, 4, 0, 0, Some((6.0, true))),
+        ];
+        let mut new = vec![
+            contact(0, 1, 1, 2, 0, None),
+            contact(0, 3, 1, 5, 0, None),
+            // A pair the old list does not have.
+            contact(0, 2, 2, 0, 0, None),
+            contact(1, 0, 2, 0, 0, None),
+            contact(2, 0, 3, 1, 0, None),
+            // Listed before its pair's turn: sorted first.
+            contact(4, 1, 3, 0, 0, None),
+        ];
+        transfer_records(&mut old, &mut new);
+        let got: Vec<_> = new
+            .iter()
+            .map(|c| (c.key, c.record.history.is_some()))
+            .collect();
+        assert_eq!(got.len(), 6);
+        let by_key = |a, fa, b, fb| {
+            let i = new
+                .iter()
+                .position(|c| {
+                    c.key
+                        == ContactKey {
+                            block_a: a,
+                            feature_a: fa,
+                            block_b: b,
+                            feature_b: fb,
+                        }
+                })
+                .unwrap();
+            marks(&new)[i]
+        };
+        assert_eq!(
+            by_key(0, 1, 1, 2),
+            Some((1.0, 1)),
+            "exact match keeps its entrance"
+        );
+        assert_eq!(
+            by_key(0, 3, 1, 5),
+            Some((3.0, 0)),
+            "the closed coarse match, on entrance 0"
+        );
+        assert_eq!(by_key(0, 2, 2, 0), None);
+        assert_eq!(by_key(1, 0, 2, 0), Some((4.0, 1)));
+        assert_eq!(by_key(2, 0, 3, 1), None, "another law's record");
+        assert_eq!(
+            by_key(4, 1, 3, 0),
+            None,
+            "vertex 1 of block 4 had no record"
+        );
+        let shear: Vec<f64> = new.iter().map(|c| c.record.shear[0]).collect();
+        assert_eq!(
+            shear.iter().filter(|s| **s != 0.0).count(),
+            2,
+            "coarse matches drop their shear"
+        );
     }
 }

@@ -521,12 +521,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.stats.times.broad_phase += searched - started;
         // Each pair's contacts on any thread, gathered in pair order.
         let system = &self.system;
-        let found: Vec<Vec<Contact<N, T>>> = pairs
+        let mut fresh: Vec<Contact<N, T>> = pairs
             .par_iter()
             .with_min_len(PAIRS_PER_TASK)
-            .map(|&(i, j)| system.pair_contacts(i, j, range))
+            .flat_map_iter(|&(i, j)| system.pair_contacts(i, j, range))
             .collect();
-        let mut fresh: Vec<Contact<N, T>> = found.into_iter().flatten().collect();
         transfer_records(&mut self.contacts, &mut fresh);
         let at_start = self.stats.steps == 0;
         let touching = self.settings.contact_tolerance * self.length_scale;
