@@ -13,7 +13,7 @@ use nalgebra::{Point2, Point3, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
 use super::Piece;
-use crate::scene::{Coords, JointLaw};
+use crate::values::{Coords, JointLaw};
 
 /// At most this many joints from one set.
 pub const MAX_JOINTS: usize = 10_000;

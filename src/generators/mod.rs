@@ -7,10 +7,20 @@
 use dda_core::settings::{finite, positive};
 use dda_core::DdaError;
 use nalgebra::{Point2, Point3, Rotation3, Vector3};
-
-use crate::scene::Bond;
+use serde::{Deserialize, Serialize};
 
 pub(crate) mod jointed;
+
+/// How a wall's courses are cut (the wall generator's own choice; the
+/// scene re-exports it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Bond {
+    /// Every course cut at multiples of the brick length.
+    Stack,
+    /// Every second course starts with half a brick, so joints alternate.
+    #[default]
+    Running,
+}
 
 /// More blocks than this from one generator is taken as a mistake.
 pub(crate) const MAX_PARTS: usize = 100_000;

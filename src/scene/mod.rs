@@ -28,6 +28,9 @@ pub use dda_contact::{Coulomb, RateFriction, ThresholdBond, Weakening};
 pub use dda_core::{BlockKind, Integrator, Quantity, Solver};
 
 pub use crate::generators::jointed::{JointSet, Placement, Region3};
+pub use crate::generators::Bond;
+use crate::values::ordered_map;
+pub use crate::values::{Coords, JointLaw};
 pub use analysis::{Analysis, Damping, Mode};
 pub use build::{AnyModel, LawTable, Model, Model3};
 pub use error::{Location, SceneError};
@@ -137,64 +140,6 @@ pub struct Joint {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub blocks: Option<Vec<[usize; 2]>>,
     pub law: JointLaw,
-}
-
-/// A contact law as a scene names it. Angles are in degrees, strengths in
-/// Pa, lengths in m; stiffnesses left out (`None`) are automatic: the
-/// driver's penalty and 1/2.5 of it for shear.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub enum JointLaw {
-    /// Penalty Coulomb joint with a bond (cohesion, tensile strength) that
-    /// breaks the first time the joint opens or slides.
-    Coulomb(Coulomb),
-    /// A bond with no strength limit until the opening passes `max_opening`
-    /// or the shear displacement passes `max_shear`; frictional after.
-    ThresholdBond(ThresholdBond),
-    /// Cohesion (and friction) falling from peak to residual with
-    /// accumulated slip; the residual angle defaults to `friction_angle`.
-    DisplacementStrength {
-        friction_angle: f64,
-        #[serde(default)]
-        residual_friction_angle: Option<f64>,
-        #[serde(default)]
-        cohesion: f64,
-        #[serde(default)]
-        residual_cohesion: f64,
-        #[serde(default)]
-        tensile_strength: f64,
-        weakening: Weakening,
-        #[serde(default)]
-        normal_stiffness: Option<f64>,
-        #[serde(default)]
-        shear_stiffness: Option<f64>,
-    },
-    /// Friction falling from a peak to a residual angle with accumulated slip.
-    SlipFriction {
-        peak_friction_angle: f64,
-        residual_friction_angle: f64,
-        weakening: Weakening,
-        #[serde(default)]
-        normal_stiffness: Option<f64>,
-        #[serde(default)]
-        shear_stiffness: Option<f64>,
-    },
-    /// Friction falling from its static to its dynamic value as the slip
-    /// rate grows past `characteristic_rate` (m/s).
-    RateFriction(RateFriction),
-    /// A law built by name through a [`dda_contact::LawRegistry`], like
-    /// `Custom(name: "coulomb", params: {"friction_angle": 30.0})`.
-    Custom {
-        name: String,
-        #[serde(default, with = "ordered_map")]
-        params: Vec<(String, f64)>,
-    },
-}
-
-impl Default for JointLaw {
-    fn default() -> Self {
-        JointLaw::Coulomb(Coulomb::frictional(30.0))
-    }
 }
 
 /// A block, or a generator of several (`Arch`, `Column`, `Wall`): shape,
@@ -449,16 +394,6 @@ fn default_span_angle() -> f64 {
 
 fn default_true() -> bool {
     true
-}
-
-/// How a wall's courses are cut.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-pub enum Bond {
-    /// Every course cut at multiples of the brick length.
-    Stack,
-    /// Every second course starts with half a brick, so joints alternate.
-    #[default]
-    Running,
 }
 
 /// One block once generators are expanded: the numbering used by loads,
@@ -825,75 +760,6 @@ pub struct MeasuredPointSpec {
     pub point: Coords,
 }
 
-/// Numbers written as a tuple, like `(0.0, -9.81)` or `(1.0, 2.0, 3.0)`: a
-/// point or vector with one number per dimension of the scene (a load
-/// history's samples have the time first). The count is checked against
-/// the scene's dimension by [`Scene::validate`], with the place named.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Coords(pub Vec<f64>);
-
-impl Coords {
-    pub fn is_empty(&self) -> bool {
-        self.0.is_empty()
-    }
-
-    pub fn len(&self) -> usize {
-        self.0.len()
-    }
-
-    pub fn as_slice(&self) -> &[f64] {
-        &self.0
-    }
-
-    /// The `k`th number, 0 beyond the end (so an omitted velocity is zero).
-    pub fn get(&self, k: usize) -> f64 {
-        self.0.get(k).copied().unwrap_or(0.0)
-    }
-}
-
-impl<const N: usize> From<[f64; N]> for Coords {
-    fn from(v: [f64; N]) -> Self {
-        Coords(v.to_vec())
-    }
-}
-
-impl Serialize for Coords {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        use serde::ser::SerializeTuple;
-        let mut t = s.serialize_tuple(self.0.len())?;
-        for v in &self.0 {
-            t.serialize_element(v)?;
-        }
-        t.end()
-    }
-}
-
-impl<'de> Deserialize<'de> for Coords {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct Numbers;
-        impl<'de> serde::de::Visitor<'de> for Numbers {
-            type Value = Coords;
-
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a tuple of numbers, like (0.0, -9.81) or (1.0, 2.0, 3.0)")
-            }
-
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(
-                self,
-                mut seq: A,
-            ) -> Result<Coords, A::Error> {
-                let mut out = Vec::new();
-                while let Some(v) = seq.next_element::<f64>()? {
-                    out.push(v);
-                }
-                Ok(Coords(out))
-            }
-        }
-        // RON takes the tuple's length from the text.
-        d.deserialize_tuple(3, Numbers)
-    }
-}
-
 /// Only the dimension, read first so a scene of another dimension gets a
 /// clear answer instead of a complaint about its first field.
 #[derive(Deserialize)]
@@ -1070,52 +936,5 @@ impl Scene {
             None if self.materials.len() == 1 => Some(0),
             None => None,
         }
-    }
-}
-
-/// A map kept in file order, with duplicate keys rejected.
-mod ordered_map {
-    use std::fmt;
-
-    use serde::de::{self, MapAccess, Visitor};
-    use serde::ser::SerializeMap;
-    use serde::{Deserialize, Deserializer, Serialize, Serializer};
-
-    pub fn serialize<S: Serializer, V: Serialize>(
-        entries: &[(String, V)],
-        s: S,
-    ) -> Result<S::Ok, S::Error> {
-        let mut map = s.serialize_map(Some(entries.len()))?;
-        for (k, v) in entries {
-            map.serialize_entry(k, v)?;
-        }
-        map.end()
-    }
-
-    pub fn deserialize<'de, D: Deserializer<'de>, V: Deserialize<'de>>(
-        d: D,
-    ) -> Result<Vec<(String, V)>, D::Error> {
-        struct Ordered<V>(std::marker::PhantomData<V>);
-        impl<'de, V: Deserialize<'de>> Visitor<'de> for Ordered<V> {
-            type Value = Vec<(String, V)>;
-
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str(r#"a map of names to values, like { "rock": (...) }"#)
-            }
-
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
-                let mut out: Vec<(String, V)> = Vec::new();
-                while let Some((k, v)) = map.next_entry::<String, V>()? {
-                    if out.iter().any(|(n, _)| *n == k) {
-                        return Err(de::Error::custom(format!(
-                            "\"{k}\" is defined twice; give each entry its own name"
-                        )));
-                    }
-                    out.push((k, v));
-                }
-                Ok(out)
-            }
-        }
-        d.deserialize_map(Ordered(std::marker::PhantomData))
     }
 }

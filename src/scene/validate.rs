@@ -393,37 +393,18 @@ impl Scene {
         Ok(())
     }
 
-    /// A law's parameters are checked by the law itself; the scene names the
-    /// place (a `Custom` law's by its registry, when the scene is built).
+    /// A law's values are checked by the law itself; the scene names the
+    /// place (a `Custom` law's parameters by its registry, when the scene
+    /// is built, but for their being numbers).
     fn check_law(&self, at: &Place, law: &JointLaw) -> Result {
-        if let JointLaw::Custom { name, params } = law {
-            if name.trim().is_empty() {
-                return Err(self.error(
-                    &at.field("name"),
-                    "the law's name is empty; give the name it is registered under",
-                ));
-            }
+        self.core_field(at, law.check())?;
+        if let JointLaw::Custom { params, .. } = law {
             for (key, value) in params {
                 let what = format!("the parameter {key:?}");
                 self.finite(&at.field("params").key(key), &what, *value)?;
             }
-            return Ok(());
         }
-        let built = super::build::contact_law(law, &dda_contact::LawRegistry::new());
-        match built.map(|law| law.check()) {
-            Ok(Err(dda_core::DdaError::Setting { field, message })) => {
-                // A displacement-strength law names its peaks plainly.
-                let field = match (law, field) {
-                    (JointLaw::DisplacementStrength { .. }, "peak_friction_angle") => {
-                        "friction_angle"
-                    }
-                    (JointLaw::DisplacementStrength { .. }, "peak_cohesion") => "cohesion",
-                    _ => field,
-                };
-                Err(self.error(&at.field(field), message))
-            }
-            _ => Ok(()),
-        }
+        Ok(())
     }
 
     fn check_joints(&self, blocks: &[Slot]) -> Result {
