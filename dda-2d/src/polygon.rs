@@ -10,6 +10,7 @@
 //! `dda_core::planar`'s; the ones a 2D block or scene uses are re-exported
 //! here.
 
+use dda_core::overlap::Found;
 use dda_core::planar::{clip_convex, edge, edges, segments_meet, triangulate};
 pub use dda_core::planar::{contains, point_segment, signed_area};
 use nalgebra::{Point2, Vector2};
@@ -255,6 +256,28 @@ pub fn overlap(a: &[Point2<f64>], b: &[Point2<f64>], tol: f64) -> bool {
         || vertex_inside(&b, &a, tol)
         || edges_cross(&a, &b, tol)
         || common_interior(&a, &b, tol)
+}
+
+/// The first pair of outlines (i, j), j < i, in the order of i then j, that
+/// overlap by more than 1e-6 of the set's size, found in about N log N
+/// ([`dda_core::overlap`]; a side of each outline is a plane that may split
+/// the set); and how many pairs were tested.
+pub fn first_overlap(outlines: &[Vec<Point2<f64>>]) -> Found {
+    let corners = |o: &Vec<Point2<f64>>| o.iter().map(|p| [p.x, p.y]).collect();
+    let sides = |o: &Vec<Point2<f64>>| {
+        let n = o.len();
+        (0..n)
+            .filter_map(|k| {
+                let (p, q) = (o[k], o[(k + 1) % n]);
+                let along = (q - p).normalize();
+                along
+                    .iter()
+                    .all(|c| c.is_finite())
+                    .then_some(([-along.y, along.x], [p.x, p.y]))
+            })
+            .collect()
+    };
+    dda_core::overlap::first_overlap(outlines, corners, sides, |a, b, tol| overlap(a, b, tol))
 }
 
 /// Whether `a` is convex and `b` lies within `tol` of the far side of one of

@@ -14,6 +14,7 @@
 use std::collections::{BTreeMap, HashMap, VecDeque};
 use std::sync::Arc;
 
+use dda_core::overlap::Found;
 use dda_core::planar;
 use nalgebra::{Matrix3, Point2, Point3, Rotation3, Vector3};
 
@@ -817,6 +818,23 @@ pub fn prism(outline: &[Point2<f64>], z0: f64, z1: f64) -> (Vec<Point3<f64>>, Ve
         faces.push(vec![k, next, n + next, n + k]);
     }
     (vertices, faces)
+}
+
+/// The first pair of polyhedra (i, j), j < i, in the order of i then j,
+/// that overlap by more than 1e-6 of the set's size, found in about N log N
+/// ([`dda_core::overlap`]; a face of each block is a plane that may split
+/// the set); and how many pairs were tested.
+pub fn first_overlap(shapes: &[Polyhedron]) -> Found {
+    let corners = |s: &Polyhedron| s.vertices().iter().map(|p| p.coords.into()).collect();
+    let sides = |s: &Polyhedron| {
+        (0..s.faces().len())
+            .map(|f| {
+                let point = s.vertices()[s.faces()[f][0]];
+                (s.normal(f).into(), point.coords.into())
+            })
+            .collect()
+    };
+    dda_core::overlap::first_overlap(shapes, corners, sides, overlap)
 }
 
 /// Whether two polyhedra overlap by more than `tol` ("blocks overlapping at

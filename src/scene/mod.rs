@@ -16,7 +16,6 @@ mod build;
 mod error;
 mod locate;
 mod motion;
-mod overlap;
 mod validate;
 
 use std::path::{Path, PathBuf};

@@ -11,7 +11,6 @@ use nalgebra::{Point2, Point3, SVector};
 
 use super::locate::{locate_exact, Seg};
 use super::motion::{read_record, Layout};
-use super::overlap::{first_overlap_2d, first_overlap_3d};
 use super::{
     BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Region3, Scene,
     SceneBlock, SceneBlock3, SceneError,
@@ -137,8 +136,8 @@ impl Shapes {
 
     fn first_overlap(&self) -> Option<(usize, usize)> {
         match self {
-            Shapes::Polygons(o) => first_overlap_2d(o),
-            Shapes::Polyhedra(s) => first_overlap_3d(s),
+            Shapes::Polygons(o) => polygon::first_overlap(o).first,
+            Shapes::Polyhedra(s) => polyhedra::first_overlap(s).first,
         }
     }
 
