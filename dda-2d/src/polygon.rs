@@ -26,8 +26,9 @@ const AREA_EPS: f64 = 1.0e-14;
 pub enum PolygonError {
     #[error("a polygon needs at least 3 vertices, this one has {0}; add vertices")]
     TooFewVertices(usize),
-    #[error("vertex {index} is not a finite number; write finite coordinates")]
-    NotFinite { index: usize },
+    /// `value` is the first coordinate that is not a finite number.
+    #[error("vertex {index} is {value}, not a finite number; write finite coordinates")]
+    NotFinite { index: usize, value: f64 },
     #[error("vertices {a} and {b} coincide; remove one of them")]
     DuplicateVertex { a: usize, b: usize },
     #[error("the polygon is self-intersecting (edges {a} and {b} cross each other); reorder its vertices so the boundary does not cross itself")]
@@ -75,7 +76,11 @@ pub fn validate(vertices: &[Point2<f64>]) -> Result<Vec<Point2<f64>>, PolygonErr
         return Err(PolygonError::TooFewVertices(n));
     }
     if let Some(index) = vertices.iter().position(|v| !is_finite(v)) {
-        return Err(PolygonError::NotFinite { index });
+        let value = vertices[index].iter().copied().find(|x| !x.is_finite());
+        return Err(PolygonError::NotFinite {
+            index,
+            value: value.unwrap_or_default(),
+        });
     }
 
     let size = bbox_size(vertices);
@@ -606,13 +611,17 @@ mod tests {
             validate(&pts(&[(0.0, 0.0), (1.0, 0.0)])),
             Err(TooFewVertices(2))
         );
-        assert_eq!(
+        // NaN is not equal to itself, so the value is matched apart.
+        assert!(matches!(
             validate(&pts(&[(0.0, 0.0), (1.0, f64::NAN), (0.0, 1.0)])),
-            Err(NotFinite { index: 1 })
-        );
+            Err(NotFinite { index: 1, value }) if value.is_nan()
+        ));
         assert_eq!(
             validate(&pts(&[(0.0, 0.0), (1.0, 0.0), (f64::INFINITY, 1.0)])),
-            Err(NotFinite { index: 2 })
+            Err(NotFinite {
+                index: 2,
+                value: f64::INFINITY
+            })
         );
         // Non-consecutive duplicate.
         assert_eq!(

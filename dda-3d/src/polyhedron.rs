@@ -42,8 +42,9 @@ pub enum PolyhedronError {
     TooFewVertices(usize),
     #[error("a closed polyhedron needs at least 4 faces, this one has {0}; add the missing faces")]
     TooFewFaces(usize),
-    #[error("vertex {vertex} is not a finite point; write finite coordinates")]
-    NotFinite { vertex: usize },
+    /// `value` is the first coordinate that is not a finite number.
+    #[error("vertex {vertex} is {value}, not a finite number; write finite coordinates")]
+    NotFinite { vertex: usize, value: f64 },
     #[error("face {face} has {count} corners; a face needs at least 3")]
     FaceTooSmall { face: usize, count: usize },
     #[error("face {face} refers to vertex {index}, but there are only {count} vertices (numbered 0 to {}); correct the index", count.saturating_sub(1))]
@@ -106,7 +107,7 @@ impl PolyhedronError {
         match *self {
             E::TooFewVertices(_) => Fault::Vertices,
             E::TooFewFaces(_) | E::NonManifoldEdge { .. } => Fault::Faces,
-            E::NotFinite { vertex }
+            E::NotFinite { vertex, .. }
             | E::UnusedVertex { vertex }
             | E::NonManifoldVertex { vertex } => Fault::Vertex(vertex),
             E::DuplicateFace { second: face, .. }
@@ -478,11 +479,10 @@ pub fn validate(
     if n < 4 {
         return Err(PolyhedronError::TooFewVertices(n));
     }
-    if let Some(vertex) = vertices
-        .iter()
-        .position(|v| !v.coords.iter().all(|x| x.is_finite()))
-    {
-        return Err(PolyhedronError::NotFinite { vertex });
+    for (vertex, v) in vertices.iter().enumerate() {
+        if let Some(&value) = v.coords.iter().find(|x| !x.is_finite()) {
+            return Err(PolyhedronError::NotFinite { vertex, value });
+        }
     }
     if faces.len() < 4 {
         return Err(PolyhedronError::TooFewFaces(faces.len()));
@@ -1179,10 +1179,20 @@ mod tests {
         // NaN and infinity.
         let mut nan = v.clone();
         nan[5].y = f64::NAN;
-        assert_eq!(err(&nan, &f), PolyhedronError::NotFinite { vertex: 5 });
+        // NaN is not equal to itself, so the value is matched apart.
+        assert!(matches!(
+            err(&nan, &f),
+            PolyhedronError::NotFinite { vertex: 5, value } if value.is_nan()
+        ));
         let mut inf = v.clone();
         inf[2].z = f64::INFINITY;
-        assert_eq!(err(&inf, &f), PolyhedronError::NotFinite { vertex: 2 });
+        assert_eq!(
+            err(&inf, &f),
+            PolyhedronError::NotFinite {
+                vertex: 2,
+                value: f64::INFINITY
+            }
+        );
         // Indices and sizes.
         let mut bad = f.clone();
         bad[4][2] = 8;

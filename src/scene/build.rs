@@ -444,26 +444,12 @@ impl Scene {
     /// How many blocks an entry makes and, for a jointed domain, which set
     /// separates each pair of them (indices within the entry).
     fn generated_joints(&self, spec: &super::BlockSpec) -> (usize, Vec<(usize, usize, usize)>) {
-        use super::BlockSpec;
-        match spec {
-            BlockSpec::JointedDomain {
-                region,
-                sets,
-                min_block_area,
-                fixed_below,
-                ..
-            } => crate::generators::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
-                .map_or((0, Vec::new()), |j| (j.pieces.len(), j.joints)),
-            BlockSpec::JointedDomain3D {
-                region,
-                sets,
-                min_block_volume,
-                fixed_below,
-                ..
-            } => crate::generators::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
-                .map_or((0, Vec::new()), |j| (j.pieces.len(), j.joints)),
-            _ if self.dimension == 3 => (spec.expand_3d(0).len(), Vec::new()),
-            _ => (spec.expand(0).len(), Vec::new()),
+        if self.dimension == 3 {
+            spec.generate_3d()
+                .map_or((0, Vec::new()), |g| (g.pieces.len(), g.joints))
+        } else {
+            spec.generate_2d()
+                .map_or((0, Vec::new()), |g| (g.pieces.len(), g.joints))
         }
     }
 

@@ -28,6 +28,7 @@ pub use dda_core::{BlockKind, Integrator, Quantity, Solver};
 
 pub use crate::generators::jointed::{JointSet, Placement, Region3};
 pub use crate::generators::Bond;
+use crate::generators::{Failure, Generated};
 use crate::values::ordered_map;
 pub use crate::values::{Coords, JointLaw};
 pub use analysis::{Analysis, Damping, Mode};
@@ -535,36 +536,29 @@ impl BlockSpec {
         }
     }
 
-    /// The 2D blocks of this entry (one for a polygon or rectangle), with
-    /// `entry` as their entry index. A generator with parameters that make
-    /// no sense (see [`Scene::validate`]) gives none, and so does a 3D entry
-    /// (see [`BlockSpec::expand_3d`]).
-    pub fn expand(&self, entry: usize) -> Vec<SceneBlock> {
-        use crate::generators::{self as g, Piece};
-        let pieces = match self {
-            BlockSpec::Polygon { vertices, .. } => vec![Piece::new(None, vertices.clone(), vec![])],
+    /// What a 2D entry makes (nothing for a 3D one), or why its values make
+    /// nothing: each generator checks its own.
+    pub(crate) fn generate_2d(&self) -> Result<Generated<[f64; 2]>, Failure> {
+        use crate::generators as g;
+        Ok(match self {
+            BlockSpec::Polygon { vertices, .. } => {
+                vec![g::Piece::new(None, vertices.clone(), vec![])].into()
+            }
             BlockSpec::Rectangle {
                 center,
                 width,
                 height,
                 angle,
                 ..
-            } => {
-                let (s, c) = angle.to_radians().sin_cos();
-                let (hw, hh) = (width / 2.0, height / 2.0);
-                let corners = [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
-                    .into_iter()
-                    .map(|(x, y)| [center[0] + c * x - s * y, center[1] + s * x + c * y]);
-                vec![Piece::new(None, corners.collect(), vec![])]
-            }
-            BlockSpec::Arch { .. } => g::arch(&self.arch_shape().unwrap_or_default()),
+            } => g::rectangle(*center, *width, *height, *angle)?.into(),
+            BlockSpec::Arch { .. } => g::arch(&self.arch_shape().unwrap_or_default())?.into(),
             BlockSpec::Column {
                 base,
                 drums,
                 drum_height,
                 width,
                 ..
-            } => g::column(*base, *drums, *drum_height, *width),
+            } => g::column(*base, *drums, *drum_height, *width)?.into(),
             BlockSpec::Wall {
                 origin,
                 length,
@@ -580,28 +574,25 @@ impl BlockSpec {
                 *brick_length,
                 *brick_height,
                 *bond,
-            ),
+            )?
+            .into(),
             BlockSpec::JointedDomain {
                 region,
                 sets,
                 min_block_area,
                 fixed_below,
                 ..
-            } => g::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
-                .map(|j| j.pieces)
-                .unwrap_or_default(),
-            _ => Vec::new(),
-        };
-        self.blocks_of(entry, pieces)
+            } => g::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)?,
+            _ => Vec::new().into(),
+        })
     }
 
-    /// The 3D blocks of this entry (one but for a jointed domain), with
-    /// `entry` as their entry index; none for a 2D entry or for one whose
-    /// sizes make no sense (see [`Scene::validate`]).
-    pub fn expand_3d(&self, entry: usize) -> Vec<SceneBlock3> {
-        use crate::generators::{self as g, Piece};
-        let whole = |(v, f)| vec![Piece::new(None, v, f)];
-        let pieces = match self {
+    /// What a 3D entry makes (nothing for a 2D one), or why its values make
+    /// nothing.
+    pub(crate) fn generate_3d(&self) -> Result<Generated<[f64; 3]>, Failure> {
+        use crate::generators as g;
+        let whole = |(v, f)| vec![g::Piece::new(None, v, f)].into();
+        Ok(match self {
             BlockSpec::Polyhedron {
                 vertices, faces, ..
             } => whole((vertices.clone(), faces.clone())),
@@ -610,27 +601,40 @@ impl BlockSpec {
                 size,
                 rotation,
                 ..
-            } => g::cuboid(*center, *size, *rotation).map_or(vec![], whole),
+            } => whole(g::cuboid(*center, *size, *rotation)?),
             BlockSpec::Prism {
                 outline, z0, z1, ..
-            } => g::prism(outline, *z0, *z1).map_or(vec![], whole),
+            } => whole(g::prism(outline, *z0, *z1)?),
             BlockSpec::JointedDomain3D {
                 region,
                 sets,
                 min_block_volume,
                 fixed_below,
                 ..
-            } => g::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
-                .map(|j| j.pieces)
-                .unwrap_or_default(),
-            _ => Vec::new(),
-        };
-        self.blocks_of(entry, pieces)
+            } => g::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)?,
+            _ => Vec::new().into(),
+        })
+    }
+
+    /// The 2D blocks of this entry (one for a polygon or rectangle), with
+    /// `entry` as their entry index; none for a 3D entry or one whose
+    /// values make none (see [`Scene::validate`]).
+    pub fn expand(&self, entry: usize) -> Vec<SceneBlock> {
+        self.generate_2d()
+            .map_or(Vec::new(), |g| self.blocks_of(entry, g.pieces))
+    }
+
+    /// The 3D blocks of this entry (one but for a jointed domain), with
+    /// `entry` as their entry index; none for a 2D entry or one whose
+    /// values make none (see [`Scene::validate`]).
+    pub fn expand_3d(&self, entry: usize) -> Vec<SceneBlock3> {
+        self.generate_3d()
+            .map_or(Vec::new(), |g| self.blocks_of(entry, g.pieces))
     }
 
     /// The entry's pieces as blocks numbered `entry`, with its initial state
     /// (none if that has the other dimension's length).
-    fn blocks_of<P, const K: usize>(
+    pub(crate) fn blocks_of<P, const K: usize>(
         &self,
         entry: usize,
         pieces: Vec<crate::generators::Piece<P>>,
