@@ -12,7 +12,8 @@
 use std::ops::{Deref, DerefMut};
 use std::sync::OnceLock;
 
-use dda_core::Settings;
+use dda_core::settings::{non_negative, positive};
+use dda_core::{DdaError, Settings};
 use serde::de::{self, DeserializeSeed, IgnoredAny, IntoDeserializer, MapAccess, Visitor};
 use serde::ser::{self, Impossible, SerializeStruct};
 use serde::{forward_to_deserialize_any, Deserialize, Deserializer, Serialize, Serializer};
@@ -94,6 +95,16 @@ pub struct Damping {
 }
 
 impl Damping {
+    /// Whether the ratio and frequency make a damping: the first field at
+    /// fault and what to change.
+    pub fn check(&self) -> Result<(), DdaError> {
+        let hint = "it is a fraction of critical damping, like 0.05";
+        non_negative("ratio", "the damping ratio", self.ratio, hint)?;
+        let hint =
+            "give the frequency (Hz) at which the ratio holds, like the structure's first mode";
+        positive("frequency", "the damping frequency", self.frequency, hint)
+    }
+
     /// The coefficient α in 1/s.
     pub fn mass_coefficient(&self) -> f64 {
         2.0 * self.ratio * std::f64::consts::TAU * self.frequency

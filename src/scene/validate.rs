@@ -313,10 +313,6 @@ impl Scene {
         self.core(place, settings::positive("", what, v, hint))
     }
 
-    fn non_negative(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
-        self.core(place, settings::non_negative("", what, v, hint))
-    }
-
     fn check_analysis(&self) -> Result {
         let a = &self.analysis;
         let at = |name: &str| Place::root().field("analysis").field(name);
@@ -340,19 +336,7 @@ impl Scene {
             ));
         }
         if let Some(d) = &a.damping {
-            let at = at("damping");
-            self.non_negative(
-                &at.field("ratio"),
-                "the damping ratio",
-                d.ratio,
-                "it is a fraction of critical damping, like 0.05",
-            )?;
-            self.positive(
-                &at.field("frequency"),
-                "the damping frequency",
-                d.frequency,
-                "give the frequency (Hz) at which the ratio holds, like the structure's first mode",
-            )?;
+            self.core_field(&at("damping"), d.check())?;
         }
         // The driver checks its own settings; the scene names the place.
         self.core_field(&Place::root().field("analysis"), self.settings().validate())?;
@@ -878,9 +862,6 @@ impl Scene {
             self.vector(&at.field("amplitude"), "the amplitude", a, "a")?;
             Ok(SVector::from_fn(|k, _| a.get(k)))
         };
-        let positive = |field: &str, what: &str, v: f64, hint: &str| -> Result<f64> {
-            self.positive(&at.field(field), what, v, hint).map(|_| v)
-        };
         let mut note = None;
         let motion = match motion {
             MotionSpec::Sine {
@@ -889,25 +870,15 @@ impl Scene {
                 duration,
             } => GroundMotion::Sine {
                 amplitude: amplitude(a)?,
-                frequency: positive("frequency", "the frequency", *frequency, "give it in Hz")?,
-                duration: positive(
-                    "duration",
-                    "the duration",
-                    *duration,
-                    "give how long the shaking lasts, in s",
-                )?,
+                frequency: *frequency,
+                duration: *duration,
             },
             MotionSpec::Pulse {
                 amplitude: a,
                 period,
             } => GroundMotion::Pulse {
                 amplitude: amplitude(a)?,
-                period: positive(
-                    "period",
-                    "the period",
-                    *period,
-                    "give the pulse's length in s",
-                )?,
+                period: *period,
             },
             MotionSpec::Record {
                 path,
@@ -1010,6 +981,7 @@ impl Scene {
                 }
             }
         };
+        self.core_field(&at, motion.check())?;
         Ok(Some((driven.clone(), Arc::new(motion), note)))
     }
 
