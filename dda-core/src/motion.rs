@@ -12,7 +12,7 @@ use crate::DdaError;
 pub const BASELINE_DEGREE: usize = 3;
 
 /// What the samples of a recorded motion are.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Quantity {
     Acceleration,
     Velocity,

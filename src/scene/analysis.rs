@@ -45,7 +45,6 @@ pub struct Analysis {
     pub plane: Plane,
     /// `Exact` (default) turns blocks by the exact rotation, `Linear` by
     /// Shi's first-order update.
-    #[serde(with = "RotationUpdateDef")]
     pub rotation_update: RotationUpdate,
     /// Stiffness of the springs holding fixed points, N/m; default 10 × a
     /// typical contact's spring.
@@ -134,14 +133,6 @@ impl Mode {
 enum PlaneDef {
     Strain,
     Stress,
-}
-
-/// The file names of [`RotationUpdate`].
-#[derive(Serialize, Deserialize)]
-#[serde(remote = "RotationUpdate")]
-enum RotationUpdateDef {
-    Exact,
-    Linear,
 }
 
 /// Settings a scene does not write: it gives `damping` (a ratio at a

@@ -693,7 +693,7 @@ pub enum MotionSpec {
     /// [`dda_core::Record::baseline_corrected`]).
     Record {
         path: String,
-        #[serde(default = "default_quantity", with = "QuantityDef")]
+        #[serde(default = "default_quantity")]
         quantity: Quantity,
         #[serde(default = "default_scale")]
         scale: f64,
@@ -710,15 +710,6 @@ fn default_quantity() -> Quantity {
 
 fn default_scale() -> f64 {
     1.0
-}
-
-/// The file names of [`Quantity`].
-#[derive(Serialize, Deserialize)]
-#[serde(remote = "Quantity")]
-enum QuantityDef {
-    Acceleration,
-    Velocity,
-    Displacement,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

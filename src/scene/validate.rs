@@ -894,32 +894,8 @@ impl Scene {
                         "baseline correction applies to acceleration records only; remove baseline_correction or give quantity: Acceleration",
                     ));
                 }
-                let axes = if D == 3 { "xyz" } else { "xy" };
-                let layout = match components {
-                    None => Layout::full(D as u32),
-                    Some(c) => {
-                        let mut seen = String::new();
-                        for ch in c.chars() {
-                            if !axes.contains(ch) || seen.contains(ch) {
-                                return Err(self.error(
-                                    &at.field("components"),
-                                    format!(
-                                        "components {c:?} must name axes of this {D}D scene ({axes}), each once, in the order of the record's columns, like {:?}",
-                                        if D == 3 { "xz" } else { "x" }
-                                    ),
-                                ));
-                            }
-                            seen.push(ch);
-                        }
-                        if seen.is_empty() {
-                            return Err(self.error(
-                                &at.field("components"),
-                                format!("components is empty; name the axes of the record's columns, like {axes:?}, or leave it out for all of them"),
-                            ));
-                        }
-                        Layout::of(c)
-                    }
-                };
+                let layout = Layout::new(components.as_deref(), D as u32)
+                    .map_err(|m| self.error(&at.field("components"), m))?;
                 if path.trim().is_empty() {
                     return Err(self.error(
                         &at.field("path"),
@@ -929,10 +905,6 @@ impl Scene {
                         ),
                     ));
                 }
-                let axis_of: Vec<usize> = match components {
-                    Some(c) => c.chars().filter_map(|ch| axes.find(ch)).collect(),
-                    None => (0..D).collect(),
-                };
                 let file = self.resolve(path);
                 let samples = read_record(&file, &layout).map_err(|message| {
                     let place = if file.is_file() {
@@ -946,7 +918,7 @@ impl Scene {
                     .iter()
                     .map(|(_, t, v)| {
                         let mut a = SVector::<f64, D>::zeros();
-                        for (value, &axis) in v.iter().zip(&axis_of) {
+                        for (value, &axis) in v.iter().zip(&layout.axes) {
                             a[axis] = value * scale;
                         }
                         (*t, a)
