@@ -89,7 +89,9 @@ fn is_default<T: Default + PartialEq>(value: &T) -> bool {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Damping {
+    /// Fraction of critical damping, like 0.05; required, not negative.
     pub ratio: f64,
+    /// Where the ratio holds, Hz; required, positive.
     pub frequency: f64,
 }
 

@@ -109,8 +109,11 @@ pub struct Output {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Material {
+    /// Mass per volume, kg/m³; required, positive.
     pub density: f64,
+    /// Young's modulus, Pa; required, at least 1 Pa.
     pub young: f64,
+    /// Poisson's ratio, in [0, 0.5); default 0.25.
     #[serde(default = "default_poisson")]
     pub poisson: f64,
     /// `Rigid` (translation and rotation only) or `Deformable` (also
