@@ -59,6 +59,7 @@ pub mod simulation;
 pub mod study;
 pub mod summary;
 pub mod validate;
+pub mod values;
 pub mod vtk;
 
 pub use observe::{BlockShape, Cursor, Observer, PointLine, RunView};

@@ -283,3 +283,87 @@ fn a_resumed_run_with_the_iterative_solver_writes_the_same_bytes() {
     );
     killed_and_resumed_matches(&dir, &scene, &["history.csv"]);
 }
+
+/// A checkpoint carries the digest of the scene as parsed, so it must not
+/// change when a scene is written out whole (`Scene::to_ron`, as a study
+/// writes each run's scene) and read again: for every shipped example, the
+/// scene read back has the digest of the one written.
+#[test]
+fn the_digest_of_a_scene_survives_writing_and_reading_it() {
+    let dir = folder("digest");
+    // Records are named relative to the scene's folder.
+    std::fs::create_dir_all(dir.join("data")).unwrap();
+    for entry in std::fs::read_dir("examples/data").unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, dir.join("data").join(path.file_name().unwrap())).unwrap();
+    }
+    let mut checked = 0;
+    for entry in std::fs::read_dir("examples").unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "ron") {
+            continue;
+        }
+        let scene = dda::Scene::load(&path).unwrap();
+        let written = dir.join(path.file_name().unwrap());
+        std::fs::write(&written, scene.to_ron()).unwrap();
+        let again = dda::Scene::load(&written).unwrap();
+        assert_eq!(
+            dda::checkpoint::scene_digest(&again),
+            dda::checkpoint::scene_digest(&scene),
+            "{}",
+            path.display()
+        );
+        checked += 1;
+    }
+    assert!(checked >= 20, "only {checked} examples");
+}
+
+/// A run's scene rewritten by `Scene::to_ron` after a checkpoint (its
+/// comments and layout gone, its values the same) resumes to the bytes of
+/// an uninterrupted run; the rewritten scene with one value changed is
+/// refused, saying what to do, and nothing is written.
+#[test]
+fn a_rewritten_scene_resumes_and_a_changed_one_is_refused() {
+    let dir = folder("rewritten");
+    let scene = scene(
+        &dir,
+        "sliding_block_2d.ron",
+        "duration: 1.0",
+        "duration: 0.5",
+    );
+    let s = scene.to_str().unwrap();
+    let whole = dir.join("whole");
+    let out = dir.join("out");
+    ok(dda(&["run", s, "--out", whole.to_str().unwrap()]));
+    ok(dda(&[
+        "run",
+        s,
+        "--out",
+        out.to_str().unwrap(),
+        "--checkpoint-every",
+        "0.2",
+    ]));
+    let rewritten = dda::Scene::load(&scene).unwrap().to_ron();
+    assert_ne!(rewritten, std::fs::read_to_string(&scene).unwrap());
+    std::fs::write(&scene, &rewritten).unwrap();
+    ok(dda(&["run", "--resume", out.to_str().unwrap()]));
+    assert!(read(out.join("history.csv")) == read(whole.join("history.csv")));
+
+    let history = read(out.join("history.csv"));
+    assert!(rewritten.contains("friction_angle: 20.0"), "{rewritten}");
+    std::fs::write(
+        &scene,
+        rewritten.replace("friction_angle: 20.0", "friction_angle: 21.0"),
+    )
+    .unwrap();
+    let stderr = refused(&["run", "--resume", out.to_str().unwrap()]);
+    assert!(
+        stderr.contains("was taken of another scene")
+            && stderr.contains("run the scene again from the start"),
+        "{stderr}"
+    );
+    assert!(
+        read(out.join("history.csv")) == history,
+        "nothing was written"
+    );
+}

@@ -10,6 +10,7 @@
 //! `dda_core::planar`'s; the ones a 2D block or scene uses are re-exported
 //! here.
 
+use dda_core::overlap::Found;
 use dda_core::planar::{clip_convex, edge, edges, segments_meet, triangulate};
 pub use dda_core::planar::{contains, point_segment, signed_area};
 use nalgebra::{Point2, Vector2};
@@ -25,8 +26,9 @@ const AREA_EPS: f64 = 1.0e-14;
 pub enum PolygonError {
     #[error("a polygon needs at least 3 vertices, this one has {0}; add vertices")]
     TooFewVertices(usize),
-    #[error("vertex {index} is not a finite number; write finite coordinates")]
-    NotFinite { index: usize },
+    /// `value` is the first coordinate that is not a finite number.
+    #[error("vertex {index} is {value}, not a finite number; write finite coordinates")]
+    NotFinite { index: usize, value: f64 },
     #[error("vertices {a} and {b} coincide; remove one of them")]
     DuplicateVertex { a: usize, b: usize },
     #[error("the polygon is self-intersecting (edges {a} and {b} cross each other); reorder its vertices so the boundary does not cross itself")]
@@ -74,7 +76,11 @@ pub fn validate(vertices: &[Point2<f64>]) -> Result<Vec<Point2<f64>>, PolygonErr
         return Err(PolygonError::TooFewVertices(n));
     }
     if let Some(index) = vertices.iter().position(|v| !is_finite(v)) {
-        return Err(PolygonError::NotFinite { index });
+        let value = vertices[index].iter().copied().find(|x| !x.is_finite());
+        return Err(PolygonError::NotFinite {
+            index,
+            value: value.unwrap_or_default(),
+        });
     }
 
     let size = bbox_size(vertices);
@@ -255,6 +261,28 @@ pub fn overlap(a: &[Point2<f64>], b: &[Point2<f64>], tol: f64) -> bool {
         || vertex_inside(&b, &a, tol)
         || edges_cross(&a, &b, tol)
         || common_interior(&a, &b, tol)
+}
+
+/// The first pair of outlines (i, j), j < i, in the order of i then j, that
+/// overlap by more than 1e-6 of the set's size, found in about N log N
+/// ([`dda_core::overlap`]; a side of each outline is a plane that may split
+/// the set); and how many pairs were tested.
+pub fn first_overlap(outlines: &[Vec<Point2<f64>>]) -> Found {
+    let corners = |o: &Vec<Point2<f64>>| o.iter().map(|p| [p.x, p.y]).collect();
+    let sides = |o: &Vec<Point2<f64>>| {
+        let n = o.len();
+        (0..n)
+            .filter_map(|k| {
+                let (p, q) = (o[k], o[(k + 1) % n]);
+                let along = (q - p).normalize();
+                along
+                    .iter()
+                    .all(|c| c.is_finite())
+                    .then_some(([-along.y, along.x], [p.x, p.y]))
+            })
+            .collect()
+    };
+    dda_core::overlap::first_overlap(outlines, corners, sides, |a, b, tol| overlap(a, b, tol))
 }
 
 /// Whether `a` is convex and `b` lies within `tol` of the far side of one of
@@ -583,13 +611,17 @@ mod tests {
             validate(&pts(&[(0.0, 0.0), (1.0, 0.0)])),
             Err(TooFewVertices(2))
         );
-        assert_eq!(
+        // NaN is not equal to itself, so the value is matched apart.
+        assert!(matches!(
             validate(&pts(&[(0.0, 0.0), (1.0, f64::NAN), (0.0, 1.0)])),
-            Err(NotFinite { index: 1 })
-        );
+            Err(NotFinite { index: 1, value }) if value.is_nan()
+        ));
         assert_eq!(
             validate(&pts(&[(0.0, 0.0), (1.0, 0.0), (f64::INFINITY, 1.0)])),
-            Err(NotFinite { index: 2 })
+            Err(NotFinite {
+                index: 2,
+                value: f64::INFINITY
+            })
         );
         // Non-consecutive duplicate.
         assert_eq!(

@@ -14,6 +14,7 @@
 use std::collections::{BTreeMap, HashMap, VecDeque};
 use std::sync::Arc;
 
+use dda_core::overlap::Found;
 use dda_core::planar;
 use nalgebra::{Matrix3, Point2, Point3, Rotation3, Vector3};
 
@@ -41,8 +42,9 @@ pub enum PolyhedronError {
     TooFewVertices(usize),
     #[error("a closed polyhedron needs at least 4 faces, this one has {0}; add the missing faces")]
     TooFewFaces(usize),
-    #[error("vertex {vertex} is not a finite point; write finite coordinates")]
-    NotFinite { vertex: usize },
+    /// `value` is the first coordinate that is not a finite number.
+    #[error("vertex {vertex} is {value}, not a finite number; write finite coordinates")]
+    NotFinite { vertex: usize, value: f64 },
     #[error("face {face} has {count} corners; a face needs at least 3")]
     FaceTooSmall { face: usize, count: usize },
     #[error("face {face} refers to vertex {index}, but there are only {count} vertices (numbered 0 to {}); correct the index", count.saturating_sub(1))]
@@ -105,7 +107,7 @@ impl PolyhedronError {
         match *self {
             E::TooFewVertices(_) => Fault::Vertices,
             E::TooFewFaces(_) | E::NonManifoldEdge { .. } => Fault::Faces,
-            E::NotFinite { vertex }
+            E::NotFinite { vertex, .. }
             | E::UnusedVertex { vertex }
             | E::NonManifoldVertex { vertex } => Fault::Vertex(vertex),
             E::DuplicateFace { second: face, .. }
@@ -477,11 +479,10 @@ pub fn validate(
     if n < 4 {
         return Err(PolyhedronError::TooFewVertices(n));
     }
-    if let Some(vertex) = vertices
-        .iter()
-        .position(|v| !v.coords.iter().all(|x| x.is_finite()))
-    {
-        return Err(PolyhedronError::NotFinite { vertex });
+    for (vertex, v) in vertices.iter().enumerate() {
+        if let Some(&value) = v.coords.iter().find(|x| !x.is_finite()) {
+            return Err(PolyhedronError::NotFinite { vertex, value });
+        }
     }
     if faces.len() < 4 {
         return Err(PolyhedronError::TooFewFaces(faces.len()));
@@ -817,6 +818,23 @@ pub fn prism(outline: &[Point2<f64>], z0: f64, z1: f64) -> (Vec<Point3<f64>>, Ve
         faces.push(vec![k, next, n + next, n + k]);
     }
     (vertices, faces)
+}
+
+/// The first pair of polyhedra (i, j), j < i, in the order of i then j,
+/// that overlap by more than 1e-6 of the set's size, found in about N log N
+/// ([`dda_core::overlap`]; a face of each block is a plane that may split
+/// the set); and how many pairs were tested.
+pub fn first_overlap(shapes: &[Polyhedron]) -> Found {
+    let corners = |s: &Polyhedron| s.vertices().iter().map(|p| p.coords.into()).collect();
+    let sides = |s: &Polyhedron| {
+        (0..s.faces().len())
+            .map(|f| {
+                let point = s.vertices()[s.faces()[f][0]];
+                (s.normal(f).into(), point.coords.into())
+            })
+            .collect()
+    };
+    dda_core::overlap::first_overlap(shapes, corners, sides, overlap)
 }
 
 /// Whether two polyhedra overlap by more than `tol` ("blocks overlapping at
@@ -1161,10 +1179,20 @@ mod tests {
         // NaN and infinity.
         let mut nan = v.clone();
         nan[5].y = f64::NAN;
-        assert_eq!(err(&nan, &f), PolyhedronError::NotFinite { vertex: 5 });
+        // NaN is not equal to itself, so the value is matched apart.
+        assert!(matches!(
+            err(&nan, &f),
+            PolyhedronError::NotFinite { vertex: 5, value } if value.is_nan()
+        ));
         let mut inf = v.clone();
         inf[2].z = f64::INFINITY;
-        assert_eq!(err(&inf, &f), PolyhedronError::NotFinite { vertex: 2 });
+        assert_eq!(
+            err(&inf, &f),
+            PolyhedronError::NotFinite {
+                vertex: 2,
+                value: f64::INFINITY
+            }
+        );
         // Indices and sizes.
         let mut bad = f.clone();
         bad[4][2] = 8;

@@ -22,7 +22,7 @@ pub const ANGLE_TOLERANCE: f64 = 3.0 * std::f64::consts::PI / 180.0;
 pub const PENETRATION_SHARE: f64 = 0.3;
 
 /// How vertices move at the end of a step.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum RotationUpdate {
     /// Strain first, then the exact rotation of the step (Rodrigues in 3D):
     /// no false growth of the area or volume.

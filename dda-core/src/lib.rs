@@ -17,6 +17,7 @@ pub mod driver;
 pub mod error;
 pub mod loads;
 pub mod motion;
+pub mod overlap;
 pub mod planar;
 pub mod settings;
 pub mod solve;

@@ -4,12 +4,15 @@
 
 use nalgebra::{DMatrix, DVector, SVector};
 
+use crate::settings::{finite, positive};
+use crate::DdaError;
+
 /// Degree of the polynomial a baseline correction takes out of an
 /// acceleration record (so of degree + 2 from its displacement).
 pub const BASELINE_DEGREE: usize = 3;
 
 /// What the samples of a recorded motion are.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Quantity {
     Acceleration,
     Velocity,
@@ -285,6 +288,41 @@ fn integrate<const D: usize>(
 }
 
 impl<const D: usize> GroundMotion<D> {
+    /// Whether a sine's or pulse's values make a motion: the first field at
+    /// fault and what to change (a record's samples are checked by
+    /// [`Record::new`]).
+    pub fn check(&self) -> Result<(), DdaError> {
+        let amplitude = |a: &SVector<f64, D>| {
+            a.iter()
+                .try_for_each(|v| finite("amplitude", "the amplitude", *v))
+        };
+        match self {
+            GroundMotion::Sine {
+                amplitude: a,
+                frequency,
+                duration,
+            } => {
+                amplitude(a)?;
+                positive("frequency", "the frequency", *frequency, "give it in Hz")?;
+                let hint = "give how long the shaking lasts, in s";
+                positive("duration", "the duration", *duration, hint)
+            }
+            GroundMotion::Pulse {
+                amplitude: a,
+                period,
+            } => {
+                amplitude(a)?;
+                positive(
+                    "period",
+                    "the period",
+                    *period,
+                    "give the pulse's length in s",
+                )
+            }
+            GroundMotion::Record(_) => Ok(()),
+        }
+    }
+
     /// Ground displacement at time t.
     pub fn displacement(&self, t: f64) -> SVector<f64, D> {
         use std::f64::consts::TAU;

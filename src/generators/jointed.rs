@@ -12,8 +12,8 @@ use dda_core::DdaError;
 use nalgebra::{Point2, Point3, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
-use super::Piece;
-use crate::scene::{Coords, JointLaw};
+use super::{Failure, Generated, Piece};
+use crate::values::{Coords, JointLaw};
 
 /// At most this many joints from one set.
 pub const MAX_JOINTS: usize = 10_000;
@@ -164,29 +164,11 @@ impl Random {
     }
 }
 
-/// Why a jointed domain cannot be cut: the field at fault (`sets[k].field`
-/// when `set` is given, else the entry's own) and what to change.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Failure {
-    pub set: Option<usize>,
-    pub field: &'static str,
-    pub message: String,
-}
-
 impl Failure {
     fn of_set(set: usize, field: &'static str, message: String) -> Self {
         Self {
             set: Some(set),
-            field,
-            message,
-        }
-    }
-
-    fn of_entry(field: &'static str, message: String) -> Self {
-        Self {
-            set: None,
-            field,
-            message,
+            ..Failure::field(field, message)
         }
     }
 }
@@ -246,13 +228,6 @@ fn offsets(
     Some(out)
 }
 
-/// The blocks of a jointed domain (in 2D counter-clockwise) and the set
-/// that separates each pair of them, as (block, block, set).
-pub(crate) struct Jointed<P> {
-    pub pieces: Vec<Piece<P>>,
-    pub joints: Vec<(usize, usize, usize)>,
-}
-
 /// The smallest block kept when none is given.
 pub(crate) fn default_min_size(sets: &[JointSet], power: i32) -> f64 {
     sets.iter()
@@ -261,6 +236,32 @@ pub(crate) fn default_min_size(sets: &[JointSet], power: i32) -> f64 {
         .powi(power)
         .min(f64::MAX)
         * SLIVER
+}
+
+/// The sets' own values, the smallest block kept (`min`, named `field`, of
+/// `what`) and the height below which blocks are fixed.
+fn check(
+    sets: &[JointSet],
+    dimension: u32,
+    min: Option<f64>,
+    field: &'static str,
+    what: &str,
+    fixed_below: Option<f64>,
+) -> Result<(), Failure> {
+    for (k, set) in sets.iter().enumerate() {
+        set.check(dimension).map_err(|e| Failure {
+            set: Some(k),
+            ..e.into()
+        })?;
+    }
+    if let Some(v) = min {
+        let hint = format!("give {what}, 0 to keep every block");
+        non_negative(field, field, v, &hint)?;
+    }
+    if let Some(v) = fixed_below {
+        finite("fixed_below", "fixed_below", v)?;
+    }
+    Ok(())
 }
 
 /// The set's trace direction (unit) in 2D.
@@ -275,8 +276,17 @@ pub(crate) fn cut_2d(
     sets: &[JointSet],
     min_area: Option<f64>,
     fixed_below: Option<f64>,
-) -> Result<Jointed<[f64; 2]>, Failure> {
+) -> Result<Generated<[f64; 2]>, Failure> {
     let outline: Vec<Point2<f64>> = region.iter().map(|p| Point2::new(p[0], p[1])).collect();
+    dda_2d::polygon::validate(&outline).map_err(|e| Failure::field("region", e.to_string()))?;
+    check(
+        sets,
+        2,
+        min_area,
+        "min_block_area",
+        "an area in m²",
+        fixed_below,
+    )?;
     let (lo, hi) = outline.iter().fold(
         (
             Point2::from([f64::INFINITY; 2]),
@@ -340,10 +350,10 @@ pub(crate) fn cut_2d(
         } else {
             "sets"
         };
-        Failure::of_entry(field, e.to_string())
+        Failure::field(field, e.to_string())
     })?;
     if cut.blocks.is_empty() {
-        return Err(Failure::of_entry("min_block_area", format!(
+        return Err(Failure::field("min_block_area", format!(
             "every block is smaller than min_block_area = {min_area:e} m²; give a smaller min_block_area or wider spacings"
         )));
     }
@@ -361,7 +371,7 @@ pub(crate) fn cut_2d(
             )
         })
         .collect();
-    Ok(Jointed {
+    Ok(Generated {
         pieces,
         joints: cut
             .joints
@@ -384,17 +394,25 @@ pub(crate) fn cut_3d(
     sets: &[JointSet],
     min_volume: Option<f64>,
     fixed_below: Option<f64>,
-) -> Result<Jointed<[f64; 3]>, Failure> {
+) -> Result<Generated<[f64; 3]>, Failure> {
     use dda_3d::cut::{Convex, JointPlane};
+    check(
+        sets,
+        3,
+        min_volume,
+        "min_block_volume",
+        "a volume in m³",
+        fixed_below,
+    )?;
     let convex = match region {
         Region3::Box { min, max } => Convex::cuboid(Point3::from(*min), Point3::from(*max)),
         Region3::Hull(corners) => {
             Convex::hull(&corners.iter().map(|p| Point3::from(*p)).collect::<Vec<_>>())
         }
     }
-    .map_err(|e| Failure::of_entry("region", e.to_string()))?;
+    .map_err(|e| Failure::field("region", e.to_string()))?;
     let (corners, _) = dda_3d::cut::cut(&convex, &[], 0.0)
-        .map_err(|e| Failure::of_entry("region", e.to_string()))?
+        .map_err(|e| Failure::field("region", e.to_string()))?
         .blocks
         .remove(0);
     let (lo, hi) = corners.iter().fold(
@@ -437,9 +455,9 @@ pub(crate) fn cut_3d(
     }
     let min_volume = min_volume.unwrap_or_else(|| default_min_size(sets, 3));
     let cut = dda_3d::cut::cut(&convex, &planes, min_volume)
-        .map_err(|e| Failure::of_entry("sets", e.to_string()))?;
+        .map_err(|e| Failure::field("sets", e.to_string()))?;
     if cut.blocks.is_empty() {
-        return Err(Failure::of_entry("min_block_volume", format!(
+        return Err(Failure::field("min_block_volume", format!(
             "every block is smaller than min_block_volume = {min_volume:e} m³; give a smaller min_block_volume or wider spacings"
         )));
     }
@@ -457,7 +475,7 @@ pub(crate) fn cut_3d(
             )
         })
         .collect();
-    Ok(Jointed {
+    Ok(Generated {
         pieces,
         joints: cut
             .joints

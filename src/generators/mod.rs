@@ -1,16 +1,27 @@
 //! Generators: scene entries that stand for several blocks (arches, columns,
-//! walls, jointed domains), and the shapes of the 3D boxes and prisms. The
-//! scene checks the parameters first (an arch's and a jointed domain's by
-//! the checks here); nonsense (too few voussoirs, non-positive sizes, too
-//! many blocks) gives no blocks rather than a panic or an endless loop.
+//! walls, jointed domains), and the shapes of rectangles, boxes and prisms.
+//! Each checks its own parameters and says which field is at fault and
+//! what to change ([`Failure`]); the scene adds the place in the file.
+//! Nonsense (too few voussoirs, non-positive sizes, too many blocks) is
+//! refused before anything is made, never a panic or an endless loop.
 
 use dda_core::settings::{finite, positive};
 use dda_core::DdaError;
 use nalgebra::{Point2, Point3, Rotation3, Vector3};
-
-use crate::scene::Bond;
+use serde::{Deserialize, Serialize};
 
 pub(crate) mod jointed;
+
+/// How a wall's courses are cut (the wall generator's own choice; the
+/// scene re-exports it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Bond {
+    /// Every course cut at multiples of the brick length.
+    Stack,
+    /// Every second course starts with half a brick, so joints alternate.
+    #[default]
+    Running,
+}
 
 /// More blocks than this from one generator is taken as a mistake.
 pub(crate) const MAX_PARTS: usize = 100_000;
@@ -28,6 +39,66 @@ pub(crate) struct Piece<P = [f64; 2]> {
     /// Held whatever the entry says (an arch's abutments, blocks below a
     /// jointed domain's `fixed_below`).
     pub always_fixed: bool,
+}
+
+/// Why an entry makes no blocks: the field at fault (of its joint set
+/// `set`, when given; the entry as a whole when `field` is `None`) and what
+/// to change.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Failure {
+    pub set: Option<usize>,
+    pub field: Option<&'static str>,
+    pub message: String,
+}
+
+impl Failure {
+    /// The entry as a whole.
+    pub fn entry(message: String) -> Self {
+        Self {
+            set: None,
+            field: None,
+            message,
+        }
+    }
+
+    pub fn field(field: &'static str, message: String) -> Self {
+        Self {
+            set: None,
+            field: Some(field),
+            message,
+        }
+    }
+}
+
+/// A check's error at the field it names.
+impl From<DdaError> for Failure {
+    fn from(e: DdaError) -> Self {
+        match e {
+            DdaError::Setting { field, message } => Failure::field(field, message),
+            e => Failure::entry(e.to_string()),
+        }
+    }
+}
+
+/// What an entry makes: its blocks, and for a jointed domain which set
+/// separates each pair of them, as (block, block, set).
+pub(crate) struct Generated<P> {
+    pub pieces: Vec<Piece<P>>,
+    pub joints: Vec<(usize, usize, usize)>,
+}
+
+impl<P> From<Vec<Piece<P>>> for Generated<P> {
+    fn from(pieces: Vec<Piece<P>>) -> Self {
+        Self {
+            pieces,
+            joints: Vec::new(),
+        }
+    }
+}
+
+/// Each number of a point finite.
+fn finite_all(field: &'static str, what: &str, values: &[f64]) -> Result<(), DdaError> {
+    values.iter().try_for_each(|v| finite(field, what, *v))
 }
 
 impl<P> Piece<P> {
@@ -86,9 +157,7 @@ impl ArchShape {
         let fail = |field, message| Err(DdaError::Setting { field, message });
         let (r, t, e, span) = (self.radius, self.thickness, self.pointed, self.span_angle);
         let hint = "give the arch's size in m";
-        self.center
-            .iter()
-            .try_for_each(|c| finite("center", "the center", *c))?;
+        finite_all("center", "the center", &self.center)?;
         positive("radius", "the radius", r, hint)?;
         positive("thickness", "the thickness", t, hint)?;
         if r <= t / 2.0 {
@@ -151,10 +220,8 @@ fn direction(degrees: f64) -> [f64; 2] {
 /// abutments. Joints are radial about the centre of their half (one centre
 /// for a round arch); a pointed arch's crown joint is the vertical through
 /// the centre. The right half mirrors the left exactly.
-pub(crate) fn arch(shape: &ArchShape) -> Vec<Piece> {
-    if shape.check().is_err() {
-        return Vec::new();
-    }
+pub(crate) fn arch(shape: &ArchShape) -> Result<Vec<Piece>, DdaError> {
+    shape.check()?;
     let n = shape.voussoirs;
     let (ri, re) = shape.radii();
     let offset = shape.pointed * shape.radius;
@@ -229,18 +296,25 @@ pub(crate) fn arch(shape: &ArchShape) -> Vec<Piece> {
             });
         }
     }
-    pieces
+    Ok(pieces)
 }
 
 /// Drums from the bottom up, the first with its bottom centre at `base`.
-pub(crate) fn column(base: [f64; 2], drums: usize, drum_height: f64, width: f64) -> Vec<Piece> {
-    if !(drum_height > 0.0 && width > 0.0 && drums <= MAX_PARTS) {
-        return Vec::new();
-    }
+pub(crate) fn column(
+    base: [f64; 2],
+    drums: usize,
+    drum_height: f64,
+    width: f64,
+) -> Result<Vec<Piece>, DdaError> {
+    let hint = "give the column's size in m";
+    finite_all("base", "the base", &base)?;
+    count("drums", "drums", drums, 1)?;
+    positive("drum_height", "the drum height", drum_height, hint)?;
+    positive("width", "the width", width, hint)?;
     let [bx, by] = base;
     let (x0, x1) = (bx - width / 2.0, bx + width / 2.0);
     let y = |k: usize| by + k as f64 * drum_height;
-    (0..drums)
+    Ok((0..drums)
         .map(|k| {
             let (y0, y1) = (y(k), y(k + 1));
             Piece::new(
@@ -249,7 +323,7 @@ pub(crate) fn column(base: [f64; 2], drums: usize, drum_height: f64, width: f64)
                 Vec::new(),
             )
         })
-        .collect()
+        .collect())
 }
 
 /// The brick joints of one course, as distances from the wall's start:
@@ -273,11 +347,6 @@ pub(crate) fn course_cuts(length: f64, brick_length: f64, offset: f64) -> Vec<f6
     cuts
 }
 
-/// How many bricks a wall has, without making them.
-pub(crate) fn wall_count(length: f64, courses: usize, brick_length: f64) -> f64 {
-    courses as f64 * ((length / brick_length).ceil() + 1.0)
-}
-
 /// Courses from the bottom up, bricks from left to right.
 pub(crate) fn wall(
     origin: [f64; 2],
@@ -286,12 +355,19 @@ pub(crate) fn wall(
     brick_length: f64,
     brick_height: f64,
     bond: Bond,
-) -> Vec<Piece> {
-    let sizes = [length, brick_length, brick_height];
-    if !(sizes.iter().all(|s| *s > 0.0 && s.is_finite())
-        && wall_count(length, courses, brick_length) <= MAX_PARTS as f64)
-    {
-        return Vec::new();
+) -> Result<Vec<Piece>, Failure> {
+    let hint = "give the wall's sizes in m";
+    finite_all("origin", "the origin", &origin)?;
+    positive("length", "the length", length, hint)?;
+    count("courses", "courses", courses, 1)?;
+    positive("brick_length", "the brick length", brick_length, hint)?;
+    positive("brick_height", "the brick height", brick_height, hint)?;
+    // Counted before they are made.
+    let n = courses as f64 * ((length / brick_length).ceil() + 1.0);
+    if n > MAX_PARTS as f64 {
+        return Err(Failure::entry(format!(
+            "the wall would have about {n:.0} bricks, more than {MAX_PARTS}; use longer bricks, fewer courses or a shorter wall"
+        )));
     }
     let [x0, y0] = origin;
     let y = |c: usize| y0 + c as f64 * brick_height;
@@ -312,35 +388,72 @@ pub(crate) fn wall(
             ));
         }
     }
-    pieces
+    Ok(pieces)
+}
+
+/// A rectangle: centre, width, height and a counter-clockwise angle in
+/// degrees.
+pub(crate) fn rectangle(
+    center: [f64; 2],
+    width: f64,
+    height: f64,
+    angle: f64,
+) -> Result<Vec<Piece>, DdaError> {
+    let hint = "give the rectangle's size";
+    finite_all("center", "the center", &center)?;
+    positive("width", "the width", width, hint)?;
+    positive("height", "the height", height, hint)?;
+    finite("angle", "the angle", angle)?;
+    let (s, c) = angle.to_radians().sin_cos();
+    let (hw, hh) = (width / 2.0, height / 2.0);
+    let corners = [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
+        .into_iter()
+        .map(|(x, y)| [center[0] + c * x - s * y, center[1] + s * x + c * y]);
+    Ok(vec![Piece::new(None, corners.collect(), vec![])])
 }
 
 /// Corners and faces of a 3D block.
 pub(crate) type Shape3 = (Vec<[f64; 3]>, Vec<Vec<usize>>);
 
 /// A box: centre, edge lengths and a rotation vector in degrees (see
-/// `BlockSpec::Box`); `None` unless the sizes are positive and all values
-/// finite.
-pub(crate) fn cuboid(center: [f64; 3], size: [f64; 3], rotation: [f64; 3]) -> Option<Shape3> {
-    let all = center.iter().chain(&size).chain(&rotation);
-    if !(all.clone().all(|v| v.is_finite()) && size.iter().all(|s| *s > 0.0)) {
-        return None;
+/// `BlockSpec::Box`).
+pub(crate) fn cuboid(
+    center: [f64; 3],
+    size: [f64; 3],
+    rotation: [f64; 3],
+) -> Result<Shape3, DdaError> {
+    finite_all("center", "the center", &center)?;
+    for (axis, s) in ["x", "y", "z"].iter().zip(size) {
+        let what = format!("the size along its own {axis}");
+        positive(
+            "size",
+            &what,
+            s,
+            "give the box's edge lengths (a, b, c) in m",
+        )?;
     }
+    finite_all("rotation", "the rotation", &rotation)?;
     let turn = Rotation3::from_scaled_axis(Vector3::from(rotation).map(f64::to_radians));
     let (v, f) = dda_3d::polyhedron::cuboid(Point3::from(center), Vector3::from(size), turn);
-    Some((v.iter().map(|p| [p.x, p.y, p.z]).collect(), f))
+    Ok((v.iter().map(|p| [p.x, p.y, p.z]).collect(), f))
 }
 
 /// A vertical prism over an outline (either order; made counter-clockwise)
-/// from `z0` up to `z1`; `None` for a bad outline or `z1 ≤ z0`.
-pub(crate) fn prism(outline: &[[f64; 2]], z0: f64, z1: f64) -> Option<Shape3> {
-    if !(z0.is_finite() && z1.is_finite() && z1 > z0) {
-        return None;
-    }
+/// from `z0` up to `z1`.
+pub(crate) fn prism(outline: &[[f64; 2]], z0: f64, z1: f64) -> Result<Shape3, Failure> {
     let points: Vec<Point2<f64>> = outline.iter().map(|p| Point2::new(p[0], p[1])).collect();
-    let ccw = dda_2d::polygon::validate(&points).ok()?;
+    let ccw =
+        dda_2d::polygon::validate(&points).map_err(|e| Failure::field("outline", e.to_string()))?;
+    finite("z0", "z0", z0)?;
+    finite("z1", "z1", z1)?;
+    if z1 <= z0 {
+        return Err(Failure::field(
+            "z1",
+            format!("the prism's top z1 = {z1} must lie above its bottom z0 = {z0}"),
+        ));
+    }
     let (v, f) = dda_3d::polyhedron::prism(&ccw, z0, z1);
-    Some((v.iter().map(|p| [p.x, p.y, p.z]).collect(), f))
+    Ok((v.iter().map(|p| [p.x, p.y, p.z]).collect(), f))
 }
 
 #[cfg(test)]
@@ -371,22 +484,23 @@ mod tests {
             pointed: 0.0,
             abutments: true,
         };
-        assert!(arch(&shape).is_empty());
+        assert!(arch(&shape).is_err());
         assert_eq!(
             arch(&ArchShape {
                 voussoirs: 4,
                 ..shape
             })
-            .len(),
-            6
+            .map(|p| p.len())
+            .ok(),
+            Some(6)
         );
         assert!(arch(&ArchShape {
             voussoirs: 5,
             pointed: 0.2,
             ..shape
         })
-        .is_empty());
-        assert!(column([0.0, 0.0], MAX_PARTS + 1, 1.0, 1.0).is_empty());
-        assert!(wall([0.0, 0.0], 1e9, 10, 1e-3, 0.1, Bond::Stack).is_empty());
+        .is_err());
+        assert!(column([0.0, 0.0], MAX_PARTS + 1, 1.0, 1.0).is_err());
+        assert!(wall([0.0, 0.0], 1e9, 10, 1e-3, 0.1, Bond::Stack).is_err());
     }
 }

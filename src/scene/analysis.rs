@@ -12,7 +12,8 @@
 use std::ops::{Deref, DerefMut};
 use std::sync::OnceLock;
 
-use dda_core::Settings;
+use dda_core::settings::{non_negative, positive};
+use dda_core::{DdaError, Settings};
 use serde::de::{self, DeserializeSeed, IgnoredAny, IntoDeserializer, MapAccess, Visitor};
 use serde::ser::{self, Impossible, SerializeStruct};
 use serde::{forward_to_deserialize_any, Deserialize, Deserializer, Serialize, Serializer};
@@ -44,7 +45,6 @@ pub struct Analysis {
     pub plane: Plane,
     /// `Exact` (default) turns blocks by the exact rotation, `Linear` by
     /// Shi's first-order update.
-    #[serde(with = "RotationUpdateDef")]
     pub rotation_update: RotationUpdate,
     /// Stiffness of the springs holding fixed points, N/m; default 10 × a
     /// typical contact's spring.
@@ -89,11 +89,23 @@ fn is_default<T: Default + PartialEq>(value: &T) -> bool {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Damping {
+    /// Fraction of critical damping, like 0.05; required, not negative.
     pub ratio: f64,
+    /// Where the ratio holds, Hz; required, positive.
     pub frequency: f64,
 }
 
 impl Damping {
+    /// Whether the ratio and frequency make a damping: the first field at
+    /// fault and what to change.
+    pub fn check(&self) -> Result<(), DdaError> {
+        let hint = "it is a fraction of critical damping, like 0.05";
+        non_negative("ratio", "the damping ratio", self.ratio, hint)?;
+        let hint =
+            "give the frequency (Hz) at which the ratio holds, like the structure's first mode";
+        positive("frequency", "the damping frequency", self.frequency, hint)
+    }
+
     /// The coefficient α in 1/s.
     pub fn mass_coefficient(&self) -> f64 {
         2.0 * self.ratio * std::f64::consts::TAU * self.frequency
@@ -123,14 +135,6 @@ impl Mode {
 enum PlaneDef {
     Strain,
     Stress,
-}
-
-/// The file names of [`RotationUpdate`].
-#[derive(Serialize, Deserialize)]
-#[serde(remote = "RotationUpdate")]
-enum RotationUpdateDef {
-    Exact,
-    Linear,
 }
 
 /// Settings a scene does not write: it gives `damping` (a ratio at a

@@ -4,7 +4,7 @@ use std::collections::HashMap;
 
 use dda_2d::{Block, Driver2d, PlaneElastic};
 use dda_3d::{Driver3d, IsotropicElastic};
-use dda_contact::{LawRegistry, Params, SlipWeakening};
+use dda_contact::LawRegistry;
 use dda_core::{
     BlockKind, BlockSet, BlockSystem, ConstitutiveLaw, Driver, DynContactLaw, Element, FixedPoint,
     Force, MeasuredPoint, Settings,
@@ -409,7 +409,7 @@ impl Scene {
             .laws
             .iter()
             .map(|law| {
-                contact_law(law, registry)
+                law.build(registry)
                     .map_err(|message| self.error(&self.law_place(law), message))
             })
             .collect()
@@ -444,26 +444,12 @@ impl Scene {
     /// How many blocks an entry makes and, for a jointed domain, which set
     /// separates each pair of them (indices within the entry).
     fn generated_joints(&self, spec: &super::BlockSpec) -> (usize, Vec<(usize, usize, usize)>) {
-        use super::BlockSpec;
-        match spec {
-            BlockSpec::JointedDomain {
-                region,
-                sets,
-                min_block_area,
-                fixed_below,
-                ..
-            } => crate::generators::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
-                .map_or((0, Vec::new()), |j| (j.pieces.len(), j.joints)),
-            BlockSpec::JointedDomain3D {
-                region,
-                sets,
-                min_block_volume,
-                fixed_below,
-                ..
-            } => crate::generators::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
-                .map_or((0, Vec::new()), |j| (j.pieces.len(), j.joints)),
-            _ if self.dimension == 3 => (spec.expand_3d(0).len(), Vec::new()),
-            _ => (spec.expand(0).len(), Vec::new()),
+        if self.dimension == 3 {
+            spec.generate_3d()
+                .map_or((0, Vec::new()), |g| (g.pieces.len(), g.joints))
+        } else {
+            spec.generate_2d()
+                .map_or((0, Vec::new()), |g| (g.pieces.len(), g.joints))
         }
     }
 
@@ -523,72 +509,4 @@ impl Scene {
 /// A validated tuple as a vector (zeros where numbers are left out).
 fn vector<const D: usize>(c: &Coords) -> SVector<f64, D> {
     SVector::<f64, D>::from_fn(|k, _| c.get(k))
-}
-
-/// The law a scene names; typed laws are built directly, `Custom` ones by
-/// the registry.
-pub(super) fn contact_law(
-    law: &JointLaw,
-    registry: &LawRegistry,
-) -> Result<Box<dyn DynContactLaw>, String> {
-    Ok(match law.clone() {
-        JointLaw::Coulomb(law) => Box::new(law),
-        JointLaw::ThresholdBond(law) => Box::new(law),
-        JointLaw::DisplacementStrength {
-            friction_angle,
-            residual_friction_angle,
-            cohesion,
-            residual_cohesion,
-            tensile_strength,
-            weakening,
-            normal_stiffness,
-            shear_stiffness,
-        } => Box::new(SlipWeakening {
-            peak_friction_angle: friction_angle,
-            residual_friction_angle: residual_friction_angle.unwrap_or(friction_angle),
-            peak_cohesion: cohesion,
-            residual_cohesion,
-            tensile_strength,
-            weakening,
-            normal_stiffness,
-            shear_stiffness,
-        }),
-        JointLaw::SlipFriction {
-            peak_friction_angle,
-            residual_friction_angle,
-            weakening,
-            normal_stiffness,
-            shear_stiffness,
-        } => Box::new(SlipWeakening {
-            normal_stiffness,
-            shear_stiffness,
-            ..SlipWeakening::friction(peak_friction_angle, residual_friction_angle, weakening)
-        }),
-        JointLaw::RateFriction(law) => Box::new(law),
-        JointLaw::Custom { name, params } => {
-            let mut params = Params::from(
-                params
-                    .into_iter()
-                    .collect::<std::collections::BTreeMap<_, _>>(),
-            );
-            return registry.build(&name, &mut params).map_err(|e| {
-                if registry.names().any(|n| n == name) {
-                    let hint = if e.contains("is required") {
-                        "; add it to params"
-                    } else if e.contains("has no parameter") {
-                        "; remove it from params or correct its spelling"
-                    } else {
-                        ""
-                    };
-                    if e.contains(&format!("`{name}`")) {
-                        format!("{e}{hint}")
-                    } else {
-                        format!("the law `{name}`: {e}{hint}")
-                    }
-                } else {
-                    format!("{e}; correct the name, or register the law with LawRegistry::register and build the scene with Scene::build_with")
-                }
-            });
-        }
-    })
 }

@@ -16,7 +16,6 @@ mod build;
 mod error;
 mod locate;
 mod motion;
-mod overlap;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -28,6 +27,10 @@ pub use dda_contact::{Coulomb, RateFriction, ThresholdBond, Weakening};
 pub use dda_core::{BlockKind, Integrator, Quantity, Solver};
 
 pub use crate::generators::jointed::{JointSet, Placement, Region3};
+pub use crate::generators::Bond;
+use crate::generators::{Failure, Generated};
+use crate::values::ordered_map;
+pub use crate::values::{Coords, JointLaw};
 pub use analysis::{Analysis, Damping, Mode};
 pub use build::{AnyModel, LawTable, Model, Model3};
 pub use error::{Location, SceneError};
@@ -106,8 +109,11 @@ pub struct Output {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Material {
+    /// Mass per volume, kg/m³; required, positive.
     pub density: f64,
+    /// Young's modulus, Pa; required, at least 1 Pa.
     pub young: f64,
+    /// Poisson's ratio, in [0, 0.5); default 0.25.
     #[serde(default = "default_poisson")]
     pub poisson: f64,
     /// `Rigid` (translation and rotation only) or `Deformable` (also
@@ -137,64 +143,6 @@ pub struct Joint {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub blocks: Option<Vec<[usize; 2]>>,
     pub law: JointLaw,
-}
-
-/// A contact law as a scene names it. Angles are in degrees, strengths in
-/// Pa, lengths in m; stiffnesses left out (`None`) are automatic: the
-/// driver's penalty and 1/2.5 of it for shear.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub enum JointLaw {
-    /// Penalty Coulomb joint with a bond (cohesion, tensile strength) that
-    /// breaks the first time the joint opens or slides.
-    Coulomb(Coulomb),
-    /// A bond with no strength limit until the opening passes `max_opening`
-    /// or the shear displacement passes `max_shear`; frictional after.
-    ThresholdBond(ThresholdBond),
-    /// Cohesion (and friction) falling from peak to residual with
-    /// accumulated slip; the residual angle defaults to `friction_angle`.
-    DisplacementStrength {
-        friction_angle: f64,
-        #[serde(default)]
-        residual_friction_angle: Option<f64>,
-        #[serde(default)]
-        cohesion: f64,
-        #[serde(default)]
-        residual_cohesion: f64,
-        #[serde(default)]
-        tensile_strength: f64,
-        weakening: Weakening,
-        #[serde(default)]
-        normal_stiffness: Option<f64>,
-        #[serde(default)]
-        shear_stiffness: Option<f64>,
-    },
-    /// Friction falling from a peak to a residual angle with accumulated slip.
-    SlipFriction {
-        peak_friction_angle: f64,
-        residual_friction_angle: f64,
-        weakening: Weakening,
-        #[serde(default)]
-        normal_stiffness: Option<f64>,
-        #[serde(default)]
-        shear_stiffness: Option<f64>,
-    },
-    /// Friction falling from its static to its dynamic value as the slip
-    /// rate grows past `characteristic_rate` (m/s).
-    RateFriction(RateFriction),
-    /// A law built by name through a [`dda_contact::LawRegistry`], like
-    /// `Custom(name: "coulomb", params: {"friction_angle": 30.0})`.
-    Custom {
-        name: String,
-        #[serde(default, with = "ordered_map")]
-        params: Vec<(String, f64)>,
-    },
-}
-
-impl Default for JointLaw {
-    fn default() -> Self {
-        JointLaw::Coulomb(Coulomb::frictional(30.0))
-    }
 }
 
 /// A block, or a generator of several (`Arch`, `Column`, `Wall`): shape,
@@ -451,16 +399,6 @@ fn default_true() -> bool {
     true
 }
 
-/// How a wall's courses are cut.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-pub enum Bond {
-    /// Every course cut at multiples of the brick length.
-    Stack,
-    /// Every second course starts with half a brick, so joints alternate.
-    #[default]
-    Running,
-}
-
 /// One block once generators are expanded: the numbering used by loads,
 /// fixed points, joint sets, the ground motion and the outputs. In 2D
 /// (`SceneBlock`) corners are (x, y), the velocity (vx, vy, ω) and the
@@ -601,36 +539,29 @@ impl BlockSpec {
         }
     }
 
-    /// The 2D blocks of this entry (one for a polygon or rectangle), with
-    /// `entry` as their entry index. A generator with parameters that make
-    /// no sense (see [`Scene::validate`]) gives none, and so does a 3D entry
-    /// (see [`BlockSpec::expand_3d`]).
-    pub fn expand(&self, entry: usize) -> Vec<SceneBlock> {
-        use crate::generators::{self as g, Piece};
-        let pieces = match self {
-            BlockSpec::Polygon { vertices, .. } => vec![Piece::new(None, vertices.clone(), vec![])],
+    /// What a 2D entry makes (nothing for a 3D one), or why its values make
+    /// nothing: each generator checks its own.
+    pub(crate) fn generate_2d(&self) -> Result<Generated<[f64; 2]>, Failure> {
+        use crate::generators as g;
+        Ok(match self {
+            BlockSpec::Polygon { vertices, .. } => {
+                vec![g::Piece::new(None, vertices.clone(), vec![])].into()
+            }
             BlockSpec::Rectangle {
                 center,
                 width,
                 height,
                 angle,
                 ..
-            } => {
-                let (s, c) = angle.to_radians().sin_cos();
-                let (hw, hh) = (width / 2.0, height / 2.0);
-                let corners = [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
-                    .into_iter()
-                    .map(|(x, y)| [center[0] + c * x - s * y, center[1] + s * x + c * y]);
-                vec![Piece::new(None, corners.collect(), vec![])]
-            }
-            BlockSpec::Arch { .. } => g::arch(&self.arch_shape().unwrap_or_default()),
+            } => g::rectangle(*center, *width, *height, *angle)?.into(),
+            BlockSpec::Arch { .. } => g::arch(&self.arch_shape().unwrap_or_default())?.into(),
             BlockSpec::Column {
                 base,
                 drums,
                 drum_height,
                 width,
                 ..
-            } => g::column(*base, *drums, *drum_height, *width),
+            } => g::column(*base, *drums, *drum_height, *width)?.into(),
             BlockSpec::Wall {
                 origin,
                 length,
@@ -646,28 +577,25 @@ impl BlockSpec {
                 *brick_length,
                 *brick_height,
                 *bond,
-            ),
+            )?
+            .into(),
             BlockSpec::JointedDomain {
                 region,
                 sets,
                 min_block_area,
                 fixed_below,
                 ..
-            } => g::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)
-                .map(|j| j.pieces)
-                .unwrap_or_default(),
-            _ => Vec::new(),
-        };
-        self.blocks_of(entry, pieces)
+            } => g::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)?,
+            _ => Vec::new().into(),
+        })
     }
 
-    /// The 3D blocks of this entry (one but for a jointed domain), with
-    /// `entry` as their entry index; none for a 2D entry or for one whose
-    /// sizes make no sense (see [`Scene::validate`]).
-    pub fn expand_3d(&self, entry: usize) -> Vec<SceneBlock3> {
-        use crate::generators::{self as g, Piece};
-        let whole = |(v, f)| vec![Piece::new(None, v, f)];
-        let pieces = match self {
+    /// What a 3D entry makes (nothing for a 2D one), or why its values make
+    /// nothing.
+    pub(crate) fn generate_3d(&self) -> Result<Generated<[f64; 3]>, Failure> {
+        use crate::generators as g;
+        let whole = |(v, f)| vec![g::Piece::new(None, v, f)].into();
+        Ok(match self {
             BlockSpec::Polyhedron {
                 vertices, faces, ..
             } => whole((vertices.clone(), faces.clone())),
@@ -676,27 +604,40 @@ impl BlockSpec {
                 size,
                 rotation,
                 ..
-            } => g::cuboid(*center, *size, *rotation).map_or(vec![], whole),
+            } => whole(g::cuboid(*center, *size, *rotation)?),
             BlockSpec::Prism {
                 outline, z0, z1, ..
-            } => g::prism(outline, *z0, *z1).map_or(vec![], whole),
+            } => whole(g::prism(outline, *z0, *z1)?),
             BlockSpec::JointedDomain3D {
                 region,
                 sets,
                 min_block_volume,
                 fixed_below,
                 ..
-            } => g::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)
-                .map(|j| j.pieces)
-                .unwrap_or_default(),
-            _ => Vec::new(),
-        };
-        self.blocks_of(entry, pieces)
+            } => g::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)?,
+            _ => Vec::new().into(),
+        })
+    }
+
+    /// The 2D blocks of this entry (one for a polygon or rectangle), with
+    /// `entry` as their entry index; none for a 3D entry or one whose
+    /// values make none (see [`Scene::validate`]).
+    pub fn expand(&self, entry: usize) -> Vec<SceneBlock> {
+        self.generate_2d()
+            .map_or(Vec::new(), |g| self.blocks_of(entry, g.pieces))
+    }
+
+    /// The 3D blocks of this entry (one but for a jointed domain), with
+    /// `entry` as their entry index; none for a 2D entry or one whose
+    /// values make none (see [`Scene::validate`]).
+    pub fn expand_3d(&self, entry: usize) -> Vec<SceneBlock3> {
+        self.generate_3d()
+            .map_or(Vec::new(), |g| self.blocks_of(entry, g.pieces))
     }
 
     /// The entry's pieces as blocks numbered `entry`, with its initial state
     /// (none if that has the other dimension's length).
-    fn blocks_of<P, const K: usize>(
+    pub(crate) fn blocks_of<P, const K: usize>(
         &self,
         entry: usize,
         pieces: Vec<crate::generators::Piece<P>>,
@@ -755,7 +696,7 @@ pub enum MotionSpec {
     /// [`dda_core::Record::baseline_corrected`]).
     Record {
         path: String,
-        #[serde(default = "default_quantity", with = "QuantityDef")]
+        #[serde(default = "default_quantity")]
         quantity: Quantity,
         #[serde(default = "default_scale")]
         scale: f64,
@@ -772,15 +713,6 @@ fn default_quantity() -> Quantity {
 
 fn default_scale() -> f64 {
     1.0
-}
-
-/// The file names of [`Quantity`].
-#[derive(Serialize, Deserialize)]
-#[serde(remote = "Quantity")]
-enum QuantityDef {
-    Acceleration,
-    Velocity,
-    Displacement,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -823,75 +755,6 @@ pub struct FixedPointSpec {
 pub struct MeasuredPointSpec {
     pub block: usize,
     pub point: Coords,
-}
-
-/// Numbers written as a tuple, like `(0.0, -9.81)` or `(1.0, 2.0, 3.0)`: a
-/// point or vector with one number per dimension of the scene (a load
-/// history's samples have the time first). The count is checked against
-/// the scene's dimension by [`Scene::validate`], with the place named.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Coords(pub Vec<f64>);
-
-impl Coords {
-    pub fn is_empty(&self) -> bool {
-        self.0.is_empty()
-    }
-
-    pub fn len(&self) -> usize {
-        self.0.len()
-    }
-
-    pub fn as_slice(&self) -> &[f64] {
-        &self.0
-    }
-
-    /// The `k`th number, 0 beyond the end (so an omitted velocity is zero).
-    pub fn get(&self, k: usize) -> f64 {
-        self.0.get(k).copied().unwrap_or(0.0)
-    }
-}
-
-impl<const N: usize> From<[f64; N]> for Coords {
-    fn from(v: [f64; N]) -> Self {
-        Coords(v.to_vec())
-    }
-}
-
-impl Serialize for Coords {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        use serde::ser::SerializeTuple;
-        let mut t = s.serialize_tuple(self.0.len())?;
-        for v in &self.0 {
-            t.serialize_element(v)?;
-        }
-        t.end()
-    }
-}
-
-impl<'de> Deserialize<'de> for Coords {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct Numbers;
-        impl<'de> serde::de::Visitor<'de> for Numbers {
-            type Value = Coords;
-
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a tuple of numbers, like (0.0, -9.81) or (1.0, 2.0, 3.0)")
-            }
-
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(
-                self,
-                mut seq: A,
-            ) -> Result<Coords, A::Error> {
-                let mut out = Vec::new();
-                while let Some(v) = seq.next_element::<f64>()? {
-                    out.push(v);
-                }
-                Ok(Coords(out))
-            }
-        }
-        // RON takes the tuple's length from the text.
-        d.deserialize_tuple(3, Numbers)
-    }
 }
 
 /// Only the dimension, read first so a scene of another dimension gets a
@@ -1070,52 +933,5 @@ impl Scene {
             None if self.materials.len() == 1 => Some(0),
             None => None,
         }
-    }
-}
-
-/// A map kept in file order, with duplicate keys rejected.
-mod ordered_map {
-    use std::fmt;
-
-    use serde::de::{self, MapAccess, Visitor};
-    use serde::ser::SerializeMap;
-    use serde::{Deserialize, Deserializer, Serialize, Serializer};
-
-    pub fn serialize<S: Serializer, V: Serialize>(
-        entries: &[(String, V)],
-        s: S,
-    ) -> Result<S::Ok, S::Error> {
-        let mut map = s.serialize_map(Some(entries.len()))?;
-        for (k, v) in entries {
-            map.serialize_entry(k, v)?;
-        }
-        map.end()
-    }
-
-    pub fn deserialize<'de, D: Deserializer<'de>, V: Deserialize<'de>>(
-        d: D,
-    ) -> Result<Vec<(String, V)>, D::Error> {
-        struct Ordered<V>(std::marker::PhantomData<V>);
-        impl<'de, V: Deserialize<'de>> Visitor<'de> for Ordered<V> {
-            type Value = Vec<(String, V)>;
-
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str(r#"a map of names to values, like { "rock": (...) }"#)
-            }
-
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
-                let mut out: Vec<(String, V)> = Vec::new();
-                while let Some((k, v)) = map.next_entry::<String, V>()? {
-                    if out.iter().any(|(n, _)| *n == k) {
-                        return Err(de::Error::custom(format!(
-                            "\"{k}\" is defined twice; give each entry its own name"
-                        )));
-                    }
-                    out.push((k, v));
-                }
-                Ok(out)
-            }
-        }
-        d.deserialize_map(Ordered(std::marker::PhantomData))
     }
 }

@@ -9,34 +9,51 @@ pub(crate) type Sample = (usize, f64, Vec<f64>);
 /// The value columns a record's rows have after the time.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Layout {
-    /// Their names, like `["ax", "ay"]`.
-    pub names: Vec<String>,
+    /// The axis of each column (0 for x), in order.
+    pub axes: Vec<usize>,
     /// One more column is accepted if it is zero throughout (az in a 2D
     /// scene's default layout).
     pub zero_extra: bool,
 }
 
 impl Layout {
-    /// The default layout of a scene's dimension: every axis.
-    pub fn full(dimension: u32) -> Self {
+    /// The columns `components` names, like "xz", or every axis of a scene
+    /// of `dimension` when it is `None`; the error says what to write.
+    pub fn new(components: Option<&str>, dimension: u32) -> Result<Self, String> {
         let axes = if dimension == 3 { "xyz" } else { "xy" };
-        Self {
-            names: axes.chars().map(|c| format!("a{c}")).collect(),
-            zero_extra: dimension == 2,
+        let Some(c) = components else {
+            return Ok(Self {
+                axes: (0..axes.len()).collect(),
+                zero_extra: dimension == 2,
+            });
+        };
+        let mut out = Vec::new();
+        for ch in c.chars() {
+            match axes.find(ch) {
+                Some(k) if !out.contains(&k) => out.push(k),
+                _ => {
+                    let like = if dimension == 3 { "xz" } else { "x" };
+                    return Err(format!("components {c:?} must name axes of this {dimension}D scene ({axes}), each once, in the order of the record's columns, like {like:?}"));
+                }
+            }
         }
-    }
-
-    /// The layout of the listed axes, like "xz".
-    pub fn of(components: &str) -> Self {
-        Self {
-            names: components.chars().map(|c| format!("a{c}")).collect(),
+        if out.is_empty() {
+            return Err(format!("components is empty; name the axes of the record's columns, like {axes:?}, or leave it out for all of them"));
+        }
+        Ok(Self {
+            axes: out,
             zero_extra: false,
-        }
+        })
     }
 
     /// What a row is, like "`time, ax, ay`".
     pub fn row(&self) -> String {
-        format!("`time, {}`", self.names.join(", "))
+        let names: Vec<String> = self
+            .axes
+            .iter()
+            .map(|&k| format!("a{}", ["x", "y", "z"][k]))
+            .collect();
+        format!("`time, {}`", names.join(", "))
     }
 }
 
@@ -52,7 +69,7 @@ impl Layout {
 /// function's own.
 pub(crate) fn read_record(path: &Path, layout: &Layout) -> Result<Vec<Sample>, String> {
     let row = layout.row();
-    let width = 1 + layout.names.len();
+    let width = 1 + layout.axes.len();
     let file = path.display();
     let text = std::fs::read_to_string(path).map_err(|e| {
         format!("cannot read the record file {file}: {e}; check the path (relative to the scene file's folder)")
@@ -153,7 +170,7 @@ mod tests {
     use super::*;
 
     fn read(name: &str, text: &str) -> Result<Vec<Sample>, String> {
-        read_as(name, text, &Layout::full(2))
+        read_as(name, text, &Layout::new(None, 2).unwrap())
     }
 
     fn read_as(name: &str, text: &str, layout: &Layout) -> Result<Vec<Sample>, String> {
@@ -211,20 +228,40 @@ mod tests {
         let samples = read_as(
             "xyz",
             "t, ax, ay, az\n0.0, 1.0, 2.0, 3.0\n",
-            &Layout::full(3),
+            &Layout::new(None, 3).unwrap(),
         )
         .unwrap();
         assert_eq!(samples, [(2, 0.0, vec![1.0, 2.0, 3.0])]);
-        let e = read_as("xy-in-3d", "0.0, 1.0, 2.0\n", &Layout::full(3)).unwrap_err();
+        let e = read_as(
+            "xy-in-3d",
+            "0.0, 1.0, 2.0\n",
+            &Layout::new(None, 3).unwrap(),
+        )
+        .unwrap_err();
         assert!(
             e.contains("has 3 columns; a row is `time, ax, ay, az`"),
             "{e}"
         );
-        let e = read_as("xyzw", "0.0, 1.0, 2.0, 0.0, 0.0\n", &Layout::full(3)).unwrap_err();
+        let e = read_as(
+            "xyzw",
+            "0.0, 1.0, 2.0, 0.0, 0.0\n",
+            &Layout::new(None, 3).unwrap(),
+        )
+        .unwrap_err();
         assert!(e.contains("has 5 columns"), "{e}");
-        let samples = read_as("xz", "0.0, 1.0, 2.0\n", &Layout::of("xz")).unwrap();
+        let samples = read_as(
+            "xz",
+            "0.0, 1.0, 2.0\n",
+            &Layout::new(Some("xz"), 3).unwrap(),
+        )
+        .unwrap();
         assert_eq!(samples, [(1, 0.0, vec![1.0, 2.0])]);
-        let e = read_as("xz4", "0.0, 1.0, 2.0, 0.0\n", &Layout::of("xz")).unwrap_err();
+        let e = read_as(
+            "xz4",
+            "0.0, 1.0, 2.0, 0.0\n",
+            &Layout::new(Some("xz"), 3).unwrap(),
+        )
+        .unwrap_err();
         assert!(e.contains("a row is `time, ax, az`"), "{e}");
     }
 

@@ -4,19 +4,18 @@
 use std::fmt;
 use std::sync::Arc;
 
-use dda_2d::polygon;
+use dda_2d::polygon::{self, PolygonError};
 use dda_3d::polyhedron::{self as polyhedra, Fault, Polyhedron, PolyhedronError};
 use dda_core::{settings, BlockKind, ConstitutiveLaw, DdaError, GroundMotion, Quantity, Record};
 use nalgebra::{Point2, Point3, SVector};
 
 use super::locate::{locate_exact, Seg};
 use super::motion::{read_record, Layout};
-use super::overlap::{first_overlap_2d, first_overlap_3d};
 use super::{
-    BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Region3, Scene,
-    SceneBlock, SceneBlock3, SceneError,
+    BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Scene, SceneBlock,
+    SceneBlock3, SceneError,
 };
-use crate::generators::MAX_PARTS;
+use crate::generators::Failure;
 
 /// A path into the scene, like `blocks[2].vertices[1]`.
 #[derive(Debug, Clone, Default)]
@@ -137,8 +136,8 @@ impl Shapes {
 
     fn first_overlap(&self) -> Option<(usize, usize)> {
         match self {
-            Shapes::Polygons(o) => first_overlap_2d(o),
-            Shapes::Polyhedra(s) => first_overlap_3d(s),
+            Shapes::Polygons(o) => polygon::first_overlap(o).first,
+            Shapes::Polyhedra(s) => polyhedra::first_overlap(s).first,
         }
     }
 
@@ -310,20 +309,8 @@ impl Scene {
         values.iter().try_for_each(|v| self.finite(place, what, *v))
     }
 
-    /// Each point of a list finite, named like "vertex 3".
-    fn points<const D: usize>(&self, at: &Place, what: &str, points: &[[f64; D]]) -> Result {
-        for (i, p) in points.iter().enumerate() {
-            self.finite_all(&at.index(i), &format!("{what} {i}"), p)?;
-        }
-        Ok(())
-    }
-
     fn positive(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
         self.core(place, settings::positive("", what, v, hint))
-    }
-
-    fn non_negative(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
-        self.core(place, settings::non_negative("", what, v, hint))
     }
 
     fn check_analysis(&self) -> Result {
@@ -349,19 +336,7 @@ impl Scene {
             ));
         }
         if let Some(d) = &a.damping {
-            let at = at("damping");
-            self.non_negative(
-                &at.field("ratio"),
-                "the damping ratio",
-                d.ratio,
-                "it is a fraction of critical damping, like 0.05",
-            )?;
-            self.positive(
-                &at.field("frequency"),
-                "the damping frequency",
-                d.frequency,
-                "give the frequency (Hz) at which the ratio holds, like the structure's first mode",
-            )?;
+            self.core_field(&at("damping"), d.check())?;
         }
         // The driver checks its own settings; the scene names the place.
         self.core_field(&Place::root().field("analysis"), self.settings().validate())?;
@@ -393,37 +368,18 @@ impl Scene {
         Ok(())
     }
 
-    /// A law's parameters are checked by the law itself; the scene names the
-    /// place (a `Custom` law's by its registry, when the scene is built).
+    /// A law's values are checked by the law itself; the scene names the
+    /// place (a `Custom` law's parameters by its registry, when the scene
+    /// is built, but for their being numbers).
     fn check_law(&self, at: &Place, law: &JointLaw) -> Result {
-        if let JointLaw::Custom { name, params } = law {
-            if name.trim().is_empty() {
-                return Err(self.error(
-                    &at.field("name"),
-                    "the law's name is empty; give the name it is registered under",
-                ));
-            }
+        self.core_field(at, law.check())?;
+        if let JointLaw::Custom { params, .. } = law {
             for (key, value) in params {
                 let what = format!("the parameter {key:?}");
                 self.finite(&at.field("params").key(key), &what, *value)?;
             }
-            return Ok(());
         }
-        let built = super::build::contact_law(law, &dda_contact::LawRegistry::new());
-        match built.map(|law| law.check()) {
-            Ok(Err(dda_core::DdaError::Setting { field, message })) => {
-                // A displacement-strength law names its peaks plainly.
-                let field = match (law, field) {
-                    (JointLaw::DisplacementStrength { .. }, "peak_friction_angle") => {
-                        "friction_angle"
-                    }
-                    (JointLaw::DisplacementStrength { .. }, "peak_cohesion") => "cohesion",
-                    _ => field,
-                };
-                Err(self.error(&at.field(field), message))
-            }
-            _ => Ok(()),
-        }
+        Ok(())
     }
 
     fn check_joints(&self, blocks: &[Slot]) -> Result {
@@ -530,8 +486,8 @@ impl Scene {
         names.join(", ")
     }
 
-    /// Checks every entry, expands the generators and checks the blocks
-    /// they make; returns them and their shapes.
+    /// Checks every entry and the blocks it makes (each generator checks
+    /// its own values); returns them and their shapes.
     fn check_blocks(&self) -> Result<(Vec<Slot>, Shapes)> {
         let root = Place::root().field("blocks");
         let three = self.dimension == 3;
@@ -552,27 +508,30 @@ impl Scene {
             if spec.dimension() != self.dimension {
                 return Err(self.error(&at, self.wrong_entry(spec)));
             }
-            self.check_block(&at, spec)?;
-            for block in spec.expand_3d(k) {
-                polyhedra.push(self.check_polyhedron(&at, &block)?);
-                slots.push(Slot::from(&block));
-            }
-            for block in spec.expand(k) {
-                let points = to_points(&block.vertices);
-                polygon::validate(&points).map_err(|e| {
-                    let message = e.to_string();
-                    let message = match block.part {
-                        // "Remove a vertex" is no help with generated blocks.
-                        Some(_) => format!(
-                            "the generated block is degenerate: {}; change the generator's sizes",
-                            message.split(';').next().unwrap_or_default()
-                        ),
-                        None => message,
-                    };
-                    self.error(&place_of(k, block.part.as_deref()), message)
-                })?;
-                outlines.push(points);
-                slots.push(Slot::from(&block));
+            self.check_block_material(&at, spec)?;
+            self.finite_all(
+                &at.field("velocity"),
+                "the initial velocity",
+                spec.velocity(),
+            )?;
+            self.finite_all(&at.field("stress"), "the initial stress", spec.stress())?;
+            self.check_sets(&at, spec.joint_sets())?;
+            let written = matches!(
+                spec,
+                BlockSpec::Polygon { .. } | BlockSpec::Polyhedron { .. }
+            );
+            if three {
+                let made = spec.generate_3d().map_err(|e| self.failure(&at, e))?;
+                for block in spec.blocks_of(k, made.pieces) {
+                    polyhedra.push(self.check_polyhedron(&at, &block, written)?);
+                    slots.push(Slot::from(&block));
+                }
+            } else {
+                let made = spec.generate_2d().map_err(|e| self.failure(&at, e))?;
+                for block in spec.blocks_of(k, made.pieces) {
+                    outlines.push(self.check_polygon(&at, &block, written)?);
+                    slots.push(Slot::from(&block));
+                }
             }
         }
         let shapes = if three {
@@ -649,22 +608,21 @@ impl Scene {
         Ok(())
     }
 
-    /// A jointed domain that cannot be cut, at the field to change.
-    fn cut_failure(&self, at: &Place, e: crate::generators::jointed::Failure) -> SceneError {
-        let place = match e.set {
-            Some(k) => at.field("sets").index(k).field(e.field),
-            None => at.field(e.field),
+    /// Why an entry makes no blocks, at the field to change.
+    fn failure(&self, at: &Place, e: Failure) -> SceneError {
+        let at = match e.set {
+            Some(k) => at.field("sets").index(k),
+            None => at.clone(),
         };
-        self.error(&place, e.message)
+        self.error(&e.field.map_or(at.clone(), |f| at.field(f)), e.message)
     }
 
-    /// A jointed domain's joint sets, in `dimension` 2 or 3: each set
-    /// checks its own values, the scene its origin's axes and its law, and
-    /// names the place.
-    fn check_sets(&self, at: &Place, sets: &[JointSet], dimension: u32) -> Result {
+    /// What the scene checks of a jointed domain's sets: their origins
+    /// against its axes, and their laws at their place (each set checks
+    /// its own values when the domain is cut).
+    fn check_sets(&self, at: &Place, sets: &[JointSet]) -> Result {
         for (k, set) in sets.iter().enumerate() {
             let at = at.field("sets").index(k);
-            self.core_field(&at, set.check(dimension))?;
             if !set.origin.is_empty() {
                 self.coords(&at.field("origin"), "the origin", &set.origin, self.axes())?;
             }
@@ -675,11 +633,56 @@ impl Scene {
         Ok(())
     }
 
+    /// Validates a 2D block's outline; a written polygon's non-finite
+    /// corner is named where it is written.
+    fn check_polygon(
+        &self,
+        at: &Place,
+        block: &SceneBlock,
+        written: bool,
+    ) -> Result<Vec<Point2<f64>>> {
+        let points = to_points(&block.vertices);
+        polygon::validate(&points).map_err(|e| {
+            let place = match e {
+                PolygonError::NotFinite { index, .. } if written => {
+                    at.field("vertices").index(index)
+                }
+                _ => place_of(block.entry, block.part.as_deref()),
+            };
+            let message = match block.part {
+                // "Remove a vertex" is no help with generated blocks.
+                Some(_) => format!(
+                    "the generated block is degenerate: {}; change the generator's sizes",
+                    e.to_string().split(';').next().unwrap_or_default()
+                ),
+                None => e.to_string(),
+            };
+            self.error(&place, message)
+        })?;
+        Ok(points)
+    }
+
     /// Validates a 3D block's surface; errors name the face or corner.
-    fn check_polyhedron(&self, at: &Place, block: &SceneBlock3) -> Result<Polyhedron> {
+    fn check_polyhedron(
+        &self,
+        at: &Place,
+        block: &SceneBlock3,
+        written: bool,
+    ) -> Result<Polyhedron> {
         let points: Vec<Point3<f64>> = block.vertices.iter().map(|v| Point3::from(*v)).collect();
-        let shape = polyhedra::validate(&points, &block.faces)
-            .map_err(|e| self.error(&polyhedron_place(at, &e), e.to_string()))?;
+        let shape = polyhedra::validate(&points, &block.faces).map_err(|e| {
+            let place = match (e.place(), &e) {
+                (_, PolyhedronError::NotFinite { vertex, .. }) if written => {
+                    at.field("vertices").index(*vertex)
+                }
+                (Fault::Vertices, _) => at.field("vertices"),
+                (Fault::Faces, _) => at.field("faces"),
+                (Fault::Vertex(v), _) => at.pointing_at("vertices", v),
+                (Fault::Face(f), _) => at.pointing_at("faces", f),
+                (Fault::Block, _) => at.clone(),
+            };
+            self.error(&place, e.to_string())
+        })?;
         // The checks accept a surface listed inside out; a scene does not,
         // so a face order mistake is caught here rather than silently fixed.
         if signed_volume(&points, &block.faces) < 0.0 {
@@ -689,166 +692,6 @@ impl Scene {
             ));
         }
         Ok(shape)
-    }
-
-    /// The entry's own values: material, sizes, counts, initial state.
-    fn check_block(&self, at: &Place, block: &BlockSpec) -> Result {
-        self.check_block_material(at, block)?;
-        let positive = |field: &str, what: &str, v: f64, hint: &str| {
-            self.positive(&at.field(field), what, v, hint)
-        };
-        let finite =
-            |field: &str, what: &str, v: &[f64]| self.finite_all(&at.field(field), what, v);
-        match block {
-            BlockSpec::Polygon { vertices, .. } => {
-                self.points(&at.field("vertices"), "vertex", vertices)?
-            }
-            BlockSpec::Rectangle {
-                center,
-                width,
-                height,
-                angle,
-                ..
-            } => {
-                let hint = "give the rectangle's size";
-                finite("center", "the center", center)?;
-                positive("width", "the width", *width, hint)?;
-                positive("height", "the height", *height, hint)?;
-                finite("angle", "the angle", &[*angle])?;
-            }
-            BlockSpec::Arch { .. } => {
-                let shape = block.arch_shape().unwrap_or_default();
-                self.core_field(at, shape.check())?;
-            }
-            BlockSpec::Column {
-                base,
-                drums,
-                drum_height,
-                width,
-                ..
-            } => {
-                let hint = "give the column's size in m";
-                finite("base", "the base", base)?;
-                self.count(&at.field("drums"), "drums", *drums, 1)?;
-                positive("drum_height", "the drum height", *drum_height, hint)?;
-                positive("width", "the width", *width, hint)?;
-            }
-            BlockSpec::Wall {
-                origin,
-                length,
-                courses,
-                brick_length,
-                brick_height,
-                ..
-            } => {
-                let hint = "give the wall's sizes in m";
-                finite("origin", "the origin", origin)?;
-                positive("length", "the length", *length, hint)?;
-                self.count(&at.field("courses"), "courses", *courses, 1)?;
-                positive("brick_length", "the brick length", *brick_length, hint)?;
-                positive("brick_height", "the brick height", *brick_height, hint)?;
-                let n = crate::generators::wall_count(*length, *courses, *brick_length);
-                if n > MAX_PARTS as f64 {
-                    return Err(self.error(
-                        at,
-                        format!(
-                            "the wall would have about {n:.0} bricks, more than {MAX_PARTS}; use longer bricks, fewer courses or a shorter wall"
-                        ),
-                    ));
-                }
-            }
-            BlockSpec::JointedDomain {
-                region,
-                sets,
-                min_block_area: least,
-                fixed_below,
-                ..
-            } => {
-                self.points(&at.field("region"), "region corner", region)?;
-                polygon::validate(&to_points(region))
-                    .map_err(|e| self.error(&at.field("region"), e.to_string()))?;
-                self.check_sets(at, sets, 2)?;
-                let hint = "give an area in m², 0 to keep every block";
-                if let Some(v) = least {
-                    self.non_negative(&at.field("min_block_area"), "min_block_area", *v, hint)?;
-                }
-                finite("fixed_below", "fixed_below", fixed_below.as_slice())?;
-                crate::generators::jointed::cut_2d(region, sets, *least, *fixed_below)
-                    .map_err(|e| self.cut_failure(at, e))?;
-            }
-            BlockSpec::Polyhedron {
-                vertices, faces, ..
-            } => {
-                self.points(&at.field("vertices"), "vertex", vertices)?;
-                if faces.is_empty() {
-                    return Err(self.error(
-                        &at.field("faces"),
-                        "the polyhedron has no faces; list each face's corners counter-clockwise seen from outside, like [0, 3, 2, 1]",
-                    ));
-                }
-            }
-            BlockSpec::Box {
-                center,
-                size,
-                rotation,
-                ..
-            } => {
-                finite("center", "the center", center)?;
-                for (axis, s) in ["x", "y", "z"].iter().zip(size) {
-                    let what = format!("the size along its own {axis}");
-                    positive(
-                        "size",
-                        &what,
-                        *s,
-                        "give the box's edge lengths (a, b, c) in m",
-                    )?;
-                }
-                finite("rotation", "the rotation", rotation)?;
-            }
-            BlockSpec::Prism {
-                outline, z0, z1, ..
-            } => {
-                self.points(&at.field("outline"), "outline point", outline)?;
-                polygon::validate(&to_points(outline))
-                    .map_err(|e| self.error(&at.field("outline"), e.to_string()))?;
-                finite("z0", "z0", &[*z0])?;
-                finite("z1", "z1", &[*z1])?;
-                if z1 <= z0 {
-                    return Err(self.error(
-                        &at.field("z1"),
-                        format!("the prism's top z1 = {z1} must lie above its bottom z0 = {z0}"),
-                    ));
-                }
-            }
-            BlockSpec::JointedDomain3D {
-                region,
-                sets,
-                min_block_volume: least,
-                fixed_below,
-                ..
-            } => {
-                let corners = match region {
-                    Region3::Box { min, max } => vec![*min, *max],
-                    Region3::Hull(c) => c.clone(),
-                };
-                self.points(&at.field("region"), "region corner", &corners)?;
-                self.check_sets(at, sets, 3)?;
-                let hint = "give a volume in m³, 0 to keep every block";
-                if let Some(v) = least {
-                    self.non_negative(&at.field("min_block_volume"), "min_block_volume", *v, hint)?;
-                }
-                finite("fixed_below", "fixed_below", fixed_below.as_slice())?;
-                crate::generators::jointed::cut_3d(region, sets, *least, *fixed_below)
-                    .map_err(|e| self.cut_failure(at, e))?;
-            }
-        }
-        finite("velocity", "the initial velocity", block.velocity())?;
-        finite("stress", "the initial stress", block.stress())
-    }
-
-    /// A generator's count of blocks, at `place`.
-    fn count(&self, place: &Place, what: &str, n: usize, min: usize) -> Result {
-        self.core(place, crate::generators::count("", what, n, min))
     }
 
     fn check_loads(&self, blocks: &[Slot]) -> Result {
@@ -1019,9 +862,6 @@ impl Scene {
             self.vector(&at.field("amplitude"), "the amplitude", a, "a")?;
             Ok(SVector::from_fn(|k, _| a.get(k)))
         };
-        let positive = |field: &str, what: &str, v: f64, hint: &str| -> Result<f64> {
-            self.positive(&at.field(field), what, v, hint).map(|_| v)
-        };
         let mut note = None;
         let motion = match motion {
             MotionSpec::Sine {
@@ -1030,25 +870,15 @@ impl Scene {
                 duration,
             } => GroundMotion::Sine {
                 amplitude: amplitude(a)?,
-                frequency: positive("frequency", "the frequency", *frequency, "give it in Hz")?,
-                duration: positive(
-                    "duration",
-                    "the duration",
-                    *duration,
-                    "give how long the shaking lasts, in s",
-                )?,
+                frequency: *frequency,
+                duration: *duration,
             },
             MotionSpec::Pulse {
                 amplitude: a,
                 period,
             } => GroundMotion::Pulse {
                 amplitude: amplitude(a)?,
-                period: positive(
-                    "period",
-                    "the period",
-                    *period,
-                    "give the pulse's length in s",
-                )?,
+                period: *period,
             },
             MotionSpec::Record {
                 path,
@@ -1064,32 +894,8 @@ impl Scene {
                         "baseline correction applies to acceleration records only; remove baseline_correction or give quantity: Acceleration",
                     ));
                 }
-                let axes = if D == 3 { "xyz" } else { "xy" };
-                let layout = match components {
-                    None => Layout::full(D as u32),
-                    Some(c) => {
-                        let mut seen = String::new();
-                        for ch in c.chars() {
-                            if !axes.contains(ch) || seen.contains(ch) {
-                                return Err(self.error(
-                                    &at.field("components"),
-                                    format!(
-                                        "components {c:?} must name axes of this {D}D scene ({axes}), each once, in the order of the record's columns, like {:?}",
-                                        if D == 3 { "xz" } else { "x" }
-                                    ),
-                                ));
-                            }
-                            seen.push(ch);
-                        }
-                        if seen.is_empty() {
-                            return Err(self.error(
-                                &at.field("components"),
-                                format!("components is empty; name the axes of the record's columns, like {axes:?}, or leave it out for all of them"),
-                            ));
-                        }
-                        Layout::of(c)
-                    }
-                };
+                let layout = Layout::new(components.as_deref(), D as u32)
+                    .map_err(|m| self.error(&at.field("components"), m))?;
                 if path.trim().is_empty() {
                     return Err(self.error(
                         &at.field("path"),
@@ -1099,10 +905,6 @@ impl Scene {
                         ),
                     ));
                 }
-                let axis_of: Vec<usize> = match components {
-                    Some(c) => c.chars().filter_map(|ch| axes.find(ch)).collect(),
-                    None => (0..D).collect(),
-                };
                 let file = self.resolve(path);
                 let samples = read_record(&file, &layout).map_err(|message| {
                     let place = if file.is_file() {
@@ -1116,7 +918,7 @@ impl Scene {
                     .iter()
                     .map(|(_, t, v)| {
                         let mut a = SVector::<f64, D>::zeros();
-                        for (value, &axis) in v.iter().zip(&axis_of) {
+                        for (value, &axis) in v.iter().zip(&layout.axes) {
                             a[axis] = value * scale;
                         }
                         (*t, a)
@@ -1151,6 +953,7 @@ impl Scene {
                 }
             }
         };
+        self.core_field(&at, motion.check())?;
         Ok(Some((driven.clone(), Arc::new(motion), note)))
     }
 
@@ -1220,18 +1023,6 @@ fn signed_volume(points: &[Point3<f64>], faces: &[Vec<usize>]) -> f64 {
         }
     }
     six / 6.0
-}
-
-/// Where in the entry a polyhedron's error points (the face or corner, for
-/// the line and column).
-fn polyhedron_place(at: &Place, e: &PolyhedronError) -> Place {
-    match e.place() {
-        Fault::Vertices => at.field("vertices"),
-        Fault::Faces => at.field("faces"),
-        Fault::Vertex(v) => at.pointing_at("vertices", v),
-        Fault::Face(f) => at.pointing_at("faces", f),
-        Fault::Block => at.clone(),
-    }
 }
 
 pub(super) fn to_points(v: &[[f64; 2]]) -> Vec<Point2<f64>> {
