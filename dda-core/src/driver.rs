@@ -79,8 +79,8 @@ const CONTACTS_PER_TASK: usize = 256;
 /// The largest share of the last residual that a Newton-Raphson move made
 /// with an earlier iterate's factor may leave for the factor to be kept: a
 /// factor costs several residual assemblies and solves, and between the
-/// iterates of one step the tangent changes only where a contact reaches
-/// its strength. 0.3 kept one factor a step on the 40 × 40 wall (0.1 took
+/// iterates of one pass the tangent changes only where a contact reaches
+/// its strength. 0.3 kept one factor a pass on the 40 × 40 wall (0.1 took
 /// two).
 const KEPT_FACTOR_CONTRACTION: f64 = 0.3;
 
@@ -139,10 +139,6 @@ pub struct Driver<S, const N: usize, const T: usize> {
     analysed: bool,
     /// Each contact's load at the last assembly (kept for its storage).
     contact_loads: Vec<Option<ContactLoad<N, T>>>,
-    /// Whether the factor was made in the current attempt at a step: an
-    /// attempt starts with its own, so a step solves the same whether the
-    /// run went on or resumed before it.
-    factored_in_attempt: bool,
     /// Where each contact's block pair sits in the matrix pattern (`None`:
     /// not in it, so the contact must stay open).
     slots: Vec<Option<usize>>,
@@ -272,7 +268,6 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             values: Vec::new(),
             factored: None,
             analysed: false,
-            factored_in_attempt: false,
             contact_loads: Vec::new(),
             slots: Vec::new(),
             pattern_reach: PATTERN_REACH_SHARE * block_size,
@@ -629,7 +624,6 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// Solves one step of length `dt` with open-close iterations.
     fn attempt(&mut self, dt: f64) -> Result<Trial<T>, DdaError> {
         let nb = self.system.block_count();
-        self.factored_in_attempt = false;
         self.striking.clear();
         self.sliding_impact.clear();
         let mut trial = Trial {
@@ -882,13 +876,20 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut best = (f64::INFINITY, trial.d.clone());
         let mut anderson = Anderson::default();
         let mut last = f64::INFINITY;
-        // Whether the last move was made with an earlier iterate's factor.
+        // Whether the pass has made its factor (it starts on its own: the
+        // springs that came or went drive its first residual, and an
+        // earlier pass's factor does not carry them; so a step also solves
+        // the same whether the run went on or resumed before it); whether
+        // the last move was made with an earlier iterate's factor; and
+        // whether the pass still keeps factors.
+        let mut factored = false;
         let mut kept = false;
+        let mut keeping = true;
         for iteration in 0..=self.settings.newton_limit {
             couplings.clear();
             // The tangent is assembled where a new factor is sure to be
             // needed; elsewhere only if the kept one falls short.
-            let tangent = coupled || !self.factored_in_attempt || self.factored.is_none();
+            let tangent = coupled || !keeping || !factored;
             self.assemble(
                 dt,
                 masses,
@@ -919,11 +920,22 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             // A kept factor that does not carry the iteration (a contact
             // closed, opened or reached its strength) gives way to this
-            // iterate's own tangent.
-            let refresh = coupled
-                || !self.factored_in_attempt
-                || self.factored.is_none()
-                || (kept && norm > KEPT_FACTOR_CONTRACTION * last);
+            // iterate's own tangent, and so does every later one of the
+            // pass: where the tangent changes from one iterate to the next,
+            // moves on an old one only spend the iteration limit. A kept
+            // factor's move that raised the residual is undone: the next
+            // move is Newton's from the best iterate.
+            if kept && norm > KEPT_FACTOR_CONTRACTION * last {
+                keeping = false;
+                if norm > last {
+                    trial.d.clone_from(&best.1);
+                    kept = false;
+                    last = best.0;
+                    anderson.restart();
+                    continue;
+                }
+            }
+            let refresh = coupled || !keeping || !factored;
             if norm > last || (kept && refresh) {
                 // A mixed move that did not lower the residual (a contact
                 // crossed its strength), or a new factor: mix again from
@@ -937,7 +949,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     self.assemble(dt, masses, trial, &mut residual, None, true);
                 }
                 self.factorize()?;
-                self.factored_in_attempt = true;
+                factored = true;
             }
             kept = !refresh;
             let solving = Instant::now();
