@@ -959,6 +959,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             self.stats.times.solve += solving.elapsed();
             self.stats.count_solves(self.solver.take_counts());
+            // Convergence is read off the Newton move itself: a mixed or
+            // shortened move can be tiny where the residual is not.
+            let newton_move = residual.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
             if !coupled {
                 anderson.mix(&mut residual);
             }
@@ -1006,7 +1009,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             // A kept factor stiffer than the tangent makes short moves
             // that are no sign of convergence.
-            if !kept && largest <= self.settings.increment_tolerance * self.length_scale {
+            if !kept && newton_move <= self.settings.increment_tolerance * self.length_scale {
                 return Ok(true);
             }
         }
