@@ -48,6 +48,30 @@ fn refused(args: &[&str]) -> String {
     stderr
 }
 
+/// The half-second sliding block in `dir`, run whole (into `dir/whole`,
+/// unless `whole` is false) and with checkpoints every 0.2 s (into
+/// `dir/out`): the scene's path and the two output folders.
+fn sliding_block_runs(dir: &Path, whole: bool) -> (PathBuf, PathBuf, PathBuf) {
+    let scene = scene(
+        dir,
+        "sliding_block_2d.ron",
+        "duration: 1.0",
+        "duration: 0.5",
+    );
+    let s = scene.to_str().unwrap();
+    let (uninterrupted, out) = (dir.join("whole"), dir.join("out"));
+    if whole {
+        ok(dda(&["run", s, "--out", uninterrupted.to_str().unwrap()]));
+    }
+    let every = ["--checkpoint-every", "0.2"];
+    ok(dda(&[
+        &["run", s, "--out", out.to_str().unwrap()][..],
+        &every[..],
+    ]
+    .concat()));
+    (scene, uninterrupted, out)
+}
+
 fn read(path: impl AsRef<Path>) -> Vec<u8> {
     std::fs::read(path.as_ref()).unwrap_or_else(|e| panic!("{}: {e}", path.as_ref().display()))
 }
@@ -172,24 +196,7 @@ fn every_checkpoint_resumes_to_the_same_end() {
 #[test]
 fn a_torn_checkpoint_leaves_the_previous_one() {
     let dir = folder("torn");
-    let scene = scene(
-        &dir,
-        "sliding_block_2d.ron",
-        "duration: 1.0",
-        "duration: 0.5",
-    );
-    let s = scene.to_str().unwrap();
-    let out = dir.join("out");
-    let whole = dir.join("whole");
-    ok(dda(&["run", s, "--out", whole.to_str().unwrap()]));
-    ok(dda(&[
-        "run",
-        s,
-        "--out",
-        out.to_str().unwrap(),
-        "--checkpoint-every",
-        "0.2",
-    ]));
+    let (_, whole, out) = sliding_block_runs(&dir, true);
     let good = read(out.join("checkpoint.bin"));
     std::fs::write(out.join("checkpoint.bin.partial"), &good[..good.len() / 2]).unwrap();
     ok(dda(&["run", "--resume", out.to_str().unwrap()]));
@@ -205,22 +212,7 @@ fn a_torn_checkpoint_leaves_the_previous_one() {
 #[test]
 fn a_checkpoint_of_another_version_or_scene_is_refused() {
     let dir = folder("refused");
-    let scene = scene(
-        &dir,
-        "sliding_block_2d.ron",
-        "duration: 1.0",
-        "duration: 0.5",
-    );
-    let s = scene.to_str().unwrap();
-    let out = dir.join("out");
-    ok(dda(&[
-        "run",
-        s,
-        "--out",
-        out.to_str().unwrap(),
-        "--checkpoint-every",
-        "0.2",
-    ]));
+    let (scene, _, out) = sliding_block_runs(&dir, false);
     let history = read(out.join("history.csv"));
 
     // Another scene: the friction angle changed after the checkpoint.
@@ -325,24 +317,7 @@ fn the_digest_of_a_scene_survives_writing_and_reading_it() {
 #[test]
 fn a_rewritten_scene_resumes_and_a_changed_one_is_refused() {
     let dir = folder("rewritten");
-    let scene = scene(
-        &dir,
-        "sliding_block_2d.ron",
-        "duration: 1.0",
-        "duration: 0.5",
-    );
-    let s = scene.to_str().unwrap();
-    let whole = dir.join("whole");
-    let out = dir.join("out");
-    ok(dda(&["run", s, "--out", whole.to_str().unwrap()]));
-    ok(dda(&[
-        "run",
-        s,
-        "--out",
-        out.to_str().unwrap(),
-        "--checkpoint-every",
-        "0.2",
-    ]));
+    let (scene, whole, out) = sliding_block_runs(&dir, true);
     let rewritten = dda::Scene::load(&scene).unwrap().to_ron();
     assert_ne!(rewritten, std::fs::read_to_string(&scene).unwrap());
     std::fs::write(&scene, &rewritten).unwrap();

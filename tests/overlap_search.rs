@@ -7,21 +7,9 @@ use std::f64::consts::PI;
 
 use dda_2d::polygon;
 use dda_3d::polyhedron::{self, Polyhedron};
-use dda_core::overlap::Found;
+use dda_core::overlap::{bounds, Found};
 use nalgebra::{Point2, Point3, Rotation3, Vector3};
 use proptest::prelude::*;
-
-fn bounds<const D: usize>(points: &[[f64; D]]) -> ([f64; D], [f64; D]) {
-    let mut lo = [f64::INFINITY; D];
-    let mut hi = [f64::NEG_INFINITY; D];
-    for p in points {
-        for k in 0..D {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (lo, hi)
-}
 
 /// Every pair in order, the plain way: what the search must agree with.
 fn every_pair<S, const D: usize>(

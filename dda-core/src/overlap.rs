@@ -17,7 +17,8 @@ use std::collections::HashMap;
 /// A plane: its unit normal and a point on it.
 pub type Plane<const D: usize> = ([f64; D], [f64; D]);
 
-type Bounds<const D: usize> = ([f64; D], [f64; D]);
+/// An axis-aligned box: its lowest and highest corners.
+pub type Bounds<const D: usize> = ([f64; D], [f64; D]);
 
 /// Sets this small are tested pair by pair.
 const LEAF: usize = 16;
@@ -106,7 +107,8 @@ pub fn first_overlap<S, const D: usize>(
     }
 }
 
-fn bounds<const D: usize>(points: &[[f64; D]]) -> Bounds<D> {
+/// The smallest axis-aligned box holding the points.
+pub fn bounds<const D: usize>(points: &[[f64; D]]) -> Bounds<D> {
     let mut lo = [f64::INFINITY; D];
     let mut hi = [f64::NEG_INFINITY; D];
     for p in points {
