@@ -138,6 +138,38 @@ impl<const N: usize> BlockSparse<N> {
         }
     }
 
+    /// Adds k·g·hᵀ to block (`row`, `col`), stored at `slot` when they
+    /// differ, over the DOF the two blocks keep only: a rigid 3D block's
+    /// spring is a quarter of the products of its whole block, and no
+    /// product is made whole first.
+    pub fn add_outer(
+        &mut self,
+        slot: usize,
+        row: usize,
+        col: usize,
+        g: &BlockVector<N>,
+        h: &BlockVector<N>,
+        k: f64,
+    ) {
+        let (rows, cols) = (self.dofs[row], self.dofs[col]);
+        let (m, transposed) = match row.cmp(&col) {
+            std::cmp::Ordering::Equal => (&mut self.diagonal[row], false),
+            std::cmp::Ordering::Greater => (&mut self.lower[slot], false),
+            std::cmp::Ordering::Less => (&mut self.lower[slot], true),
+        };
+        debug_assert!(row == col || self.pairs[slot] == (row.max(col), row.min(col)));
+        for c in 0..cols {
+            for r in 0..rows {
+                let v = g[r] * h[c] * k;
+                if transposed {
+                    m[(c, r)] += v;
+                } else {
+                    m[(r, c)] += v;
+                }
+            }
+        }
+    }
+
     /// Where block pair (a, b), a ≠ b, is stored, if the pattern holds it.
     pub fn slot(&self, a: usize, b: usize) -> Option<usize> {
         self.index.get(&(a.max(b), a.min(b))).copied()
@@ -268,6 +300,26 @@ mod tests {
         }
         // Block (2, 0) holds m(1)ᵀ: entry (row 2·3 + 1, col 0) = m(1)[(0, 1)].
         assert_eq!(dense[7][0], 1.0 + 1.0);
+    }
+
+    /// A spring's k·g·hᵀ added over the kept DOF gives the values of the
+    /// whole product added block by block, on either side of the diagonal.
+    #[test]
+    fn outer_products_fill_the_kept_dofs_as_whole_products_do() {
+        let g = BlockVector::<3>::new(0.3, -1.2, 0.7);
+        let h = BlockVector::<3>::new(-0.4, 0.9, 2.5);
+        let k = 1.7e9;
+        let dofs = vec![3, 2, 1];
+        let (mut whole, mut kept) = (filled(dofs.clone()), filled(dofs));
+        for (row, col) in [(0, 0), (2, 2), (0, 2), (2, 0), (1, 2), (2, 1)] {
+            let slot = kept.slot(row, col).unwrap_or(0);
+            kept.add_outer(slot, row, col, &g, &h, k);
+            whole.add(row, col, &(g * h.transpose() * k));
+        }
+        let (mut v, mut w) = (Vec::new(), Vec::new());
+        kept.values_into(&mut v);
+        whole.values_into(&mut w);
+        assert_eq!(v, w);
     }
 
     #[test]

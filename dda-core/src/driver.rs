@@ -1427,9 +1427,9 @@ fn add_coupling<const N: usize>(
     if k == 0.0 {
         return;
     }
-    matrix.add(a, a, &(ga * ha.transpose() * k));
-    matrix.add(b, b, &(gb * hb.transpose() * k));
-    matrix.add_at(slot, a, b, &(ga * hb.transpose() * k));
+    matrix.add_outer(slot, a, a, ga, ha, k);
+    matrix.add_outer(slot, b, b, gb, hb, k);
+    matrix.add_outer(slot, a, b, ga, hb, k);
 }
 
 /// Whether a contact's block pair must be in the matrix pattern (closed,
