@@ -918,8 +918,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 }
                 return Ok(converged);
             }
-            // A kept factor that does not carry the iteration (a contact
-            // closed, opened or reached its strength) gives way to this
+            // A kept factor that does not carry the iteration (a contact's
+            // force reached or left its strength) gives way to this
             // iterate's own tangent, and so does every later one of the
             // pass: where the tangent changes from one iterate to the next,
             // moves on an old one only spend the iteration limit. A kept
