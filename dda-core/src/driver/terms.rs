@@ -7,7 +7,7 @@ use nalgebra::SVector;
 
 use super::{block, Trial};
 use crate::contact::{ContactState, DynContactLaw, LocalKinematics};
-use crate::contacts::{BlockVector, Contact};
+use crate::contacts::{BlockVector, Contact, Entrance};
 use crate::system::BlockMatrix;
 
 /// What a closed contact adds to a step's equations at a trial.
@@ -42,6 +42,9 @@ pub(super) struct ContactTerms<'a, const N: usize, const T: usize> {
     /// The contact tolerance (m).
     pub tolerance: f64,
     pub penalty: f64,
+    /// Each contact's entrance in the pass, side by side (empty: read
+    /// them off the contacts).
+    pub active: &'a [Entrance<N, T>],
 }
 
 impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
@@ -95,8 +98,18 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
     }
 
     pub fn kinematics(&self, i: usize, e: usize, trial: &Trial<T>, dt: f64) -> LocalKinematics {
+        self.kinematics_on(i, e, &self.contacts[i].entrances[e], trial, dt)
+    }
+
+    fn kinematics_on(
+        &self,
+        i: usize,
+        e: usize,
+        entrance: &Entrance<N, T>,
+        trial: &Trial<T>,
+        dt: f64,
+    ) -> LocalKinematics {
         let c = &self.contacts[i];
-        let entrance = &c.entrances[e];
         let da = block(&trial.d, c.blocks[0]);
         let db = block(&trial.d, c.blocks[1]);
         let ds = entrance.shear_at(&da, &db);
@@ -132,8 +145,11 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
         }
         let c = &self.contacts[i];
         let e = trial.entrances[i];
-        let entrance = &c.entrances[e];
-        let kin = self.kinematics(i, e, trial, dt);
+        let entrance = match self.active.get(i) {
+            Some(entrance) => entrance,
+            None => &c.entrances[e],
+        };
+        let kin = self.kinematics_on(i, e, entrance, trial, dt);
         let history = c.record.history.as_ref().expect("history set at search");
         let law = &self.laws[c.law];
         let mut response = law.response(state, &kin, history);
@@ -156,7 +172,8 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
         // Shear: a spring when locked; when sliding, the friction force
         // along the trial stretch (the radial return of an elastoplastic
         // spring), whose tangent turns the force with the stretch in 3D.
-        let stretch = self.stretch(i, e, trial);
+        let stretch =
+            self.carried_shear(c, e) + entrance.shear_at(&block(&trial.d, a), &block(&trial.d, b));
         let length = stretch.norm();
         // A sliding contact's force is the return map's, min(k_s·|s|,
         // strength) along the stretch s: within the elastic limit (an
