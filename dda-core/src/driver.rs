@@ -13,7 +13,7 @@ use nalgebra::{DMatrix, DVector, SVector};
 use rayon::prelude::*;
 
 use crate::assembly::BlockSparse;
-use crate::contact::{ContactResponse, ContactState, DynContactLaw, LocalKinematics};
+use crate::contact::{ContactResponse, ContactState, DynContactLaw};
 use crate::contacts::{transfer_records, BlockVector, Contact, ContactKey, Entrance};
 use crate::error::DdaError;
 use crate::loads::Support;
@@ -23,7 +23,7 @@ use crate::statistics::CYCLES_KEPT;
 pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
 use anderson::Anderson;
-use terms::{ContactLoad, ContactTerms};
+use terms::{ContactLoad, ContactTerms, Decision};
 
 mod anderson;
 mod checkpoint;
@@ -724,106 +724,28 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     fn decide(&mut self, trial: &mut Trial<T>, dt: f64, approach: Option<&[f64]>) -> bool {
         let moving = approach.unwrap_or(&trial.d);
         let deciding = Instant::now();
-        let tolerance = self.settings.contact_tolerance * self.length_scale;
+        // Each contact's decision reads the trial and writes nothing; they
+        // are made in parallel and entered in contact order.
+        let terms = self.terms();
+        let decisions: Vec<Decision<T>> = (0..self.contacts.len())
+            .into_par_iter()
+            .with_min_len(CONTACTS_PER_TASK)
+            .map(|i| terms.decision(i, trial, dt, moving))
+            .collect();
         let mut changed = false;
         trial.unsettled.clear();
-        for i in 0..self.contacts.len() {
-            let c = &self.contacts[i];
-            let e = trial.entrances[i];
-            let mut kin = self.terms().kinematics(i, e, trial, dt);
-            let law = &self.laws[c.law];
-            let history = c.record.history.as_ref().expect("history set at search");
-            let state = trial.states[i];
-            if self.terms().damped(i) {
-                // Friction bounds the whole tangential force, the shear
-                // dashpot's too: test the spring stretch that carries
-                // it, so locked and sliding stay complementary.
-                let k = law
-                    .response(ContactState::Locked, &kin, history)
-                    .shear_stiffness;
-                if k > 0.0 {
-                    let entrance = &c.entrances[e];
-                    let [a, b] = c.blocks;
-                    let ds = entrance.shear_at(&block(&trial.d, a), &block(&trial.d, b));
-                    let rate = entrance.shear_at(&block(moving, a), &block(moving, b));
-                    let carried = self.terms().carried_shear(c, e);
-                    let loaded = SVector::<f64, T>::from_fn(|r, _| {
-                        let damper = self.terms().dashpot(a, b, &entrance.tangents[r], k);
-                        carried[r] + ds[r] + rate[r] * damper / (k * dt)
-                    });
-                    kin.shear = loaded.norm();
-                }
-            }
-            let mut next = law.next_state(state, &kin, history);
-            if self.terms().damped(i) && state.is_closed() && next.is_closed() {
-                // The normal dashpot pushes only: a contact whose spring
-                // and dashpot together pull (a corner leaving its base
-                // faster than its spring unloads) opens, as the spring
-                // alone would at that gap, instead of holding on.
-                let k = law
-                    .response(ContactState::Locked, &kin, history)
-                    .normal_stiffness;
-                if k > 0.0 {
-                    let entrance = &c.entrances[e];
-                    let [a, b] = c.blocks;
-                    let damper = self.terms().dashpot(a, b, &entrance.normal, k);
-                    let approached =
-                        entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap;
-                    let loaded = LocalKinematics {
-                        gap: kin.gap + approached * damper / (k * dt),
-                        ..kin
-                    };
-                    if law.next_state(state, &loaded, history) == ContactState::Open {
-                        next = ContactState::Open;
-                        trial.pulled[i] = true;
-                    }
-                }
-            }
-            if state.is_closed() && next.is_closed() && next != state {
-                // Where the contact can carry almost no shear and carries
-                // almost none (a wall's head joint, at no normal force),
-                // locked and sliding differ by round-off: with a shear
-                // dashpot it would pass between them at every pass.
-                let locked = law.response(ContactState::Locked, &kin, history);
-                let floor = ROUND_OFF_FORCE * locked.normal_stiffness * kin.tolerance;
-                let friction = law.response(ContactState::Sliding, &kin, history);
-                if friction.shear_force.abs() < floor && locked.shear_stiffness * kin.shear < floor
-                {
-                    next = state;
-                }
-            }
-            // The slip direction is the trial spring stretch's (the
-            // return map's), so a sliding contact's friction opposes
-            // where the stretch points now, never a stale direction.
-            if let Some(dir) = self.terms().stretch(i, e, trial).try_normalize(1e-300) {
-                trial.directions[i] = dir;
-            }
-            // A sliding contact found within its strength carried the
-            // locked spring's force and tangent in this pass already (the
-            // return map's min(k_s·|s|, strength)): it stays sliding for the
-            // passes and commits locked, so no pass is spent locking it and
-            // it cannot flip back and forth between the two (a wall's head
-            // joints, at almost no normal force, would). Not so where
-            // locking adds its shear dashpot.
-            trial.within[i] = state == ContactState::Sliding
-                && next == ContactState::Locked
-                && !self.terms().damped(i)
-                && !self.laws[c.law].yields_at_strength();
-            if trial.within[i] {
-                next = ContactState::Sliding;
-            }
-            // Where both states take the return map they load the blocks
-            // alike: the pass's forces stand whichever is recorded.
-            let alike = state.is_closed()
-                && next.is_closed()
-                && self.terms().yields(i, ContactState::Locked);
-            let entrance = widest_entrance(c, &trial.d, e, tolerance);
-            if (next != state && !alike) || entrance != e {
+        for (i, decision) in decisions.into_iter().enumerate() {
+            if decision.changed {
                 changed = true;
                 trial.unsettled.push(i);
             }
-            trial.states[i] = next;
-            trial.entrances[i] = entrance;
+            if let Some(direction) = decision.direction {
+                trial.directions[i] = direction;
+            }
+            trial.pulled[i] |= decision.pulled;
+            trial.within[i] = decision.within;
+            trial.states[i] = decision.state;
+            trial.entrances[i] = decision.entrance;
         }
         self.stats.times.open_close += deciding.elapsed();
         changed

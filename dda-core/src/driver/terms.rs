@@ -5,7 +5,7 @@
 
 use nalgebra::SVector;
 
-use super::{block, Trial};
+use super::{block, widest_entrance, Trial, ROUND_OFF_FORCE};
 use crate::contact::{ContactState, DynContactLaw, LocalKinematics};
 use crate::contacts::{BlockVector, Contact, Entrance};
 use crate::system::BlockMatrix;
@@ -27,6 +27,20 @@ pub(super) struct ContactLoad<const N: usize, const T: usize> {
     /// A sliding contact's d(friction)/d(gap) (computed only for coupled
     /// solves; 0 otherwise).
     pub slope: f64,
+}
+
+/// One contact's open-close decision at a trial.
+pub(super) struct Decision<const T: usize> {
+    pub state: ContactState,
+    /// The trial stretch's direction (`None` at no stretch: keep the last).
+    pub direction: Option<SVector<f64, T>>,
+    /// Opened because its dashpot pulled.
+    pub pulled: bool,
+    /// Sliding, found within its strength, and kept sliding for the passes.
+    pub within: bool,
+    pub entrance: usize,
+    /// Whether the decision differs from what the pass assumed.
+    pub changed: bool,
 }
 
 /// The step's contacts as one contact's terms read them.
@@ -238,5 +252,104 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
             direction,
             slope,
         })
+    }
+
+    /// Contact `i`'s open-close decision at the trial: its next state, slip
+    /// direction and entrance. The shear dashpots act on `moving`.
+    pub fn decision(&self, i: usize, trial: &Trial<T>, dt: f64, moving: &[f64]) -> Decision<T> {
+        let c = &self.contacts[i];
+        let e = trial.entrances[i];
+        let mut kin = self.kinematics(i, e, trial, dt);
+        let law = &self.laws[c.law];
+        let history = c.record.history.as_ref().expect("history set at search");
+        let state = trial.states[i];
+        let mut pulled = false;
+        if self.damped(i) {
+            // Friction bounds the whole tangential force, the shear
+            // dashpot's too: test the spring stretch that carries
+            // it, so locked and sliding stay complementary.
+            let k = law
+                .response(ContactState::Locked, &kin, history)
+                .shear_stiffness;
+            if k > 0.0 {
+                let entrance = &c.entrances[e];
+                let [a, b] = c.blocks;
+                let ds = entrance.shear_at(&block(&trial.d, a), &block(&trial.d, b));
+                let rate = entrance.shear_at(&block(moving, a), &block(moving, b));
+                let carried = self.carried_shear(c, e);
+                let loaded = SVector::<f64, T>::from_fn(|r, _| {
+                    let damper = self.dashpot(a, b, &entrance.tangents[r], k);
+                    carried[r] + ds[r] + rate[r] * damper / (k * dt)
+                });
+                kin.shear = loaded.norm();
+            }
+        }
+        let mut next = law.next_state(state, &kin, history);
+        if self.damped(i) && state.is_closed() && next.is_closed() {
+            // The normal dashpot pushes only: a contact whose spring
+            // and dashpot together pull (a corner leaving its base
+            // faster than its spring unloads) opens, as the spring
+            // alone would at that gap, instead of holding on.
+            let k = law
+                .response(ContactState::Locked, &kin, history)
+                .normal_stiffness;
+            if k > 0.0 {
+                let entrance = &c.entrances[e];
+                let [a, b] = c.blocks;
+                let damper = self.dashpot(a, b, &entrance.normal, k);
+                let approached =
+                    entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap;
+                let loaded = LocalKinematics {
+                    gap: kin.gap + approached * damper / (k * dt),
+                    ..kin
+                };
+                if law.next_state(state, &loaded, history) == ContactState::Open {
+                    next = ContactState::Open;
+                    pulled = true;
+                }
+            }
+        }
+        if state.is_closed() && next.is_closed() && next != state {
+            // Where the contact can carry almost no shear and carries
+            // almost none (a wall's head joint, at no normal force),
+            // locked and sliding differ by round-off: with a shear
+            // dashpot it would pass between them at every pass.
+            let locked = law.response(ContactState::Locked, &kin, history);
+            let floor = ROUND_OFF_FORCE * locked.normal_stiffness * kin.tolerance;
+            let friction = law.response(ContactState::Sliding, &kin, history);
+            if friction.shear_force.abs() < floor && locked.shear_stiffness * kin.shear < floor {
+                next = state;
+            }
+        }
+        // The slip direction is the trial spring stretch's (the
+        // return map's), so a sliding contact's friction opposes
+        // where the stretch points now, never a stale direction.
+        let direction = self.stretch(i, e, trial).try_normalize(1e-300);
+        // A sliding contact found within its strength carried the
+        // locked spring's force and tangent in this pass already (the
+        // return map's min(k_s·|s|, strength)): it stays sliding for the
+        // passes and commits locked, so no pass is spent locking it and
+        // it cannot flip back and forth between the two (a wall's head
+        // joints, at almost no normal force, would). Not so where
+        // locking adds its shear dashpot.
+        let within = state == ContactState::Sliding
+            && next == ContactState::Locked
+            && !self.damped(i)
+            && !self.laws[c.law].yields_at_strength();
+        if within {
+            next = ContactState::Sliding;
+        }
+        // Where both states take the return map they load the blocks
+        // alike: the pass's forces stand whichever is recorded.
+        let alike = state.is_closed() && next.is_closed() && self.yields(i, ContactState::Locked);
+        let entrance = widest_entrance(c, &trial.d, e, self.tolerance);
+        Decision {
+            state: next,
+            direction,
+            pulled,
+            within,
+            entrance,
+            changed: (next != state && !alike) || entrance != e,
+        }
     }
 }
