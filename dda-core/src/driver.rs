@@ -13,7 +13,7 @@ use nalgebra::{DMatrix, DVector, SVector};
 use rayon::prelude::*;
 
 use crate::assembly::BlockSparse;
-use crate::contact::{ContactResponse, ContactState, DynContactLaw};
+use crate::contact::{ContactState, DynContactLaw};
 use crate::contacts::{transfer_records, BlockVector, Contact, ContactKey, Entrance};
 use crate::error::DdaError;
 use crate::loads::Support;
@@ -23,7 +23,7 @@ use crate::statistics::CYCLES_KEPT;
 pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
 use anderson::Anderson;
-use terms::{ContactLoad, ContactTerms, Decision};
+use terms::{ContactLoad, ContactTerms, Decision, Kept};
 
 mod anderson;
 mod checkpoint;
@@ -139,6 +139,10 @@ pub struct Driver<S, const N: usize, const T: usize> {
     analysed: bool,
     /// Each contact's load at the last assembly (kept for its storage).
     contact_loads: Vec<Option<ContactLoad<N, T>>>,
+    /// Each contact's open-close decision and what it keeps of an accepted
+    /// step (kept for their storage).
+    decisions: Vec<Decision<T>>,
+    kept: Vec<Kept<T>>,
     /// Each contact's entrance in the current pass, side by side: a pass's
     /// iterations read them in order instead of through each contact.
     active: Vec<Entrance<N, T>>,
@@ -273,6 +277,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             analysed: false,
             contact_loads: Vec::new(),
             active: Vec::new(),
+            decisions: Vec::new(),
+            kept: Vec::new(),
             slots: Vec::new(),
             pattern_reach: PATTERN_REACH_SHARE * block_size,
             last_moved: 0.0,
@@ -726,15 +732,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let deciding = Instant::now();
         // Each contact's decision reads the trial and writes nothing; they
         // are made in parallel and entered in contact order.
+        let mut decisions = std::mem::take(&mut self.decisions);
         let terms = self.terms();
-        let decisions: Vec<Decision<T>> = (0..self.contacts.len())
+        (0..self.contacts.len())
             .into_par_iter()
             .with_min_len(CONTACTS_PER_TASK)
             .map(|i| terms.decision(i, trial, dt, moving))
-            .collect();
+            .collect_into_vec(&mut decisions);
         let mut changed = false;
         trial.unsettled.clear();
-        for (i, decision) in decisions.into_iter().enumerate() {
+        for (i, decision) in decisions.iter().enumerate() {
             if decision.changed {
                 changed = true;
                 trial.unsettled.push(i);
@@ -747,6 +754,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             trial.states[i] = decision.state;
             trial.entrances[i] = decision.entrance;
         }
+        self.decisions = decisions;
         self.stats.times.open_close += deciding.elapsed();
         changed
     }
@@ -1226,77 +1234,48 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// Each contact's state, record and law history at the accepted trial;
     /// returns the energy the springs store.
     fn commit_contacts(&mut self, trial: &Trial<T>, dt: f64) -> f64 {
+        // What each contact keeps is worked out in parallel from the old
+        // records, then written into them; the springs' energy is summed
+        // in contact order, as one thread would.
+        let mut kept = std::mem::take(&mut self.kept);
+        let terms = self.terms();
+        (0..self.contacts.len())
+            .into_par_iter()
+            .with_min_len(CONTACTS_PER_TASK)
+            .map(|i| terms.kept(i, trial, dt))
+            .collect_into_vec(&mut kept);
         let mut spring_energy = 0.0;
-        for i in 0..self.contacts.len() {
-            let c = &self.contacts[i];
-            let kin = self.terms().kinematics(i, trial.entrances[i], trial, dt);
-            let history = c.record.history.as_ref().expect("history set at search");
-            let state = if trial.within[i] {
-                ContactState::Locked
-            } else {
-                trial.states[i]
-            };
-            let response = if state.is_closed() {
-                self.laws[c.law].response(state, &kin, history)
-            } else {
-                ContactResponse::default()
-            };
-            let e = trial.entrances[i];
-            let ds = c.entrances[e]
-                .shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
-            let shear = self.terms().carried_shear(c, e) + ds;
-            let sliding_stiffness = if state == ContactState::Sliding {
-                self.laws[c.law]
-                    .response(ContactState::Locked, &kin, history)
-                    .shear_stiffness
-            } else {
-                0.0
-            };
-            spring_energy += stored(response.normal_force, response.normal_stiffness);
-            spring_energy += match state {
-                ContactState::Locked => stored(response.shear_force, response.shear_stiffness),
-                ContactState::Sliding => {
-                    let kept = response.shear_force.min(sliding_stiffness * shear.norm());
-                    stored(kept, sliding_stiffness)
-                }
-                ContactState::Open => 0.0,
-            };
-            // Mutate after all reads of the old record.
-            let c = &mut self.contacts[i];
-            let law = &self.laws[c.law];
-            law.commit(
-                state,
-                &kin,
-                c.record.history.as_mut().expect("history set at search"),
-            );
-            let record = &mut c.record;
-            record.state = state;
-            record.entrance = e;
-            record.shear = match state {
-                ContactState::Locked => shear,
-                // The spring keeps the stretch that carries the friction
-                // force, so a contact that locks again starts from the force
-                // it had instead of from zero (no stick-slip creep).
-                // Never more than the trial stretch: with a shear dashpot
-                // a contact may slide before its spring alone reaches the
-                // strength, and a stretch it never had would be energy
-                // from nowhere.
-                ContactState::Sliding if sliding_stiffness > 0.0 => {
-                    trial.directions[i]
-                        * (response.shear_force / sliding_stiffness).min(shear.norm())
-                }
-                _ => SVector::zeros(),
-            };
-            record.slip_direction = trial.directions[i];
-            if state == ContactState::Sliding {
-                record.slip_path += ds.norm();
-                record.slip_rate = ds.norm() / dt;
-            } else {
-                record.slip_rate = 0.0;
-            }
-            record.normal_force = response.normal_force;
-            record.shear_force = response.shear_force;
+        for k in &kept {
+            spring_energy += k.energy[0];
+            spring_energy += k.energy[1];
         }
+        let laws = &self.laws;
+        self.contacts
+            .par_iter_mut()
+            .with_min_len(CONTACTS_PER_TASK)
+            .zip(kept.par_iter())
+            .for_each(|(c, k)| {
+                let law = &laws[c.law];
+                law.commit(
+                    k.state,
+                    &k.kin,
+                    c.record.history.as_mut().expect("history set at search"),
+                );
+                let record = &mut c.record;
+                record.state = k.state;
+                record.entrance = k.entrance;
+                record.shear = k.shear;
+                record.slip_direction = k.direction;
+                if k.state == ContactState::Sliding {
+                    record.slip_path += k.slip;
+                    record.slip_rate = k.slip / dt;
+                } else {
+                    record.slip_rate = 0.0;
+                }
+                record.normal_force = k.normal_force;
+                record.shear_force = k.shear_force;
+            });
+        self.kept = kept;
         spring_energy
     }
 

@@ -5,8 +5,8 @@
 
 use nalgebra::SVector;
 
-use super::{block, widest_entrance, Trial, ROUND_OFF_FORCE};
-use crate::contact::{ContactState, DynContactLaw, LocalKinematics};
+use super::{block, stored, widest_entrance, Trial, ROUND_OFF_FORCE};
+use crate::contact::{ContactResponse, ContactState, DynContactLaw, LocalKinematics};
 use crate::contacts::{BlockVector, Contact, Entrance};
 use crate::system::BlockMatrix;
 
@@ -41,6 +41,22 @@ pub(super) struct Decision<const T: usize> {
     pub entrance: usize,
     /// Whether the decision differs from what the pass assumed.
     pub changed: bool,
+}
+
+/// What a contact keeps of an accepted step.
+pub(super) struct Kept<const T: usize> {
+    pub state: ContactState,
+    pub kin: LocalKinematics,
+    pub entrance: usize,
+    /// The shear spring's stretch carried into the next step.
+    pub shear: SVector<f64, T>,
+    pub direction: SVector<f64, T>,
+    /// The step's slip distance (counted only if sliding).
+    pub slip: f64,
+    pub normal_force: f64,
+    pub shear_force: f64,
+    /// Elastic energy stored in the normal and the shear spring.
+    pub energy: [f64; 2],
 }
 
 /// The step's contacts as one contact's terms read them.
@@ -350,6 +366,70 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
             within,
             entrance,
             changed: (next != state && !alike) || entrance != e,
+        }
+    }
+
+    /// What contact `i` keeps of the accepted trial.
+    pub fn kept(&self, i: usize, trial: &Trial<T>, dt: f64) -> Kept<T> {
+        let c = &self.contacts[i];
+        let e = trial.entrances[i];
+        let kin = self.kinematics(i, e, trial, dt);
+        let history = c.record.history.as_ref().expect("history set at search");
+        let law = &self.laws[c.law];
+        let state = if trial.within[i] {
+            ContactState::Locked
+        } else {
+            trial.states[i]
+        };
+        let response = if state.is_closed() {
+            law.response(state, &kin, history)
+        } else {
+            ContactResponse::default()
+        };
+        let ds =
+            c.entrances[e].shear_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
+        let shear = self.carried_shear(c, e) + ds;
+        let sliding_stiffness = if state == ContactState::Sliding {
+            law.response(ContactState::Locked, &kin, history)
+                .shear_stiffness
+        } else {
+            0.0
+        };
+        let shear_energy = match state {
+            ContactState::Locked => stored(response.shear_force, response.shear_stiffness),
+            ContactState::Sliding => {
+                let kept = response.shear_force.min(sliding_stiffness * shear.norm());
+                stored(kept, sliding_stiffness)
+            }
+            ContactState::Open => 0.0,
+        };
+        Kept {
+            state,
+            kin,
+            entrance: e,
+            shear: match state {
+                ContactState::Locked => shear,
+                // The spring keeps the stretch that carries the friction
+                // force, so a contact that locks again starts from the force
+                // it had instead of from zero (no stick-slip creep).
+                // Never more than the trial stretch: with a shear dashpot
+                // a contact may slide before its spring alone reaches the
+                // strength, and a stretch it never had would be energy
+                // from nowhere.
+                ContactState::Sliding if sliding_stiffness > 0.0 => {
+                    trial.directions[i]
+                        * (response.shear_force / sliding_stiffness).min(shear.norm())
+                }
+                _ => SVector::zeros(),
+            },
+            direction: trial.directions[i],
+            slip: ds.norm(),
+            normal_force: response.normal_force,
+            shear_force: response.shear_force,
+            energy: [
+                stored(response.normal_force, response.normal_stiffness),
+                shear_energy,
+            ],
         }
     }
 }
