@@ -197,7 +197,8 @@ fn short(x: f64) -> String {
 }
 
 /// "(x, y)" or "(x, y, z)".
-fn tuple_of(names: &[&str]) -> String {
+fn tuple_of(names: &[impl AsRef<str>]) -> String {
+    let names: Vec<&str> = names.iter().map(AsRef::as_ref).collect();
     format!("({})", names.join(", "))
 }
 
@@ -249,7 +250,7 @@ impl Scene {
 
     /// Checks that `c` has one finite number per name (`names` like
     /// `["fx", "fy"]`), saying what to write when the count is off.
-    fn coords(&self, at: &Place, what: &str, c: &Coords, names: &[&str]) -> Result {
+    fn coords(&self, at: &Place, what: &str, c: &Coords, names: &[impl AsRef<str>]) -> Result {
         if c.len() != names.len() {
             let d = self.dimension;
             let other = if d == 3 {
@@ -275,9 +276,7 @@ impl Scene {
     }
 
     fn vector(&self, at: &Place, what: &str, c: &Coords, prefix: &str) -> Result {
-        let names = self.names(prefix);
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        self.coords(at, what, c, &names)
+        self.coords(at, what, c, &self.names(prefix))
     }
 
     pub(super) fn error(&self, place: &Place, message: impl Into<String>) -> SceneError {
@@ -285,24 +284,20 @@ impl Scene {
     }
 
     /// A check that names its own field: the error at that field of
-    /// `base` (any other error at `base` itself, never dropped).
+    /// `base` (at `base` itself when it names none, and any other error
+    /// there too, never dropped).
     fn core_field(&self, base: &Place, check: std::result::Result<(), DdaError>) -> Result {
         check.map_err(|e| match e {
-            DdaError::Setting { field, message } => self.error(&base.field(field), message),
+            DdaError::Setting { field, message } if !field.is_empty() => {
+                self.error(&base.field(field), message)
+            }
+            DdaError::Setting { message, .. } => self.error(base, message),
             e => self.error(base, e.to_string()),
         })
     }
 
-    /// The core's check of a value, at `place`.
-    fn core(&self, place: &Place, check: std::result::Result<(), DdaError>) -> Result {
-        check.map_err(|e| match e {
-            DdaError::Setting { message, .. } => self.error(place, message),
-            e => self.error(place, e.to_string()),
-        })
-    }
-
     fn finite(&self, place: &Place, what: &str, v: f64) -> Result {
-        self.core(place, settings::finite("", what, v))
+        self.core_field(place, settings::finite("", what, v))
     }
 
     fn finite_all(&self, place: &Place, what: &str, values: &[f64]) -> Result {
@@ -310,7 +305,7 @@ impl Scene {
     }
 
     fn positive(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
-        self.core(place, settings::positive("", what, v, hint))
+        self.core_field(place, settings::positive("", what, v, hint))
     }
 
     fn check_analysis(&self) -> Result {
@@ -960,7 +955,6 @@ impl Scene {
     fn check_history(&self, at: &Place, samples: &[Coords]) -> Result {
         let mut names = vec!["t".to_string()];
         names.extend(self.names("f"));
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         if samples.is_empty() {
             return Err(self.error(
                 at,
