@@ -406,31 +406,6 @@ impl BlockSpec {
         )
     }
 
-    /// An arch's shape; none for other entries.
-    pub(crate) fn arch_shape(&self) -> Option<crate::generators::ArchShape> {
-        match *self {
-            BlockSpec::Arch {
-                center,
-                radius,
-                thickness,
-                voussoirs,
-                span_angle,
-                pointed,
-                abutments,
-                ..
-            } => Some(crate::generators::ArchShape {
-                center,
-                radius,
-                thickness,
-                voussoirs,
-                span_angle,
-                pointed,
-                abutments,
-            }),
-            _ => None,
-        }
-    }
-
     /// What a 2D entry makes (nothing for a 3D one), or why its values make
     /// nothing: each generator checks its own.
     pub(crate) fn generate_2d(&self) -> Result<Generated<[f64; 2]>, Failure> {
@@ -446,7 +421,25 @@ impl BlockSpec {
                 angle,
                 ..
             } => g::rectangle(*center, *width, *height, *angle)?.into(),
-            BlockSpec::Arch { .. } => g::arch(&self.arch_shape().unwrap_or_default())?.into(),
+            &BlockSpec::Arch {
+                center,
+                radius,
+                thickness,
+                voussoirs,
+                span_angle,
+                pointed,
+                abutments,
+                ..
+            } => g::arch(&g::ArchShape {
+                center,
+                radius,
+                thickness,
+                voussoirs,
+                span_angle,
+                pointed,
+                abutments,
+            })?
+            .into(),
             BlockSpec::Column {
                 base,
                 drums,

@@ -385,11 +385,10 @@ impl Scene {
             let at = Place::root().field("joints").index(k);
             match (&joint.between, &joint.blocks) {
                 (Some(between), None) => {
-                    let mut pair = [0; 2];
-                    for (side, name) in [&between.0, &between.1].into_iter().enumerate() {
-                        pair[side] = self.find_material(&at.field("between").index(side), name)?;
-                    }
-                    let pair = (pair[0].min(pair[1]), pair[0].max(pair[1]));
+                    let side = |k| at.field("between").index(k);
+                    let a = self.find_material(&side(0), &between.0)?;
+                    let b = self.find_material(&side(1), &between.1)?;
+                    let pair = (a.min(b), a.max(b));
                     if let Some(first) = pairs.iter().position(|p| *p == pair) {
                         return Err(self.error(
                             &at,
@@ -727,12 +726,8 @@ impl Scene {
             if let Some(axis) = &fp.axis {
                 let at = at.field("axis");
                 self.vector(&at, "the axis", axis, "")?;
-                let has_direction = if self.dimension == 3 {
-                    unit_axis::<3>(axis.as_slice()).is_some()
-                } else {
-                    unit_axis::<2>(axis.as_slice()).is_some()
-                };
-                if !has_direction {
+                // Its numbers are finite: it has a direction if one is not zero.
+                if axis.as_slice().iter().all(|x| *x == 0.0) {
                     let (example, all) = if self.dimension == 3 {
                         ("(0.0, 1.0, 0.0)", "all three")
                     } else {
