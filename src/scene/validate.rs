@@ -211,14 +211,9 @@ impl Scene {
         }
         self.check_analysis()?;
         if let Some(interval) = self.output.interval {
-            let at = root.field("output").field("interval");
-            self.finite(&at, "the output interval", interval)?;
-            if interval < 0.0 {
-                return Err(self.error(
-                    &at,
-                    format!("the output interval must not be negative, got {interval}; use 0 to write every step, or leave it out for an automatic one"),
-                ));
-            }
+            let hint = "use 0 to write every step, or leave it out for an automatic one";
+            let check = settings::non_negative("", "the output interval", interval, hint);
+            self.core_field(&root.field("output").field("interval"), check)?;
         }
         self.check_materials()?;
         let (blocks, shapes) = self.check_blocks()?;
