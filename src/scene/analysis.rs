@@ -288,7 +288,7 @@ impl<'de, A: MapAccess<'de>> MapAccess<'de> for Skipping<A> {
         &mut self,
         seed: K,
     ) -> Result<Option<K::Value>, A::Error> {
-        while let Some(Name(key)) = self.visitor.next_key()? {
+        while let Some(key) = self.visitor.next_key::<String>()? {
             if self.skip.contains(&key.as_str()) {
                 self.visitor.next_value::<IgnoredAny>()?;
             } else if every_field().contains(&key.as_str()) {
@@ -302,25 +302,6 @@ impl<'de, A: MapAccess<'de>> MapAccess<'de> for Skipping<A> {
 
     fn next_value_seed<T: DeserializeSeed<'de>>(&mut self, seed: T) -> Result<T::Value, A::Error> {
         self.visitor.next_value_seed(seed)
-    }
-}
-
-/// A field's name, as written.
-struct Name(String);
-
-impl<'de> Deserialize<'de> for Name {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct Identifier;
-        impl Visitor<'_> for Identifier {
-            type Value = Name;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a field name")
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<Name, E> {
-                Ok(Name(v.to_string()))
-            }
-        }
-        d.deserialize_identifier(Identifier)
     }
 }
 

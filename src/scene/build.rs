@@ -456,6 +456,13 @@ impl Scene {
     /// The distinct joint laws (the default first) and which joints use
     /// which.
     pub fn law_table(&self) -> LawTable {
+        // Each distinct law once: its index, added when new.
+        let index_of = |laws: &mut Vec<JointLaw>, law: &JointLaw| {
+            laws.iter().position(|l| l == law).unwrap_or_else(|| {
+                laws.push(law.clone());
+                laws.len() - 1
+            })
+        };
         let n = self.materials.len();
         let mut laws = vec![self.default_joint.clone()];
         let mut materials = vec![vec![0; n]; n];
@@ -467,26 +474,13 @@ impl Scene {
             let (count, joints) = self.generated_joints(spec);
             for (a, b, set) in joints {
                 if let Some(law) = spec.joint_sets().get(set).and_then(|s| s.law.as_ref()) {
-                    let index = match laws.iter().position(|l| l == law) {
-                        Some(i) => i,
-                        None => {
-                            laws.push(law.clone());
-                            laws.len() - 1
-                        }
-                    };
-                    pairs.insert((offset + a, offset + b), index);
+                    pairs.insert((offset + a, offset + b), index_of(&mut laws, law));
                 }
             }
             offset += count;
         }
         for joint in &self.joints {
-            let index = match laws.iter().position(|l| *l == joint.law) {
-                Some(i) => i,
-                None => {
-                    laws.push(joint.law.clone());
-                    laws.len() - 1
-                }
-            };
+            let index = index_of(&mut laws, &joint.law);
             if let Some((a, b)) = &joint.between {
                 let find = |name: &str| self.materials.iter().position(|(m, _)| m == name);
                 if let (Some(a), Some(b)) = (find(a), find(b)) {

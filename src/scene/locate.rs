@@ -1,8 +1,14 @@
 //! Finds where a value sits in scene text (`blocks[3]`, `analysis.dt`,
 //! `materials["rock"]`) so semantic errors can give a line and column.
 //!
-//! A tolerant scanner, not a parser: the text has already parsed, so it only
-//! needs to skip strings and comments and balance brackets.
+//! RON's own parser walks the text, led by the path through serde's
+//! self-describing `deserialize_any`; at the value sought the walk stops
+//! with an error, whose span is where the parser stands.
+
+use std::fmt;
+
+use serde::de::{self, DeserializeSeed, IgnoredAny, MapAccess, SeqAccess, Visitor};
+use serde::Deserializer;
 
 /// One step of a path into the scene.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -15,300 +21,145 @@ pub enum Seg<'a> {
     Key(&'a str),
 }
 
-#[derive(Debug, Clone, PartialEq)]
-enum Kind {
-    Open(char),
-    Close,
-    Comma,
-    Colon,
-    Ident(String),
-    Str(String),
-    Other,
-}
-
-#[derive(Debug, Clone)]
-struct Tok {
-    kind: Kind,
-    line: usize,
-    col: usize,
-}
-
 /// Line and column (1-based) of the value at `path`, or of the deepest part
 /// of it that can be found; `None` if not even the first step is found.
 pub fn locate(text: &str, path: &[Seg<'_>]) -> Option<(usize, usize)> {
-    locate_steps(text, path).0
+    (1..=path.len())
+        .rev()
+        .find_map(|n| locate_exact(text, &path[..n]))
 }
 
 /// Line and column of the value at `path` if every step of it is written.
 pub fn locate_exact(text: &str, path: &[Seg<'_>]) -> Option<(usize, usize)> {
-    match locate_steps(text, path) {
-        (found, steps) if steps == path.len() => found,
+    if path.is_empty() {
+        return None;
+    }
+    let mut parser = ron::Deserializer::from_str_with_options(text, &super::ron_options()).ok()?;
+    let stop = Walk(path).deserialize(&mut parser).err()?;
+    let e = parser.span_error(stop);
+    // A field or key stops as it is read, so the span starts on its name;
+    // an element stops before it is read, so the span ends at its start.
+    let (start, end) = ((e.span.start.line, e.span.start.col), e.span.end);
+    match e.code {
+        ron::Error::Message(m) if m == AT_VALUE => Some((end.line, end.col)),
+        ron::Error::Message(m) if m == AT_NAME => match path.last() {
+            Some(Seg::Key(_)) => Some(opening_quote(text, start)),
+            _ => Some(start),
+        },
         _ => None,
     }
 }
 
-/// The deepest place found and how many steps of `path` reach it.
-fn locate_steps(text: &str, path: &[Seg<'_>]) -> (Option<(usize, usize)>, usize) {
-    let toks = tokenize(text);
-    let mut i = 0;
-    // Skip `#![enable(...)]` attributes.
-    while matches!(
-        toks.get(i),
-        Some(Tok {
-            kind: Kind::Other,
-            ..
-        })
-    ) {
-        i += 1;
-        if matches!(
-            toks.get(i),
-            Some(Tok {
-                kind: Kind::Open('['),
-                ..
-            })
-        ) {
-            i = skip_value(&toks, i);
-        }
-    }
-    let mut found = None;
-    let mut steps = 0;
-    for seg in path {
-        match find(&toks, i, *seg) {
-            Some((at, value)) => {
-                found = Some((toks[at].line, toks[at].col));
-                i = value;
-                steps += 1;
-            }
-            None => break,
-        }
-    }
-    (found, steps)
+/// Where a string key starts (its `"`, or the `r` of `r#"`), from the
+/// position just inside its opening quote, where the parser's span starts.
+fn opening_quote(text: &str, (line, col): (usize, usize)) -> (usize, usize) {
+    let line_text = text.lines().nth(line - 1).unwrap_or_default();
+    let before: Vec<char> = line_text.chars().take(col.saturating_sub(2)).collect();
+    let hashes = before.iter().rev().take_while(|c| **c == '#').count();
+    let raw = before.len() > hashes && before[before.len() - hashes - 1] == 'r';
+    (line, col - if raw { 2 + hashes } else { 1 })
 }
 
-/// Finds `seg` inside the value starting at token `i`: the token to report
-/// and the start of the inner value.
-fn find(toks: &[Tok], mut i: usize, seg: Seg<'_>) -> Option<(usize, usize)> {
-    // A struct or variant name before the bracket.
-    if matches!(toks.get(i)?.kind, Kind::Ident(_)) {
-        i += 1;
-    }
-    let Kind::Open(bracket) = toks.get(i)?.kind else {
-        return None;
-    };
-    let mut j = i + 1;
-    let mut index = 0;
-    loop {
-        let tok = toks.get(j)?;
-        if tok.kind == Kind::Close {
-            return None;
+const AT_NAME: &str = "located at a name";
+const AT_VALUE: &str = "located at a value";
+
+/// What is left of the path at a value.
+struct Walk<'p, 'a>(&'p [Seg<'a>]);
+
+impl<'de> DeserializeSeed<'de> for Walk<'_, '_> {
+    type Value = ();
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        if self.0.is_empty() {
+            return Err(de::Error::custom(AT_VALUE));
         }
-        match (seg, bracket) {
-            (Seg::Field(name), '(') => {
-                if toks.get(j + 1).map(|t| &t.kind) == Some(&Kind::Colon) {
-                    if tok.kind == Kind::Ident(name.to_string()) {
-                        return Some((j, j + 2));
-                    }
-                    j += 2;
-                }
-            }
-            (Seg::Key(key), '{') => {
-                let start = j;
-                j = skip_value(toks, j);
-                if toks.get(j)?.kind != Kind::Colon {
-                    return None;
-                }
-                if tok.kind == Kind::Str(key.to_string()) {
-                    return Some((start, j + 1));
-                }
-                j += 1;
-            }
-            (Seg::Index(k), '[' | '(') => {
-                if index == k {
-                    return Some((j, j));
-                }
-                index += 1;
-            }
-            _ => return None,
-        }
-        j = skip_value(toks, j);
-        match toks.get(j)?.kind {
-            Kind::Comma => j += 1,
-            _ => return None,
-        }
+        d.deserialize_any(self)
     }
 }
 
-/// Index of the comma or closing bracket that ends the value at `i`.
-fn skip_value(toks: &[Tok], mut i: usize) -> usize {
-    let mut depth = 0usize;
-    while let Some(t) = toks.get(i) {
-        match t.kind {
-            Kind::Open(_) => depth += 1,
-            Kind::Close => {
-                if depth == 0 {
-                    return i;
-                }
-                depth -= 1;
-                if depth == 0 {
-                    return i + 1;
-                }
-            }
-            Kind::Comma | Kind::Colon if depth == 0 => return i,
-            _ => {}
-        }
-        i += 1;
-    }
-    i
-}
+impl<'de> Visitor<'de> for Walk<'_, '_> {
+    type Value = ();
 
-fn tokenize(text: &str) -> Vec<Tok> {
-    let chars: Vec<char> = text.chars().collect();
-    let mut toks = Vec::new();
-    let (mut i, mut line, mut col) = (0, 1, 1);
-    // Moves past `n` characters, keeping line and column.
-    let advance = |i: &mut usize, line: &mut usize, col: &mut usize, n: usize| {
-        for _ in 0..n {
-            if *i >= chars.len() {
-                return;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a struct, map, list or tuple")
+    }
+
+    fn visit_some<D: Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_any(self)
+    }
+
+    fn visit_newtype_struct<D: Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_any(self)
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        if let Some((Seg::Field(name) | Seg::Key(name), rest)) = self.0.split_first() {
+            while let Some(found) = map.next_key_seed(Name(name, rest.is_empty()))? {
+                if found {
+                    return map.next_value_seed(Walk(rest));
+                }
+                map.next_value::<IgnoredAny>()?;
             }
-            if chars[*i] == '\n' {
-                *line += 1;
-                *col = 1;
-            } else {
-                *col += 1;
-            }
-            *i += 1;
         }
-    };
-    while i < chars.len() {
-        let c = chars[i];
-        let next = chars.get(i + 1).copied();
-        let (l0, c0) = (line, col);
-        let kind = if c.is_whitespace() {
-            advance(&mut i, &mut line, &mut col, 1);
-            continue;
-        } else if c == '/' && next == Some('/') {
-            while i < chars.len() && chars[i] != '\n' {
-                advance(&mut i, &mut line, &mut col, 1);
-            }
-            continue;
-        } else if c == '/' && next == Some('*') {
-            // RON block comments nest.
-            let mut depth = 0;
-            while i < chars.len() {
-                if chars[i] == '/' && chars.get(i + 1) == Some(&'*') {
-                    depth += 1;
-                    advance(&mut i, &mut line, &mut col, 2);
-                } else if chars[i] == '*' && chars.get(i + 1) == Some(&'/') {
-                    depth -= 1;
-                    advance(&mut i, &mut line, &mut col, 2);
-                    if depth == 0 {
-                        break;
-                    }
-                } else {
-                    advance(&mut i, &mut line, &mut col, 1);
-                }
-            }
-            continue;
-        } else if c == '"' {
-            let mut s = String::new();
-            advance(&mut i, &mut line, &mut col, 1);
-            while i < chars.len() && chars[i] != '"' {
-                if chars[i] == '\\' {
-                    s.push(chars[i]);
-                    advance(&mut i, &mut line, &mut col, 1);
-                }
-                if i < chars.len() {
-                    s.push(chars[i]);
-                }
-                advance(&mut i, &mut line, &mut col, 1);
-            }
-            advance(&mut i, &mut line, &mut col, 1);
-            Kind::Str(s)
-        } else if c == 'r' && matches!(next, Some('"' | '#')) && raw_string_start(&chars, i) {
-            let hashes = chars[i + 1..].iter().take_while(|&&h| h == '#').count();
-            advance(&mut i, &mut line, &mut col, 2 + hashes);
-            let mut s = String::new();
-            while i < chars.len() {
-                if chars[i] == '"'
-                    && chars[i + 1..]
-                        .iter()
-                        .take(hashes)
-                        .filter(|&&h| h == '#')
-                        .count()
-                        == hashes
-                {
-                    advance(&mut i, &mut line, &mut col, 1 + hashes);
+        Err(de::Error::custom("not written"))
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        if let Some((Seg::Index(k), rest)) = self.0.split_first() {
+            for _ in 0..*k {
+                if seq.next_element::<IgnoredAny>()?.is_none() {
                     break;
                 }
-                s.push(chars[i]);
-                advance(&mut i, &mut line, &mut col, 1);
             }
-            Kind::Str(s)
-        } else if matches!(c, '(' | '[' | '{') {
-            advance(&mut i, &mut line, &mut col, 1);
-            Kind::Open(c)
-        } else if matches!(c, ')' | ']' | '}') {
-            advance(&mut i, &mut line, &mut col, 1);
-            Kind::Close
-        } else if c == ',' {
-            advance(&mut i, &mut line, &mut col, 1);
-            Kind::Comma
-        } else if c == ':' {
-            advance(&mut i, &mut line, &mut col, 1);
-            Kind::Colon
-        } else if c.is_alphabetic() || c == '_' {
-            let mut s = String::new();
-            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
-                s.push(chars[i]);
-                advance(&mut i, &mut line, &mut col, 1);
-            }
-            Kind::Ident(s)
-        } else {
-            // Numbers, signs, `#`, chars: only their extent matters.
-            while i < chars.len() && !is_break(chars[i]) {
-                advance(&mut i, &mut line, &mut col, 1);
-            }
-            if (l0, c0) == (line, col) {
-                advance(&mut i, &mut line, &mut col, 1);
-            }
-            Kind::Other
-        };
-        toks.push(Tok {
-            kind,
-            line: l0,
-            col: c0,
-        });
+            seq.next_element_seed(Walk(rest))?;
+        }
+        Err(de::Error::custom("not written"))
     }
-    toks
 }
 
-fn is_break(c: char) -> bool {
-    c.is_whitespace() || matches!(c, '(' | ')' | '[' | ']' | '{' | '}' | ',' | ':' | '"' | '/')
+/// A field's name or a map's key: whether it is the one sought (the walk
+/// stops there when it is the last step).
+struct Name<'a>(&'a str, bool);
+
+impl<'de> DeserializeSeed<'de> for Name<'_> {
+    type Value = bool;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<bool, D::Error> {
+        d.deserialize_any(self)
+    }
 }
 
-/// `r"..."` or `r#"..."#`, as opposed to an identifier starting with r.
-fn raw_string_start(chars: &[char], i: usize) -> bool {
-    let hashes = chars[i + 1..].iter().take_while(|&&h| h == '#').count();
-    chars.get(i + 1 + hashes) == Some(&'"')
+impl Visitor<'_> for Name<'_> {
+    type Value = bool;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a name")
+    }
+
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<bool, E> {
+        match (v == self.0, self.1) {
+            (true, true) => Err(E::custom(AT_NAME)),
+            (found, _) => Ok(found),
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    const TEXT: &str = r#"// a scene
+    const TEXT: &str = r##"// a scene
 #![enable(implicit_some)]
 Scene(
     analysis: (duration: 1.0, /* dt: 3, */ dt: 0.5),
-    materials: { "a, b": (density: 1.0), "rock": (young: 2.0) },
+    materials: { "a, b": (density: 1.0), "rock": (young: 2.0), r#"sand"#: (poisson: 0.3) },
     blocks: [
         Polygon(material: "x(", vertices: [(0, 0), (1, 0), (1, 1)]),
         // blocks: [ Rectangle ]
         Rectangle(center: (0, 0), width: 1, height: 2),
     ],
 )
-"#;
+"##;
 
     /// Line and column of the last occurrence of `needle` on `line`.
     fn at(line: usize, needle: &str) -> Option<(usize, usize)> {
@@ -346,6 +197,10 @@ Scene(
         assert_eq!(
             locate(TEXT, &[Field("materials"), Key("rock"), Field("young")]),
             at(5, "young")
+        );
+        assert_eq!(
+            locate(TEXT, &[Field("materials"), Key("sand")]),
+            at(5, "r#\"sand")
         );
         // Missing parts fall back to the deepest found.
         assert_eq!(locate(TEXT, &[Field("blocks"), Index(5)]), at(6, "blocks"));

@@ -145,56 +145,91 @@ pub struct Joint {
     pub law: JointLaw,
 }
 
-/// A block, or a generator of several (`Arch`, `Column`, `Wall`): shape,
-/// material and initial state. A generator's blocks take its place in the
-/// block numbering, in the order documented for each.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub enum BlockSpec {
-    Polygon {
-        #[serde(default)]
-        material: Option<String>,
-        /// `Rigid` or `Deformable`; the material's kind when left out.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        kind: Option<BlockKind>,
+/// Declares [`BlockSpec`], giving every entry the fields all blocks have:
+/// `material`, `kind` (first), then `fixed`, `velocity` and `stress` (last),
+/// the state three numbers in 2D and six in 3D. serde's `flatten` would
+/// lose `deny_unknown_fields`, so the fields are written into each variant
+/// here. `terse: true` leaves them out of the written text when they are
+/// at their defaults (`false` writes them).
+macro_rules! block_specs {
+    ($($(#[$doc:meta])* $name:ident([f64; $k:literal], terse: $terse:tt) { $($own:tt)* })*) => {
+        /// A block, or a generator of several (`Arch`, `Column`, `Wall`):
+        /// shape, material and initial state. A generator's blocks take its
+        /// place in the block numbering, in the order documented for each.
+        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub enum BlockSpec {
+            $($(#[$doc])* $name {
+                #[serde(default)]
+                #[cfg_attr($terse, serde(skip_serializing_if = "Option::is_none"))]
+                material: Option<String>,
+                /// `Rigid` or `Deformable`; the material's kind when left out.
+                #[serde(default, skip_serializing_if = "Option::is_none")]
+                kind: Option<BlockKind>,
+                $($own)*
+                #[serde(default)]
+                #[cfg_attr($terse, serde(skip_serializing_if = "is_false"))]
+                fixed: bool,
+                /// (vx, vy, ω) in 2D, (vx, vy, vz, ωx, ωy, ωz) in 3D.
+                #[serde(default)]
+                #[cfg_attr($terse, serde(skip_serializing_if = "is_zero"))]
+                velocity: [f64; $k],
+                /// (σx, σy, τxy) in 2D, (σx, σy, σz, τyz, τzx, τxy) in 3D,
+                /// tension positive.
+                #[serde(default)]
+                #[cfg_attr($terse, serde(skip_serializing_if = "is_zero"))]
+                stress: [f64; $k],
+            },)*
+        }
+
+        impl BlockSpec {
+            pub fn material(&self) -> Option<&str> {
+                match self { $(BlockSpec::$name { material, .. } => material.as_deref(),)* }
+            }
+
+            /// The block's own kind, if it gives one.
+            pub fn block_kind(&self) -> Option<BlockKind> {
+                match self { $(BlockSpec::$name { kind, .. } => *kind,)* }
+            }
+
+            pub fn fixed(&self) -> bool {
+                match self { $(BlockSpec::$name { fixed, .. } => *fixed,)* }
+            }
+
+            /// (vx, vy, ω) for 2D entries, (vx, vy, vz, ωx, ωy, ωz) for 3D ones.
+            pub fn velocity(&self) -> &[f64] {
+                match self { $(BlockSpec::$name { velocity, .. } => velocity,)* }
+            }
+
+            /// (σx, σy, τxy) for 2D entries, (σx, σy, σz, τyz, τzx, τxy) for 3D ones.
+            pub fn stress(&self) -> &[f64] {
+                match self { $(BlockSpec::$name { stress, .. } => stress,)* }
+            }
+
+            /// The entry's name in the file, like "Rectangle".
+            pub fn kind(&self) -> &'static str {
+                match self { $(BlockSpec::$name { .. } => stringify!($name),)* }
+            }
+        }
+    };
+}
+
+block_specs! {
+    Polygon([f64; 3], terse: false) {
         vertices: Vec<[f64; 2]>,
-        #[serde(default)]
-        fixed: bool,
-        /// (vx, vy, ω).
-        #[serde(default)]
-        velocity: [f64; 3],
-        /// (σx, σy, τxy), tension positive.
-        #[serde(default)]
-        stress: [f64; 3],
-    },
-    Rectangle {
-        #[serde(default)]
-        material: Option<String>,
-        /// `Rigid` or `Deformable`; the material's kind when left out.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        kind: Option<BlockKind>,
+    }
+    Rectangle([f64; 3], terse: false) {
         center: [f64; 2],
         width: f64,
         height: f64,
         /// Degrees, counter-clockwise.
         #[serde(default)]
         angle: f64,
-        #[serde(default)]
-        fixed: bool,
-        #[serde(default)]
-        velocity: [f64; 3],
-        #[serde(default)]
-        stress: [f64; 3],
-    },
+    }
     /// Voussoirs between radial joints (chords, no arc subdivision), numbered
     /// from the left springing to the right, then (with `abutments`) a fixed
     /// block under each springing joint, left then right.
-    Arch {
-        #[serde(default)]
-        material: Option<String>,
-        /// `Rigid` or `Deformable`; the material's kind when left out.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        kind: Option<BlockKind>,
+    Arch([f64; 3], terse: false) {
         center: [f64; 2],
         /// Of the centreline; the intrados is at radius − thickness/2, the
         /// extrados at radius + thickness/2.
@@ -213,104 +248,47 @@ pub enum BlockSpec {
         /// the joint, t/2 longer at each end, and they reach t below it.
         #[serde(default = "default_true")]
         abutments: bool,
-        #[serde(default)]
-        fixed: bool,
-        #[serde(default)]
-        velocity: [f64; 3],
-        #[serde(default)]
-        stress: [f64; 3],
-    },
+    }
     /// A stack of rectangular drums, the bottom one's base centred at `base`.
-    Column {
-        #[serde(default)]
-        material: Option<String>,
-        /// `Rigid` or `Deformable`; the material's kind when left out.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        kind: Option<BlockKind>,
+    Column([f64; 3], terse: false) {
         base: [f64; 2],
         drums: usize,
         drum_height: f64,
         width: f64,
-        #[serde(default)]
-        fixed: bool,
-        #[serde(default)]
-        velocity: [f64; 3],
-        #[serde(default)]
-        stress: [f64; 3],
-    },
+    }
     /// A polyhedron (3D scenes): its corners and its faces, each face the
     /// indices of its corners counter-clockwise seen from outside the block.
     /// The surface must be closed, with every edge shared by two faces, and
     /// each face plane.
-    Polyhedron {
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        material: Option<String>,
-        /// `Rigid` or `Deformable`; the material's kind when left out.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        kind: Option<BlockKind>,
+    Polyhedron([f64; 6], terse: true) {
         vertices: Vec<[f64; 3]>,
         faces: Vec<Vec<usize>>,
-        #[serde(default, skip_serializing_if = "is_false")]
-        fixed: bool,
-        /// (vx, vy, vz, ωx, ωy, ωz).
-        #[serde(default, skip_serializing_if = "is_zero")]
-        velocity: [f64; 6],
-        /// (σx, σy, σz, τyz, τzx, τxy), tension positive.
-        #[serde(default, skip_serializing_if = "is_zero")]
-        stress: [f64; 6],
-    },
+    }
     /// A rectangular box (3D scenes): its centre, its edge lengths along its
     /// own axes, and the rotation taking those axes to the global ones as a
     /// rotation vector in degrees (the axis times the angle: `(0.0, 30.0,
     /// 0.0)` turns it 30° about y, right-handed). Corners 0-3 are the bottom
     /// ones (own −z), counter-clockwise seen from above, 4-7 the top ones
     /// above them; faces: bottom, top, −y, +x, +y, −x.
-    Box {
-        #[serde(default)]
-        material: Option<String>,
-        /// `Rigid` or `Deformable`; the material's kind when left out.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        kind: Option<BlockKind>,
+    Box([f64; 6], terse: false) {
         center: [f64; 3],
         size: [f64; 3],
         #[serde(default)]
         rotation: [f64; 3],
-        #[serde(default)]
-        fixed: bool,
-        #[serde(default)]
-        velocity: [f64; 6],
-        #[serde(default)]
-        stress: [f64; 6],
-    },
+    }
     /// A vertical prism (3D scenes): a polygon in the xy plane (in either
     /// order; it is made counter-clockwise seen from above) from z = `z0` up
     /// to z = `z1`. Corners 0..n are the outline at z0, n..2n the outline at
     /// z1; faces: bottom, top, then the side over each outline edge.
-    Prism {
-        #[serde(default)]
-        material: Option<String>,
-        /// `Rigid` or `Deformable`; the material's kind when left out.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        kind: Option<BlockKind>,
+    Prism([f64; 6], terse: false) {
         outline: Vec<[f64; 2]>,
         z0: f64,
         z1: f64,
-        #[serde(default)]
-        fixed: bool,
-        #[serde(default)]
-        velocity: [f64; 6],
-        #[serde(default)]
-        stress: [f64; 6],
-    },
+    }
     /// Courses of bricks from `origin` (the bottom-left corner) upward,
     /// each spanning exactly `length`; bricks numbered course by course,
     /// left to right.
-    Wall {
-        #[serde(default)]
-        material: Option<String>,
-        /// `Rigid` or `Deformable`; the material's kind when left out.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        kind: Option<BlockKind>,
+    Wall([f64; 3], terse: false) {
         origin: [f64; 2],
         length: f64,
         courses: usize,
@@ -318,23 +296,12 @@ pub enum BlockSpec {
         brick_height: f64,
         #[serde(default)]
         bond: Bond,
-        #[serde(default)]
-        fixed: bool,
-        #[serde(default)]
-        velocity: [f64; 3],
-        #[serde(default)]
-        stress: [f64; 3],
-    },
+    }
     /// A 2D region cut into blocks by joint sets (Shi's DC step): blocks
     /// are the closed faces of the joint traces and the region's boundary,
     /// numbered in the order the cutter finds them (the same for the same
     /// scene); traces ending inside a block leave it whole.
-    JointedDomain {
-        #[serde(default)]
-        material: Option<String>,
-        /// `Rigid` or `Deformable`; the material's kind when left out.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        kind: Option<BlockKind>,
+    JointedDomain([f64; 3], terse: false) {
         /// The region's corners (a simple polygon, either order), m.
         region: Vec<[f64; 2]>,
         /// The joint sets; none leaves the region one block.
@@ -348,20 +315,9 @@ pub enum BlockSpec {
         /// default none.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         fixed_below: Option<f64>,
-        #[serde(default)]
-        fixed: bool,
-        #[serde(default)]
-        velocity: [f64; 3],
-        #[serde(default)]
-        stress: [f64; 3],
-    },
+    }
     /// A convex 3D region cut into convex blocks by persistent joint sets.
-    JointedDomain3D {
-        #[serde(default)]
-        material: Option<String>,
-        /// `Rigid` or `Deformable`; the material's kind when left out.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        kind: Option<BlockKind>,
+    JointedDomain3D([f64; 6], terse: false) {
         /// `Box(min: (x, y, z), max: (x, y, z))` or `Hull([corners])`, m.
         region: Region3,
         #[serde(default)]
@@ -374,13 +330,7 @@ pub enum BlockSpec {
         /// default none.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         fixed_below: Option<f64>,
-        #[serde(default)]
-        fixed: bool,
-        #[serde(default)]
-        velocity: [f64; 6],
-        #[serde(default)]
-        stress: [f64; 6],
-    },
+    }
 }
 
 fn is_false(b: &bool) -> bool {
@@ -425,48 +375,7 @@ pub struct SceneBlock<P = [f64; 2], const K: usize = 3> {
 /// One block of a 3D scene.
 pub type SceneBlock3 = SceneBlock<[f64; 3], 6>;
 
-/// The same field of every entry, whatever its shape.
-macro_rules! common {
-    ($self:ident, $field:ident => $value:expr) => {
-        match $self {
-            BlockSpec::Polygon { $field, .. }
-            | BlockSpec::Rectangle { $field, .. }
-            | BlockSpec::Arch { $field, .. }
-            | BlockSpec::Column { $field, .. }
-            | BlockSpec::Wall { $field, .. }
-            | BlockSpec::JointedDomain { $field, .. } => $value,
-            BlockSpec::Polyhedron { $field, .. }
-            | BlockSpec::Box { $field, .. }
-            | BlockSpec::Prism { $field, .. }
-            | BlockSpec::JointedDomain3D { $field, .. } => $value,
-        }
-    };
-}
-
 impl BlockSpec {
-    pub fn material(&self) -> Option<&str> {
-        common!(self, material => material.as_deref())
-    }
-
-    /// The block's own kind, if it gives one.
-    pub fn block_kind(&self) -> Option<BlockKind> {
-        common!(self, kind => *kind)
-    }
-
-    pub fn fixed(&self) -> bool {
-        common!(self, fixed => *fixed)
-    }
-
-    /// (vx, vy, ω) for 2D entries, (vx, vy, vz, ωx, ωy, ωz) for 3D ones.
-    pub fn velocity(&self) -> &[f64] {
-        common!(self, velocity => velocity)
-    }
-
-    /// (σx, σy, τxy) for 2D entries, (σx, σy, σz, τyz, τzx, τxy) for 3D ones.
-    pub fn stress(&self) -> &[f64] {
-        common!(self, stress => stress)
-    }
-
     /// A jointed domain's joint sets; none for other entries.
     pub fn joint_sets(&self) -> &[JointSet] {
         match self {
@@ -475,30 +384,13 @@ impl BlockSpec {
         }
     }
 
-    /// The entry's name in the file, like "Rectangle".
-    pub fn kind(&self) -> &'static str {
-        match self {
-            BlockSpec::Polygon { .. } => "Polygon",
-            BlockSpec::Rectangle { .. } => "Rectangle",
-            BlockSpec::Arch { .. } => "Arch",
-            BlockSpec::Column { .. } => "Column",
-            BlockSpec::Wall { .. } => "Wall",
-            BlockSpec::Polyhedron { .. } => "Polyhedron",
-            BlockSpec::Box { .. } => "Box",
-            BlockSpec::Prism { .. } => "Prism",
-            BlockSpec::JointedDomain { .. } => "JointedDomain",
-            BlockSpec::JointedDomain3D { .. } => "JointedDomain3D",
-        }
-    }
-
     /// The dimension of scene the entry belongs in: 2 or 3.
     pub fn dimension(&self) -> u32 {
-        match self {
-            BlockSpec::Polyhedron { .. }
-            | BlockSpec::Box { .. }
-            | BlockSpec::Prism { .. }
-            | BlockSpec::JointedDomain3D { .. } => 3,
-            _ => 2,
+        // Three numbers of state in 2D, six in 3D.
+        if self.velocity().len() == 6 {
+            3
+        } else {
+            2
         }
     }
 
@@ -512,31 +404,6 @@ impl BlockSpec {
                 | BlockSpec::JointedDomain { .. }
                 | BlockSpec::JointedDomain3D { .. }
         )
-    }
-
-    /// An arch's shape; none for other entries.
-    pub(crate) fn arch_shape(&self) -> Option<crate::generators::ArchShape> {
-        match *self {
-            BlockSpec::Arch {
-                center,
-                radius,
-                thickness,
-                voussoirs,
-                span_angle,
-                pointed,
-                abutments,
-                ..
-            } => Some(crate::generators::ArchShape {
-                center,
-                radius,
-                thickness,
-                voussoirs,
-                span_angle,
-                pointed,
-                abutments,
-            }),
-            _ => None,
-        }
     }
 
     /// What a 2D entry makes (nothing for a 3D one), or why its values make
@@ -554,7 +421,25 @@ impl BlockSpec {
                 angle,
                 ..
             } => g::rectangle(*center, *width, *height, *angle)?.into(),
-            BlockSpec::Arch { .. } => g::arch(&self.arch_shape().unwrap_or_default())?.into(),
+            &BlockSpec::Arch {
+                center,
+                radius,
+                thickness,
+                voussoirs,
+                span_angle,
+                pointed,
+                abutments,
+                ..
+            } => g::arch(&g::ArchShape {
+                center,
+                radius,
+                thickness,
+                voussoirs,
+                span_angle,
+                pointed,
+                abutments,
+            })?
+            .into(),
             BlockSpec::Column {
                 base,
                 drums,

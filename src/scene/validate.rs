@@ -197,7 +197,8 @@ fn short(x: f64) -> String {
 }
 
 /// "(x, y)" or "(x, y, z)".
-fn tuple_of(names: &[&str]) -> String {
+fn tuple_of(names: &[impl AsRef<str>]) -> String {
+    let names: Vec<&str> = names.iter().map(AsRef::as_ref).collect();
     format!("({})", names.join(", "))
 }
 
@@ -210,14 +211,9 @@ impl Scene {
         }
         self.check_analysis()?;
         if let Some(interval) = self.output.interval {
-            let at = root.field("output").field("interval");
-            self.finite(&at, "the output interval", interval)?;
-            if interval < 0.0 {
-                return Err(self.error(
-                    &at,
-                    format!("the output interval must not be negative, got {interval}; use 0 to write every step, or leave it out for an automatic one"),
-                ));
-            }
+            let hint = "use 0 to write every step, or leave it out for an automatic one";
+            let check = settings::non_negative("", "the output interval", interval, hint);
+            self.core_field(&root.field("output").field("interval"), check)?;
         }
         self.check_materials()?;
         let (blocks, shapes) = self.check_blocks()?;
@@ -249,7 +245,7 @@ impl Scene {
 
     /// Checks that `c` has one finite number per name (`names` like
     /// `["fx", "fy"]`), saying what to write when the count is off.
-    fn coords(&self, at: &Place, what: &str, c: &Coords, names: &[&str]) -> Result {
+    fn coords(&self, at: &Place, what: &str, c: &Coords, names: &[impl AsRef<str>]) -> Result {
         if c.len() != names.len() {
             let d = self.dimension;
             let other = if d == 3 {
@@ -275,9 +271,7 @@ impl Scene {
     }
 
     fn vector(&self, at: &Place, what: &str, c: &Coords, prefix: &str) -> Result {
-        let names = self.names(prefix);
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        self.coords(at, what, c, &names)
+        self.coords(at, what, c, &self.names(prefix))
     }
 
     pub(super) fn error(&self, place: &Place, message: impl Into<String>) -> SceneError {
@@ -285,24 +279,20 @@ impl Scene {
     }
 
     /// A check that names its own field: the error at that field of
-    /// `base` (any other error at `base` itself, never dropped).
+    /// `base` (at `base` itself when it names none, and any other error
+    /// there too, never dropped).
     fn core_field(&self, base: &Place, check: std::result::Result<(), DdaError>) -> Result {
         check.map_err(|e| match e {
-            DdaError::Setting { field, message } => self.error(&base.field(field), message),
+            DdaError::Setting { field, message } if !field.is_empty() => {
+                self.error(&base.field(field), message)
+            }
+            DdaError::Setting { message, .. } => self.error(base, message),
             e => self.error(base, e.to_string()),
         })
     }
 
-    /// The core's check of a value, at `place`.
-    fn core(&self, place: &Place, check: std::result::Result<(), DdaError>) -> Result {
-        check.map_err(|e| match e {
-            DdaError::Setting { message, .. } => self.error(place, message),
-            e => self.error(place, e.to_string()),
-        })
-    }
-
     fn finite(&self, place: &Place, what: &str, v: f64) -> Result {
-        self.core(place, settings::finite("", what, v))
+        self.core_field(place, settings::finite("", what, v))
     }
 
     fn finite_all(&self, place: &Place, what: &str, values: &[f64]) -> Result {
@@ -310,7 +300,7 @@ impl Scene {
     }
 
     fn positive(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
-        self.core(place, settings::positive("", what, v, hint))
+        self.core_field(place, settings::positive("", what, v, hint))
     }
 
     fn check_analysis(&self) -> Result {
@@ -390,11 +380,10 @@ impl Scene {
             let at = Place::root().field("joints").index(k);
             match (&joint.between, &joint.blocks) {
                 (Some(between), None) => {
-                    let mut pair = [0; 2];
-                    for (side, name) in [&between.0, &between.1].into_iter().enumerate() {
-                        pair[side] = self.find_material(&at.field("between").index(side), name)?;
-                    }
-                    let pair = (pair[0].min(pair[1]), pair[0].max(pair[1]));
+                    let side = |k| at.field("between").index(k);
+                    let a = self.find_material(&side(0), &between.0)?;
+                    let b = self.find_material(&side(1), &between.1)?;
+                    let pair = (a.min(b), a.max(b));
                     if let Some(first) = pairs.iter().position(|p| *p == pair) {
                         return Err(self.error(
                             &at,
@@ -732,12 +721,8 @@ impl Scene {
             if let Some(axis) = &fp.axis {
                 let at = at.field("axis");
                 self.vector(&at, "the axis", axis, "")?;
-                let has_direction = if self.dimension == 3 {
-                    unit_axis::<3>(axis.as_slice()).is_some()
-                } else {
-                    unit_axis::<2>(axis.as_slice()).is_some()
-                };
-                if !has_direction {
+                // Its numbers are finite: it has a direction if one is not zero.
+                if axis.as_slice().iter().all(|x| *x == 0.0) {
                     let (example, all) = if self.dimension == 3 {
                         ("(0.0, 1.0, 0.0)", "all three")
                     } else {
@@ -960,7 +945,6 @@ impl Scene {
     fn check_history(&self, at: &Place, samples: &[Coords]) -> Result {
         let mut names = vec!["t".to_string()];
         names.extend(self.names("f"));
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         if samples.is_empty() {
             return Err(self.error(
                 at,
