@@ -86,10 +86,14 @@ pub fn pair_contacts(
 ) -> Vec<Contact3> {
     let (a, b) = (&blocks[i], &blocks[j]);
     let (sa, sb) = (a.shape(), b.shape());
+    // Every contact a feature makes lies within the range of the other
+    // block, so features outside its bounds grown by the range make none:
+    // of two bricks side by side, only the facing halves are examined.
+    let (near_a, near_b) = (Near::of(sa, range), Near::of(sb, range));
     let mut out = Vec::new();
     // Vertex-vertex groups between convex corners.
     for (p, pv) in sa.vertices().iter().enumerate() {
-        if !sa.is_convex_vertex(p) {
+        if !sa.is_convex_vertex(p) || !near_b.point(pv) {
             continue;
         }
         for (q, qv) in sb.vertices().iter().enumerate() {
@@ -115,10 +119,10 @@ pub fn pair_contacts(
             ));
         }
     }
-    for (x, y, bx, by) in [(i, j, a, b), (j, i, b, a)] {
+    for (x, y, bx, by, near_y) in [(i, j, a, b, &near_b), (j, i, b, a, &near_a)] {
         let (sx, sy) = (bx.shape(), by.shape());
         for (p, pv) in sx.vertices().iter().enumerate() {
-            if !sx.is_convex_vertex(p) {
+            if !sx.is_convex_vertex(p) || !near_y.point(pv) {
                 continue;
             }
             // Vertex-edge groups.
@@ -161,11 +165,11 @@ pub fn pair_contacts(
     }
     // Edge-edge crossings away from corners.
     for (ea, edge_a) in sa.edges().iter().enumerate() {
-        if sa.edge_kind(ea) != EdgeKind::Convex {
+        if sa.edge_kind(ea) != EdgeKind::Convex || !near_b.segment(sa, edge_a.ends) {
             continue;
         }
         for (eb, edge_b) in sb.edges().iter().enumerate() {
-            if sb.edge_kind(eb) != EdgeKind::Convex {
+            if sb.edge_kind(eb) != EdgeKind::Convex || !near_a.segment(sb, edge_b.ends) {
                 continue;
             }
             if let Some(en) = edge_edge(a, ea, edge_a.ends, b, eb, edge_b.ends, range) {
@@ -186,6 +190,33 @@ pub fn pair_contacts(
         }
     }
     out
+}
+
+/// A block's axis-aligned bounds grown by the contact range.
+struct Near {
+    lo: Point3<f64>,
+    hi: Point3<f64>,
+}
+
+impl Near {
+    fn of(s: &Polyhedron, range: f64) -> Self {
+        let (lo, hi) = s.bounds();
+        let grow = Vector3::repeat(range);
+        Self {
+            lo: lo - grow,
+            hi: hi + grow,
+        }
+    }
+
+    fn point(&self, p: &Point3<f64>) -> bool {
+        (0..3).all(|k| p[k] >= self.lo[k] && p[k] <= self.hi[k])
+    }
+
+    /// Whether the bounds of edge `ends` of `s` meet these.
+    fn segment(&self, s: &Polyhedron, ends: [usize; 2]) -> bool {
+        let [u, v] = ends.map(|k| s.vertices()[k]);
+        (0..3).all(|k| u[k].min(v[k]) <= self.hi[k] && u[k].max(v[k]) >= self.lo[k])
+    }
 }
 
 /// A readable, stable name for a contact: `block:feature/block:feature`, a
