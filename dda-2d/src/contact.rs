@@ -32,10 +32,36 @@ pub fn pair_contacts(
     law: usize,
 ) -> Vec<Contact2> {
     let (a, b) = (&blocks[i], &blocks[j]);
+    pair_contacts_near(
+        blocks,
+        i,
+        j,
+        range,
+        law,
+        Near::of(a, range),
+        Near::of(b, range),
+    )
+}
+
+/// [`pair_contacts`], examining the features within `near_a` (of block
+/// `i`) and `near_b` (of block `j`) only.
+fn pair_contacts_near(
+    blocks: &[Block],
+    i: usize,
+    j: usize,
+    range: f64,
+    law: usize,
+    near_a: Near,
+    near_b: Near,
+) -> Vec<Contact2> {
+    let (a, b) = (&blocks[i], &blocks[j]);
     let mut out = Vec::new();
     let near = |p: &Point2<f64>, q: &Point2<f64>| (p - q).norm() < range;
     // Vertex-vertex groups.
     for (p, pv) in a.vertices().iter().enumerate() {
+        if !near_b.point(pv) {
+            continue;
+        }
         for (q, qv) in b.vertices().iter().enumerate() {
             if !near(pv, qv) {
                 continue;
@@ -88,8 +114,11 @@ pub fn pair_contacts(
     }
     // Vertex-edge, both ways, skipping vertices already in a vertex group
     // with an end of the edge. The contact's first block owns the vertex.
-    for (x, y, bx, by) in [(i, j, a, b), (j, i, b, a)] {
+    for (x, y, bx, by, near_y) in [(i, j, a, b, &near_b), (j, i, b, a, &near_a)] {
         for (p, pv) in bx.vertices().iter().enumerate() {
+            if !near_y.point(pv) {
+                continue;
+            }
             for e in 0..by.vertices().len() {
                 let (q1, q2) = (by.vertices()[e], by.vertices()[next(e, by)]);
                 if near(pv, &q1) || near(pv, &q2) {
@@ -103,6 +132,40 @@ pub fn pair_contacts(
         }
     }
     out
+}
+
+/// A block's axis-aligned bounds grown by twice the contact range. A vertex
+/// enters an edge within the range of its line and of its ends, so within
+/// √2 × the range of it: a vertex outside the other block's `Near` makes no
+/// contact with it, and is not examined.
+#[derive(Clone, Copy)]
+struct Near {
+    lo: Point2<f64>,
+    hi: Point2<f64>,
+}
+
+impl Near {
+    fn of(block: &Block, range: f64) -> Self {
+        let (lo, hi) = block.bounds();
+        let grow = Vector2::repeat(2.0 * range);
+        Self {
+            lo: lo - grow,
+            hi: hi + grow,
+        }
+    }
+
+    /// Bounds that hold every point (examining every feature).
+    #[cfg(test)]
+    fn everywhere() -> Self {
+        Self {
+            lo: Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+            hi: Point2::new(f64::INFINITY, f64::INFINITY),
+        }
+    }
+
+    fn point(&self, p: &Point2<f64>) -> bool {
+        (0..2).all(|k| p[k] >= self.lo[k] && p[k] <= self.hi[k])
+    }
 }
 
 /// A readable, stable name for a contact: `block:vertex/block:feature`,
@@ -404,5 +467,73 @@ mod tests {
             (total - 2.0).abs() < 1e-12,
             "the two corners stand for the 2 m base: {total}"
         );
+    }
+
+    /// The vertices found by examining only those near the other block are
+    /// the ones found by examining all: for an L-shaped block (a reflex
+    /// corner) and a turned rectangle or L placed and ranged at random near
+    /// each other, the contacts are the same, in the same order.
+    #[test]
+    fn examining_only_near_vertices_finds_every_contact() {
+        use proptest::prelude::*;
+        let outline = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ];
+        let l = block(&outline);
+        let mut runner = proptest::test_runner::TestRunner::new_with_rng(
+            proptest::test_runner::Config::with_cases(1024),
+            proptest::test_runner::TestRng::deterministic_rng(
+                proptest::test_runner::RngAlgorithm::ChaCha,
+            ),
+        );
+        let cases = (
+            prop::array::uniform2(-1.6..1.6f64),
+            -3.2..3.2f64,
+            0.005..0.4f64,
+            any::<bool>(),
+        );
+        let touching = std::cell::Cell::new(0);
+        runner
+            .run(&cases, |(at, turn, range, concave)| {
+                let shape: Vec<(f64, f64)> = if concave {
+                    outline.to_vec()
+                } else {
+                    vec![(0.0, 0.0), (1.2, 0.0), (1.2, 0.7), (0.0, 0.7)]
+                };
+                let (c, s) = (turn.cos(), turn.sin());
+                let placed: Vec<(f64, f64)> = shape
+                    .iter()
+                    .map(|&(x, y)| (c * x - s * y + at[0] + 1.0, s * x + c * y + at[1] + 1.0))
+                    .collect();
+                let blocks = vec![l.clone(), block(&placed)];
+                let all = pair_contacts_near(
+                    &blocks,
+                    0,
+                    1,
+                    range,
+                    0,
+                    Near::everywhere(),
+                    Near::everywhere(),
+                );
+                let near = pair_contacts(&blocks, 0, 1, range, 0);
+                touching.set(touching.get() + usize::from(!all.is_empty()));
+                prop_assert_eq!(all.len(), near.len());
+                for (x, y) in all.iter().zip(&near) {
+                    prop_assert_eq!(x.key, y.key);
+                    prop_assert_eq!(&x.entrances, &y.entrances);
+                    prop_assert_eq!((x.length, x.spring_length), (y.length, y.spring_length));
+                }
+                Ok(())
+            })
+            .unwrap();
+        // Many placements touch (the others overlap deeply or stand
+        // apart), so contacts are compared.
+        let touching = touching.get();
+        assert!(touching > 100, "{touching} of 1024 placements had contacts");
     }
 }

@@ -85,11 +85,30 @@ pub fn pair_contacts(
     law: usize,
 ) -> Vec<Contact3> {
     let (a, b) = (&blocks[i], &blocks[j]);
+    pair_contacts_near(
+        blocks,
+        i,
+        j,
+        range,
+        law,
+        Near::of(a.shape(), range),
+        Near::of(b.shape(), range),
+    )
+}
+
+/// [`pair_contacts`], examining the features within `near_a` (of block
+/// `i`) and `near_b` (of block `j`) only.
+fn pair_contacts_near(
+    blocks: &[Block],
+    i: usize,
+    j: usize,
+    range: f64,
+    law: usize,
+    near_a: Near,
+    near_b: Near,
+) -> Vec<Contact3> {
+    let (a, b) = (&blocks[i], &blocks[j]);
     let (sa, sb) = (a.shape(), b.shape());
-    // Every contact a feature makes lies within the range of the other
-    // block, so features outside its bounds grown by the range make none:
-    // of two bricks side by side, only the facing halves are examined.
-    let (near_a, near_b) = (Near::of(sa, range), Near::of(sb, range));
     let mut out = Vec::new();
     // Vertex-vertex groups between convex corners.
     for (p, pv) in sa.vertices().iter().enumerate() {
@@ -192,7 +211,12 @@ pub fn pair_contacts(
     out
 }
 
-/// A block's axis-aligned bounds grown by the contact range.
+/// A block's axis-aligned bounds grown by twice the contact range. Every
+/// contact a feature makes lies within √2 × the range of the other block (a
+/// vertex over a face by less than the range, beside its reflex edge by less
+/// than the range), so features outside the other block's `Near` make none
+/// and are not examined: of two bricks side by side, only the facing halves.
+#[derive(Clone, Copy)]
 struct Near {
     lo: Point3<f64>,
     hi: Point3<f64>,
@@ -201,10 +225,19 @@ struct Near {
 impl Near {
     fn of(s: &Polyhedron, range: f64) -> Self {
         let (lo, hi) = s.bounds();
-        let grow = Vector3::repeat(range);
+        let grow = Vector3::repeat(2.0 * range);
         Self {
             lo: lo - grow,
             hi: hi + grow,
+        }
+    }
+
+    /// Bounds that hold every point (examining every feature).
+    #[cfg(test)]
+    fn everywhere() -> Self {
+        Self {
+            lo: Point3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY),
+            hi: Point3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY),
         }
     }
 
@@ -968,5 +1001,78 @@ mod tests {
             into_x, 4,
             "pushing the cube into the wall x = 1 closes its four contacts"
         );
+    }
+
+    /// The facing features found by examining only those near the other
+    /// block are the features found by examining all: for a box and an
+    /// L-shaped prism (reflex edges) placed, turned and ranged at random
+    /// near each other, the contacts are the same, in the same order.
+    #[test]
+    fn examining_only_near_features_finds_every_contact() {
+        use proptest::prelude::*;
+        let outline = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ]
+        .map(|(x, y)| Point2::new(x, y));
+        let (v, f) = crate::polyhedron::prism(&outline, 0.0, 1.0);
+        let l = Block::new(&v, &f, 0, 1000.0).unwrap();
+        let mut runner = proptest::test_runner::TestRunner::new_with_rng(
+            proptest::test_runner::Config::with_cases(1024),
+            proptest::test_runner::TestRng::deterministic_rng(
+                proptest::test_runner::RngAlgorithm::ChaCha,
+            ),
+        );
+        let cases = (
+            prop::array::uniform3(-1.6..1.6f64),
+            prop::array::uniform3(-0.6..0.6f64),
+            0.005..0.4f64,
+            any::<bool>(),
+        );
+        let touching = std::cell::Cell::new(0);
+        runner
+            .run(&cases, |(at, turn, range, concave)| {
+                let other = if concave {
+                    let (v, f) = crate::polyhedron::prism(&outline, 0.0, 1.0);
+                    let r = Rotation3::from_euler_angles(turn[0], turn[1], turn[2]);
+                    let shift = Vector3::from(at) + Vector3::new(0.5, 0.5, 0.5);
+                    let v: Vec<Point3<f64>> = v.iter().map(|p| r * p + shift).collect();
+                    Block::new(&v, &f, 0, 1000.0).unwrap()
+                } else {
+                    block(
+                        Point3::from(Vector3::from(at) + Vector3::new(1.0, 1.0, 0.5)),
+                        Vector3::new(1.0, 0.8, 0.6),
+                        Rotation3::from_euler_angles(turn[0], turn[1], turn[2]),
+                    )
+                };
+                let blocks = vec![l.clone(), other];
+                let all = pair_contacts_near(
+                    &blocks,
+                    0,
+                    1,
+                    range,
+                    0,
+                    Near::everywhere(),
+                    Near::everywhere(),
+                );
+                let near = pair_contacts(&blocks, 0, 1, range, 0);
+                touching.set(touching.get() + usize::from(!all.is_empty()));
+                prop_assert_eq!(all.len(), near.len());
+                for (x, y) in all.iter().zip(&near) {
+                    prop_assert_eq!(x.key, y.key);
+                    prop_assert_eq!(&x.entrances, &y.entrances);
+                    prop_assert_eq!((x.length, x.spring_length), (y.length, y.spring_length));
+                }
+                Ok(())
+            })
+            .unwrap();
+        // Many placements touch (the others overlap deeply or stand
+        // apart), so contacts are compared.
+        let touching = touching.get();
+        assert!(touching > 100, "{touching} of 1024 placements had contacts");
     }
 }
