@@ -96,6 +96,15 @@ enum Command {
             allow_negative_numbers = true
         )]
         max_wall: f64,
+        /// With --simulate: run each wall at each of these time steps, in s, comma separated, with the automatic penalty, instead of the automatic step (how large a step it stands at)
+        #[arg(
+            long,
+            value_name = "SECONDS",
+            value_delimiter = ',',
+            requires = "simulate",
+            allow_negative_numbers = true
+        )]
+        dt: Vec<f64>,
         /// Also draw time per step against blocks, log-log with the N^1 line, into this file (.png or .svg)
         #[arg(long, value_name = "FILE")]
         chart: Option<PathBuf>,
@@ -419,6 +428,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             dimension,
             simulate,
             max_wall,
+            dt,
             chart,
             json,
             solver,
@@ -441,6 +451,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 dimensions: dimension,
                 simulate,
                 max_wall,
+                dts: dt,
                 chart,
                 json,
                 solver,

@@ -29,6 +29,9 @@ pub struct Command {
     pub simulate: Option<f64>,
     /// Wall-clock cap per simulated run, s.
     pub max_wall: f64,
+    /// With `simulate`: time steps to run each wall at, s (empty:
+    /// automatic).
+    pub dts: Vec<f64>,
     /// The scaling chart's file, `.png` or `.svg`.
     pub chart: Option<PathBuf>,
     pub json: Option<PathBuf>,
@@ -100,6 +103,7 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
                 repeats,
                 progress_every: Some(Duration::from_secs(5)),
                 solver: c.solver,
+                dts: c.dts.clone(),
             })?;
             print_simulate(&rows, repeats);
             let (points, json) = fitted("simulate", &rows, SimulateRow::point)?;

@@ -61,8 +61,13 @@ pub fn print_steps(rows: &[BenchRow], steps: usize, repeats: usize) {
 /// The simulated-time table.
 pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
     let seconds = rows.first().map_or(0.0, |r| r.seconds);
+    let stepping = if rows.iter().any(|r| r.dt_given) {
+        "the dt given and automatic penalty"
+    } else {
+        "automatic dt and penalty"
+    };
     println!(
-        "running-bond walls of n × n bricks, {seconds} s simulated with automatic dt and penalty, median of {}",
+        "running-bond walls of n × n bricks, {seconds} s simulated with {stepping}, median of {}",
         runs(repeats)
     );
     println!(

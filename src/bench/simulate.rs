@@ -31,6 +31,9 @@ pub struct SimulateOptions {
     pub progress_every: Option<Duration>,
     /// The step's linear solver.
     pub solver: Solver,
+    /// Time steps to run each wall at, s, the penalty automatic; empty:
+    /// the automatic step.
+    pub dts: Vec<f64>,
 }
 
 /// One wall's run (the median of its repeats).
@@ -40,9 +43,11 @@ pub struct SimulateRow {
     pub dimension: u32,
     pub kind: BlockKind,
     pub blocks: usize,
-    /// The automatic nominal time step, s, and penalty (N/m per m of
-    /// contact in 2D, per m² in 3D).
+    /// The nominal time step (automatic, or as given), s, and the
+    /// automatic penalty (N/m per m of contact in 2D, per m² in 3D).
     pub dt: f64,
+    /// Whether the time step was given rather than automatic.
+    pub dt_given: bool,
     pub penalty: f64,
     /// Simulated time asked and reached, s.
     pub seconds: f64,
@@ -90,19 +95,32 @@ pub fn simulate(options: &SimulateOptions) -> anyhow::Result<Vec<SimulateRow>> {
         "--max-wall takes wall-clock seconds, more than 0, got {}",
         options.max_wall
     );
+    for &dt in &options.dts {
+        anyhow::ensure!(
+            dt.is_finite() && dt > 0.0,
+            "--dt takes time steps in seconds, more than 0, got {dt}"
+        );
+    }
+    let steppings: Vec<Stepping> = if options.dts.is_empty() {
+        vec![Stepping::Automatic]
+    } else {
+        options.dts.iter().map(|&dt| Stepping::Given(dt)).collect()
+    };
     let mut rows = Vec::new();
     for &dimension in &options.dimensions {
         for &kind in &options.kinds {
             for &n in &options.sizes {
-                let mut runs = (0..options.repeats.max(1))
-                    .map(|_| run(n, dimension, kind, options))
-                    .collect::<anyhow::Result<Vec<_>>>()?;
-                runs.sort_by(|a, b| {
-                    a.seconds_per_simulated_second
-                        .total_cmp(&b.seconds_per_simulated_second)
-                });
-                let k = runs.len() / 2;
-                rows.push(runs.swap_remove(k));
+                for &stepping in &steppings {
+                    let mut runs = (0..options.repeats.max(1))
+                        .map(|_| run(n, dimension, kind, stepping, options))
+                        .collect::<anyhow::Result<Vec<_>>>()?;
+                    runs.sort_by(|a, b| {
+                        a.seconds_per_simulated_second
+                            .total_cmp(&b.seconds_per_simulated_second)
+                    });
+                    let k = runs.len() / 2;
+                    rows.push(runs.swap_remove(k));
+                }
             }
         }
     }
@@ -113,9 +131,10 @@ fn run(
     n: usize,
     dimension: u32,
     kind: BlockKind,
+    stepping: Stepping,
     options: &SimulateOptions,
 ) -> anyhow::Result<SimulateRow> {
-    let mut scene = wall(n, dimension, Stepping::Automatic, kind)?;
+    let mut scene = wall(n, dimension, stepping, kind)?;
     scene.analysis.solver = options.solver;
     let what = format!("{n} × {n} wall, {}", scaling::series_name(dimension, kind));
     let mut row = match scene.build_any()? {
@@ -125,6 +144,7 @@ fn run(
     row.courses = n;
     row.dimension = dimension;
     row.kind = kind;
+    row.dt_given = matches!(stepping, Stepping::Given(_));
     Ok(row)
 }
 
@@ -171,6 +191,7 @@ fn simulate_driver<D: Timed>(
         kind: BlockKind::Deformable,
         blocks: driver.block_count(),
         dt: driver.dt(),
+        dt_given: false,
         penalty: driver.penalty(),
         seconds: options.seconds,
         reached,

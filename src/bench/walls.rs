@@ -9,7 +9,7 @@ use crate::scene::{BlockKind, Scene};
 pub const DEPTH_3D: f64 = 0.25;
 
 /// How a wall's time step and penalty are chosen.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub enum Stepping {
     /// dt 1 ms and a penalty of 1e9 (N/m per m of contact in 2D, N/m per
     /// m² in 3D): every size steps alike, for time per step.
@@ -17,6 +17,9 @@ pub enum Stepping {
     /// Both left out of the scene, so the scene's automatic choice applies
     /// (dt = 0.2·√(m/k), penalty 2E over the median block size).
     Automatic,
+    /// This time step, s, and the automatic penalty: how large a step the
+    /// wall stands at.
+    Given(f64),
 }
 
 /// The running-bond wall of `n` courses of `n` bricks (0.5 m × 0.25 m,
@@ -39,8 +42,9 @@ pub fn wall(
     anyhow::ensure!(n >= 1, "a wall needs at least one course of one brick");
     let length = 0.5 * n as f64;
     let fixed = match stepping {
-        Stepping::Fixed => "dt: 0.001, penalty: 1e9, ",
-        Stepping::Automatic => "",
+        Stepping::Fixed => "dt: 0.001, penalty: 1e9, ".to_string(),
+        Stepping::Automatic => String::new(),
+        Stepping::Given(dt) => format!("dt: {dt:?}, "),
     };
     let text = format!(
         r#"Scene(
