@@ -10,7 +10,7 @@
 //!   ordinary vertex-edge contact with each edge at the reflex vertex.
 //!   Edge-to-edge contacts are the two vertex contacts at their ends.
 
-use dda_core::block_set::{ANGLE_TOLERANCE, PENETRATION_SHARE};
+use dda_core::block_set::{Reach, ANGLE_TOLERANCE, PENETRATION_SHARE};
 use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
 use nalgebra::{Matrix2x6, Point2, Vector2, Vector6};
 
@@ -38,28 +38,28 @@ pub fn pair_contacts(
         j,
         range,
         law,
-        Near::of(a, range),
-        Near::of(b, range),
+        Reach::new(a.bounds(), range),
+        Reach::new(b.bounds(), range),
     )
 }
 
-/// [`pair_contacts`], examining the features within `near_a` (of block
-/// `i`) and `near_b` (of block `j`) only.
+/// [`pair_contacts`], examining only the vertices of block `i` within
+/// `near_b`, the reach of block `j`, and those of `j` within `near_a`.
 fn pair_contacts_near(
     blocks: &[Block],
     i: usize,
     j: usize,
     range: f64,
     law: usize,
-    near_a: Near,
-    near_b: Near,
+    near_a: Reach<2>,
+    near_b: Reach<2>,
 ) -> Vec<Contact2> {
     let (a, b) = (&blocks[i], &blocks[j]);
     let mut out = Vec::new();
     let near = |p: &Point2<f64>, q: &Point2<f64>| (p - q).norm() < range;
     // Vertex-vertex groups.
     for (p, pv) in a.vertices().iter().enumerate() {
-        if !near_b.point(pv) {
+        if !near_b.holds(pv) {
             continue;
         }
         for (q, qv) in b.vertices().iter().enumerate() {
@@ -116,7 +116,7 @@ fn pair_contacts_near(
     // with an end of the edge. The contact's first block owns the vertex.
     for (x, y, bx, by, near_y) in [(i, j, a, b, &near_b), (j, i, b, a, &near_a)] {
         for (p, pv) in bx.vertices().iter().enumerate() {
-            if !near_y.point(pv) {
+            if !near_y.holds(pv) {
                 continue;
             }
             for e in 0..by.vertices().len() {
@@ -132,40 +132,6 @@ fn pair_contacts_near(
         }
     }
     out
-}
-
-/// A block's axis-aligned bounds grown by twice the contact range. A vertex
-/// enters an edge within the range of its line and of its ends, so within
-/// √2 × the range of it: a vertex outside the other block's `Near` makes no
-/// contact with it, and is not examined.
-#[derive(Clone, Copy)]
-struct Near {
-    lo: Point2<f64>,
-    hi: Point2<f64>,
-}
-
-impl Near {
-    fn of(block: &Block, range: f64) -> Self {
-        let (lo, hi) = block.bounds();
-        let grow = Vector2::repeat(2.0 * range);
-        Self {
-            lo: lo - grow,
-            hi: hi + grow,
-        }
-    }
-
-    /// Bounds that hold every point (examining every feature).
-    #[cfg(test)]
-    fn everywhere() -> Self {
-        Self {
-            lo: Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-            hi: Point2::new(f64::INFINITY, f64::INFINITY),
-        }
-    }
-
-    fn point(&self, p: &Point2<f64>) -> bool {
-        (0..2).all(|k| p[k] >= self.lo[k] && p[k] <= self.hi[k])
-    }
 }
 
 /// A readable, stable name for a contact: `block:vertex/block:feature`,
@@ -517,8 +483,8 @@ mod tests {
                     1,
                     range,
                     0,
-                    Near::everywhere(),
-                    Near::everywhere(),
+                    Reach::everywhere(),
+                    Reach::everywhere(),
                 );
                 let near = pair_contacts(&blocks, 0, 1, range, 0);
                 touching.set(touching.get() + usize::from(!all.is_empty()));

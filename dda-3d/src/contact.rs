@@ -54,7 +54,7 @@
 //! Concave faces are handled by point-in-polygon tests and ear-clipped
 //! triangles.
 
-use dda_core::block_set::{ANGLE_TOLERANCE, PENETRATION_SHARE};
+use dda_core::block_set::{Reach, ANGLE_TOLERANCE, PENETRATION_SHARE};
 use dda_core::planar;
 use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
 use nalgebra::{Point2, Point3, Vector3};
@@ -91,28 +91,28 @@ pub fn pair_contacts(
         j,
         range,
         law,
-        Near::of(a.shape(), range),
-        Near::of(b.shape(), range),
+        Reach::new(a.shape().bounds(), range),
+        Reach::new(b.shape().bounds(), range),
     )
 }
 
-/// [`pair_contacts`], examining the features within `near_a` (of block
-/// `i`) and `near_b` (of block `j`) only.
+/// [`pair_contacts`], examining only the features of block `i` within
+/// `near_b`, the reach of block `j`, and those of `j` within `near_a`.
 fn pair_contacts_near(
     blocks: &[Block],
     i: usize,
     j: usize,
     range: f64,
     law: usize,
-    near_a: Near,
-    near_b: Near,
+    near_a: Reach<3>,
+    near_b: Reach<3>,
 ) -> Vec<Contact3> {
     let (a, b) = (&blocks[i], &blocks[j]);
     let (sa, sb) = (a.shape(), b.shape());
     let mut out = Vec::new();
     // Vertex-vertex groups between convex corners.
     for (p, pv) in sa.vertices().iter().enumerate() {
-        if !sa.is_convex_vertex(p) || !near_b.point(pv) {
+        if !sa.is_convex_vertex(p) || !near_b.holds(pv) {
             continue;
         }
         for (q, qv) in sb.vertices().iter().enumerate() {
@@ -141,7 +141,7 @@ fn pair_contacts_near(
     for (x, y, bx, by, near_y) in [(i, j, a, b, &near_b), (j, i, b, a, &near_a)] {
         let (sx, sy) = (bx.shape(), by.shape());
         for (p, pv) in sx.vertices().iter().enumerate() {
-            if !sx.is_convex_vertex(p) || !near_y.point(pv) {
+            if !sx.is_convex_vertex(p) || !near_y.holds(pv) {
                 continue;
             }
             // Vertex-edge groups.
@@ -184,11 +184,21 @@ fn pair_contacts_near(
     }
     // Edge-edge crossings away from corners.
     for (ea, edge_a) in sa.edges().iter().enumerate() {
-        if sa.edge_kind(ea) != EdgeKind::Convex || !near_b.segment(sa, edge_a.ends) {
+        if sa.edge_kind(ea) != EdgeKind::Convex
+            || !near_b.meets(
+                &sa.vertices()[edge_a.ends[0]],
+                &sa.vertices()[edge_a.ends[1]],
+            )
+        {
             continue;
         }
         for (eb, edge_b) in sb.edges().iter().enumerate() {
-            if sb.edge_kind(eb) != EdgeKind::Convex || !near_a.segment(sb, edge_b.ends) {
+            if sb.edge_kind(eb) != EdgeKind::Convex
+                || !near_a.meets(
+                    &sb.vertices()[edge_b.ends[0]],
+                    &sb.vertices()[edge_b.ends[1]],
+                )
+            {
                 continue;
             }
             if let Some(en) = edge_edge(a, ea, edge_a.ends, b, eb, edge_b.ends, range) {
@@ -209,47 +219,6 @@ fn pair_contacts_near(
         }
     }
     out
-}
-
-/// A block's axis-aligned bounds grown by twice the contact range. Every
-/// contact a feature makes lies within √2 × the range of the other block (a
-/// vertex over a face by less than the range, beside its reflex edge by less
-/// than the range), so features outside the other block's `Near` make none
-/// and are not examined: of two bricks side by side, only the facing halves.
-#[derive(Clone, Copy)]
-struct Near {
-    lo: Point3<f64>,
-    hi: Point3<f64>,
-}
-
-impl Near {
-    fn of(s: &Polyhedron, range: f64) -> Self {
-        let (lo, hi) = s.bounds();
-        let grow = Vector3::repeat(2.0 * range);
-        Self {
-            lo: lo - grow,
-            hi: hi + grow,
-        }
-    }
-
-    /// Bounds that hold every point (examining every feature).
-    #[cfg(test)]
-    fn everywhere() -> Self {
-        Self {
-            lo: Point3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY),
-            hi: Point3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY),
-        }
-    }
-
-    fn point(&self, p: &Point3<f64>) -> bool {
-        (0..3).all(|k| p[k] >= self.lo[k] && p[k] <= self.hi[k])
-    }
-
-    /// Whether the bounds of edge `ends` of `s` meet these.
-    fn segment(&self, s: &Polyhedron, ends: [usize; 2]) -> bool {
-        let [u, v] = ends.map(|k| s.vertices()[k]);
-        (0..3).all(|k| u[k].min(v[k]) <= self.hi[k] && u[k].max(v[k]) >= self.lo[k])
-    }
 }
 
 /// A readable, stable name for a contact: `block:feature/block:feature`, a
@@ -1056,8 +1025,8 @@ mod tests {
                     1,
                     range,
                     0,
-                    Near::everywhere(),
-                    Near::everywhere(),
+                    Reach::everywhere(),
+                    Reach::everywhere(),
                 );
                 let near = pair_contacts(&blocks, 0, 1, range, 0);
                 touching.set(touching.get() + usize::from(!all.is_empty()));

@@ -21,6 +21,47 @@ pub const ANGLE_TOLERANCE: f64 = 3.0 * std::f64::consts::PI / 180.0;
 /// search range (Shi's d9 = 0.3·d0).
 pub const PENETRATION_SHARE: f64 = 0.3;
 
+/// Where a block's contacts can lie: its axis-aligned bounds grown by twice
+/// the search range. A vertex or edge makes a contact with a block only
+/// within the range of its edges, faces or corners, and past an edge's end
+/// or beside a reflex edge that is within √2 × the range of the block, so a
+/// feature outside the other block's reach makes none and need not be
+/// examined.
+#[derive(Debug, Clone, Copy)]
+pub struct Reach<const D: usize> {
+    lo: Point<f64, D>,
+    hi: Point<f64, D>,
+}
+
+impl<const D: usize> Reach<D> {
+    /// The reach of a block with these bounds (min, max) at this range.
+    pub fn new((lo, hi): (Point<f64, D>, Point<f64, D>), range: f64) -> Self {
+        let grow = SVector::<f64, D>::repeat(2.0 * range);
+        Self {
+            lo: lo - grow,
+            hi: hi + grow,
+        }
+    }
+
+    /// A reach holding every point (every feature examined).
+    pub fn everywhere() -> Self {
+        Self {
+            lo: Point::from(SVector::repeat(f64::NEG_INFINITY)),
+            hi: Point::from(SVector::repeat(f64::INFINITY)),
+        }
+    }
+
+    /// Whether the point lies within the reach.
+    pub fn holds(&self, p: &Point<f64, D>) -> bool {
+        (0..D).all(|k| p[k] >= self.lo[k] && p[k] <= self.hi[k])
+    }
+
+    /// Whether the bounds of the segment from `u` to `v` meet the reach.
+    pub fn meets(&self, u: &Point<f64, D>, v: &Point<f64, D>) -> bool {
+        (0..D).all(|k| u[k].min(v[k]) <= self.hi[k] && u[k].max(v[k]) >= self.lo[k])
+    }
+}
+
 /// How vertices move at the end of a step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum RotationUpdate {
@@ -404,4 +445,23 @@ fn carried<'a, const D: usize>(
     let loads = loads.iter_mut().map(|l| (l.block, &mut l.point));
     let measured = measured.iter_mut().map(|m| (m.block, &mut m.point));
     fixed.chain(loads).chain(measured)
+}
+
+#[cfg(test)]
+mod reach_tests {
+    use super::Reach;
+    use nalgebra::Point2;
+
+    /// The bounds grow by twice the range on every side; a segment meets
+    /// the reach where its own bounds do.
+    #[test]
+    fn a_reach_is_the_bounds_grown_by_twice_the_range() {
+        let reach = Reach::new((Point2::new(0.0, 0.0), Point2::new(2.0, 1.0)), 0.1);
+        assert!(reach.holds(&Point2::new(-0.2, 1.2)));
+        assert!(!reach.holds(&Point2::new(-0.21, 0.5)));
+        assert!(!reach.holds(&Point2::new(1.0, 1.21)));
+        assert!(reach.meets(&Point2::new(-1.0, 0.5), &Point2::new(3.0, 0.5)));
+        assert!(!reach.meets(&Point2::new(-1.0, 1.3), &Point2::new(3.0, 1.4)));
+        assert!(Reach::<2>::everywhere().holds(&Point2::new(1e300, -1e300)));
+    }
 }
