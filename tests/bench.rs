@@ -249,20 +249,25 @@ fn a_chart_of_time_per_step_against_blocks() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn a_wall_runs_for_simulated_time_with_automatic_dt() {
-    let rows = simulate(&SimulateOptions {
-        sizes: vec![2],
+/// A rigid 2D wall of `n` courses run for `seconds`, at the steps `dts`
+/// (automatic if none), silently, once.
+fn rigid_wall(n: usize, seconds: f64, dts: Vec<f64>) -> SimulateOptions {
+    SimulateOptions {
+        sizes: vec![n],
         kinds: vec![BlockKind::Rigid],
         dimensions: vec![2],
-        seconds: 0.002,
+        seconds,
         max_wall: 600.0,
         repeats: 1,
         progress_every: None,
         solver: Solver::Direct,
-        dts: Vec::new(),
-    })
-    .unwrap();
+        dts,
+    }
+}
+
+#[test]
+fn a_wall_runs_for_simulated_time_with_automatic_dt() {
+    let rows = simulate(&rigid_wall(2, 0.002, Vec::new())).unwrap();
     let r = &rows[0];
     assert!(r.completed && (r.reached - 0.002).abs() < 1e-12, "{r:?}");
     assert!(!r.dt_given);
@@ -284,18 +289,7 @@ fn a_wall_runs_for_simulated_time_with_automatic_dt() {
 /// micrometres; a step that is no time is refused by name.
 #[test]
 fn a_wall_runs_at_the_steps_given() {
-    let options = |dts: Vec<f64>| SimulateOptions {
-        sizes: vec![4],
-        kinds: vec![BlockKind::Rigid],
-        dimensions: vec![2],
-        seconds: 0.2,
-        max_wall: 600.0,
-        repeats: 1,
-        progress_every: None,
-        solver: Solver::Direct,
-        dts,
-    };
-    let rows = simulate(&options(vec![0.005, 0.05])).unwrap();
+    let rows = simulate(&rigid_wall(4, 0.2, vec![0.005, 0.05])).unwrap();
     assert_eq!(rows.len(), 2);
     for (r, dt) in rows.iter().zip([0.005, 0.05]) {
         assert!(r.dt_given && r.dt == dt, "{r:?}");
@@ -304,7 +298,9 @@ fn a_wall_runs_at_the_steps_given() {
         assert!(r.steps >= (0.2 / dt).round() as usize, "{r:?}");
         assert!(r.drift < 1e-4, "a wall at rest settles micrometres: {r:?}");
     }
-    let refused = simulate(&options(vec![0.0])).unwrap_err().to_string();
+    let refused = simulate(&rigid_wall(4, 0.2, vec![0.0]))
+        .unwrap_err()
+        .to_string();
     assert!(
         refused.contains("--dt") && refused.contains("more than 0"),
         "{refused}"

@@ -127,6 +127,20 @@ pub struct Contact<const N: usize, const T: usize> {
     pub record: ContactRecord<T>,
 }
 
+/// Whether two narrow phases found the same contacts: the same keys,
+/// entrances and lengths, in the same order (their records aside).
+pub fn same_contacts<const N: usize, const T: usize>(
+    a: &[Contact<N, T>],
+    b: &[Contact<N, T>],
+) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            x.key == y.key
+                && x.entrances == y.entrances
+                && (x.length, x.spring_length) == (y.length, y.spring_length)
+        })
+}
+
 /// Moves the records of last step's contacts onto this step's, matching by
 /// key, then by the coarse key (same vertex against the same block) when the
 /// vertex has moved onto a neighbouring edge or face. A record only moves
