@@ -7,12 +7,12 @@ use dda_3d::{Driver3d, IsotropicElastic};
 use dda_contact::LawRegistry;
 use dda_core::{
     BlockKind, BlockSet, BlockSystem, ConstitutiveLaw, Driver, DynContactLaw, Element, FixedPoint,
-    Force, MeasuredPoint, Settings,
+    Settings,
 };
 use nalgebra::{Point3, SVector, Vector3, Vector6};
 
-use super::validate::{place_of, to_points, unit_axis, Place, Slot};
-use super::{Coords, JointLaw, Load, Material, Scene, SceneBlock, SceneError};
+use super::validate::{place_of, to_points, Place, Slot};
+use super::{JointLaw, Material, Scene, SceneBlock, SceneError};
 
 /// A scene ready to run: a 2D one by default ([`Driver2d`]), a 3D one as
 /// [`Model3`].
@@ -289,55 +289,16 @@ impl Scene {
         system.fixed_penalty = a.fixed_penalty.unwrap_or(10.0 * contact);
         system.joint_laws = table.materials.clone();
         system.pair_laws = table.pairs.clone();
-        system.loads = self.point_loads();
-        system.fixed = self.fixed_points();
-        system.measured = self
-            .measured_points
-            .iter()
-            .map(|m| MeasuredPoint::at(m.block, vector::<D>(&m.point).into()))
-            .collect();
+        let points = self.points::<D>(slots)?;
+        system.loads = points.loads;
+        system.fixed = points.fixed;
+        system.measured = points.measured;
         for (k, fixed) in fixed_blocks.enumerate() {
             if fixed {
                 system.fix_block(k);
             }
         }
         self.shake(slots, &mut system.fixed)
-    }
-
-    /// The scene's point loads, in `D` dimensions.
-    fn point_loads<const D: usize>(&self) -> Vec<dda_core::PointLoad<D>> {
-        let sample = |s: &Coords| (s.get(0), SVector::from_fn(|k, _| s.get(k + 1)));
-        self.loads
-            .iter()
-            .map(|load| match load {
-                Load::PointLoad {
-                    block,
-                    point,
-                    force,
-                    history,
-                } => dda_core::PointLoad {
-                    block: *block,
-                    point: vector::<D>(point).into(),
-                    force: match (force, history) {
-                        (Some(f), _) => Force::Constant(vector(f)),
-                        (None, Some(h)) => Force::History(h.iter().map(sample).collect()),
-                        (None, None) => Force::Constant(SVector::zeros()),
-                    },
-                },
-            })
-            .collect()
-    }
-
-    /// The scene's fixed points, in `D` dimensions.
-    fn fixed_points<const D: usize>(&self) -> Vec<FixedPoint<D>> {
-        self.fixed_points
-            .iter()
-            .map(|fp| FixedPoint {
-                velocity: vector(&fp.velocity),
-                axis: fp.axis.as_ref().and_then(|a| unit_axis(a.as_slice())),
-                ..FixedPoint::at(fp.block, vector::<D>(&fp.point).into())
-            })
-            .collect()
     }
 
     /// Makes the fixed points of the ground motion's blocks (those of fixed
@@ -498,9 +459,4 @@ impl Scene {
             pairs,
         }
     }
-}
-
-/// A validated tuple as a vector (zeros where numbers are left out).
-fn vector<const D: usize>(c: &Coords) -> SVector<f64, D> {
-    SVector::<f64, D>::from_fn(|k, _| c.get(k))
 }
