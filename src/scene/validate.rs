@@ -151,41 +151,11 @@ impl Shapes {
         }
     }
 
-    /// How far `p` lies outside block `i`, 0 inside or within a millionth
-    /// of the block's size of its boundary (a point written on a corner
-    /// keeps its round-off).
+    /// How far `p` lies outside block `i` (0 inside or on it).
     fn outside(&self, i: usize, p: &[f64]) -> f64 {
-        let (inside, distance, size) = match self {
-            Shapes::Polygons(outlines) => {
-                let outline = &outlines[i];
-                let q = Point2::new(p[0], p[1]);
-                let distance = (0..outline.len())
-                    .map(|i| {
-                        let next = &outline[(i + 1) % outline.len()];
-                        polygon::point_segment(&q, &outline[i], next).0
-                    })
-                    .fold(f64::INFINITY, f64::min);
-                let size = outline
-                    .iter()
-                    .flat_map(|a| outline.iter().map(move |b| (a - b).norm()))
-                    .fold(0.0, f64::max);
-                (polygon::contains(outline, &q), distance, size)
-            }
-            Shapes::Polyhedra(shapes) => {
-                let shape = &shapes[i];
-                let q = Point3::new(p[0], p[1], p[2]);
-                let (lo, hi) = shape.bounds();
-                (
-                    shape.contains(&q, 0.0),
-                    shape.distance(&q),
-                    (hi - lo).norm(),
-                )
-            }
-        };
-        if inside || distance <= 1e-6 * size {
-            0.0
-        } else {
-            distance
+        match self {
+            Shapes::Polygons(o) => polygon::distance_outside(&o[i], &Point2::new(p[0], p[1])),
+            Shapes::Polyhedra(s) => s[i].distance_outside(&Point3::new(p[0], p[1], p[2])),
         }
     }
 }
@@ -680,7 +650,7 @@ impl Scene {
         written: bool,
     ) -> Result<Polyhedron> {
         let points: Vec<Point3<f64>> = block.vertices.iter().map(|v| Point3::from(*v)).collect();
-        let shape = polyhedra::validate(&points, &block.faces).map_err(|e| {
+        polyhedra::validate_outward(&points, &block.faces).map_err(|e| {
             let place = match (e.place(), &e) {
                 (_, PolyhedronError::NotFinite { vertex, .. }) if written => {
                     at.field("vertices").index(*vertex)
@@ -692,16 +662,7 @@ impl Scene {
                 (Fault::Block, _) => at.clone(),
             };
             self.error(&place, e.to_string())
-        })?;
-        // The checks accept a surface listed inside out; a scene does not,
-        // so a face order mistake is caught here rather than silently fixed.
-        if signed_volume(&points, &block.faces) < 0.0 {
-            return Err(self.error(
-                &at.field("faces"),
-                "the faces are listed clockwise seen from outside (the surface faces inward); reverse the order of every face's corners",
-            ));
-        }
-        Ok(shape)
+        })
     }
 
     /// The scene's loads, fixed and measured points in `D` dimensions: the
@@ -1000,19 +961,6 @@ pub(super) fn place_of(entry: usize, part: Option<&str>) -> Place {
         Some(part) => at.label(part),
         None => at,
     }
-}
-
-/// Signed volume of a closed surface as listed (negative when its faces
-/// are listed clockwise seen from outside).
-fn signed_volume(points: &[Point3<f64>], faces: &[Vec<usize>]) -> f64 {
-    let mut six = 0.0;
-    for f in faces {
-        let p0 = points[f[0]].coords;
-        for w in f[1..].windows(2) {
-            six += p0.dot(&points[w[0]].coords.cross(&points[w[1]].coords));
-        }
-    }
-    six / 6.0
 }
 
 pub(super) fn to_points(v: &[[f64; 2]]) -> Vec<Point2<f64>> {
