@@ -7,13 +7,12 @@ use std::sync::Arc;
 use dda_2d::polygon::{self, PolygonError};
 use dda_3d::polyhedron::{self as polyhedra, Fault, Polyhedron, PolyhedronError};
 use dda_core::{
-    loads, settings, ConstitutiveLaw, DdaError, FixedPoint, Force, GroundMotion, MeasuredPoint,
-    PointLoad, Quantity, Record,
+    loads, motion::Layout, settings, ConstitutiveLaw, DdaError, FixedPoint, Force, GroundMotion,
+    MeasuredPoint, PointLoad, Quantity, Record,
 };
 use nalgebra::{Point, Point2, Point3, SVector};
 
 use super::locate::{locate_exact, Seg};
-use super::motion::{read_record, Layout};
 use super::{
     BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Scene, SceneBlock,
     SceneBlock3, SceneError,
@@ -882,26 +881,14 @@ impl Scene {
                     ));
                 }
                 let file = self.resolve(path);
-                let samples = read_record(&file, &layout).map_err(|message| {
+                let record = Record::<D>::read(&file, &layout, *quantity, *scale).map_err(|m| {
                     let place = if file.is_file() {
                         at.clone()
                     } else {
                         at.field("path")
                     };
-                    self.error(&place, message)
+                    self.error(&place, m)
                 })?;
-                let samples: Vec<(f64, SVector<f64, D>)> = samples
-                    .iter()
-                    .map(|(_, t, v)| {
-                        let mut a = SVector::<f64, D>::zeros();
-                        for (value, &axis) in v.iter().zip(&layout.axes) {
-                            a[axis] = value * scale;
-                        }
-                        (*t, a)
-                    })
-                    .collect();
-                let record = Record::new(*quantity, &samples)
-                    .map_err(|e| self.error(&at, format!("{}: {e}", file.display())))?;
                 if *quantity == Quantity::Acceleration {
                     let (u, v) = (record.end_displacement(), record.end_velocity());
                     let drift = format!(
