@@ -179,10 +179,6 @@ impl Scene {
                 block.kind = kind;
                 Ok(block)
             },
-            |spec| {
-                let [vx, vy, w] = spec.velocity;
-                Vector6::new(vx, vy, w, 0.0, 0.0, 0.0)
-            },
         )
     }
 
@@ -210,19 +206,12 @@ impl Scene {
                 block.kind = kind;
                 Ok(block)
             },
-            |spec| {
-                let mut v = SVector::<f64, 12>::zeros();
-                v.fixed_rows_mut::<6>(0).copy_from_slice(&spec.velocity);
-                v
-            },
         )
     }
 
     /// The block set and driver of either dimension from the expanded
     /// blocks: `elastic` makes a material's law, `block` a block from its
-    /// corners (and faces), material, density and kind, `velocity` its
-    /// initial velocity.
-    #[allow(clippy::too_many_arguments)]
+    /// corners (and faces), material, density and kind.
     fn build_blocks<
         P,
         B,
@@ -237,7 +226,6 @@ impl Scene {
         specs: Vec<SceneBlock<P, K>>,
         elastic: impl Fn(&Material) -> Box<dyn ConstitutiveLaw<S>>,
         block: impl Fn(&SceneBlock<P, K>, usize, f64, BlockKind) -> Result<B, String>,
-        velocity: impl Fn(&SceneBlock<P, K>) -> SVector<f64, N>,
     ) -> Result<Model<Driver<BlockSet<B, D, N, T, S>, N, T>>, SceneError>
     where
         B: Element<D, N, T, S>,
@@ -260,7 +248,12 @@ impl Scene {
         let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
         let table = self.law_table();
         let notes = self.equip(&mut system, &table, specs.iter().map(|s| s.fixed), &slots)?;
-        self.model(system, &table, registry, specs.iter().map(velocity), notes)
+        // The velocity (translation, then rotation) is a block's leading
+        // DOFs; its strain rates start at zero.
+        let velocities = specs
+            .iter()
+            .map(|s| SVector::from_fn(|i, _| s.velocity.get(i).copied().unwrap_or(0.0)));
+        self.model(system, &table, registry, velocities, notes)
     }
 
     /// What a block set takes from the scene alike in 2D and 3D: gravity,
