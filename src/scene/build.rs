@@ -2,7 +2,7 @@
 
 use std::collections::HashMap;
 
-use dda_2d::{Block, Driver2d, PlaneElastic};
+use dda_2d::{Block, Driver2d, Plane, PlaneElastic};
 use dda_3d::{Driver3d, IsotropicElastic};
 use dda_contact::LawRegistry;
 use dda_core::{
@@ -111,6 +111,25 @@ pub struct LawTable {
     pub pairs: HashMap<(usize, usize), usize>,
 }
 
+impl Material {
+    /// The elastic law of this material's blocks in a 2D scene.
+    pub(super) fn plane_law(&self, plane: Plane) -> PlaneElastic {
+        PlaneElastic {
+            young: self.young,
+            poisson: self.poisson,
+            plane,
+        }
+    }
+
+    /// The elastic law of this material's blocks in a 3D scene.
+    pub(super) fn space_law(&self) -> IsotropicElastic {
+        IsotropicElastic {
+            young: self.young,
+            poisson: self.poisson,
+        }
+    }
+}
+
 impl Scene {
     /// Validates a 2D scene and builds the blocks, laws and driver, with the
     /// built-in contact laws for `Custom` joints. A 3D scene is an error
@@ -165,13 +184,7 @@ impl Scene {
         self.build_blocks(
             registry,
             self.expanded_blocks(),
-            |m| -> Box<dyn ConstitutiveLaw<3>> {
-                Box::new(PlaneElastic {
-                    young: m.young,
-                    poisson: m.poisson,
-                    plane,
-                })
-            },
+            |m| -> Box<dyn ConstitutiveLaw<3>> { Box::new(m.plane_law(plane)) },
             |spec, material, density, kind| {
                 let mut block = Block::new(&to_points(&spec.vertices), material, density)
                     .map_err(|e| e.to_string())?;
@@ -192,12 +205,7 @@ impl Scene {
         self.build_blocks(
             registry,
             self.expanded_blocks_3d(),
-            |m| -> Box<dyn ConstitutiveLaw<6>> {
-                Box::new(IsotropicElastic {
-                    young: m.young,
-                    poisson: m.poisson,
-                })
-            },
+            |m| -> Box<dyn ConstitutiveLaw<6>> { Box::new(m.space_law()) },
             |spec, material, density, kind| {
                 let points: Vec<Point3<f64>> = spec.vertices.iter().map(|&v| v.into()).collect();
                 let mut block = dda_3d::Block::new(&points, &spec.faces, material, density)

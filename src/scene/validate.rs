@@ -265,6 +265,7 @@ impl Scene {
         Ok(SVector::from_fn(|k, _| c.get(k)))
     }
 
+    /// `c` as a point once it has one number per axis.
     fn point<const D: usize>(&self, at: &Place, what: &str, c: &Coords) -> Result<Point<f64, D>> {
         self.vector(at, what, c, "").map(Point::from)
     }
@@ -340,18 +341,9 @@ impl Scene {
         for (name, m) in &self.materials {
             let checked = dda_core::constitutive::check_density(m.density).and_then(|()| {
                 if self.dimension == 3 {
-                    dda_3d::IsotropicElastic {
-                        young: m.young,
-                        poisson: m.poisson,
-                    }
-                    .check()
+                    m.space_law().check()
                 } else {
-                    dda_2d::PlaneElastic {
-                        young: m.young,
-                        poisson: m.poisson,
-                        plane: self.analysis.plane,
-                    }
-                    .check()
+                    m.plane_law(self.analysis.plane).check()
                 }
             });
             self.core_field(&Place::root().field("materials").key(name), checked)?;
@@ -671,16 +663,13 @@ impl Scene {
     pub(super) fn points<const D: usize>(&self, blocks: &[Slot]) -> Result<Points<D>> {
         let root = Place::root();
         let mut loads = Vec::new();
-        for (
-            k,
-            Load::PointLoad {
+        for (k, load) in self.loads.iter().enumerate() {
+            let Load::PointLoad {
                 block,
                 point,
                 force,
                 history,
-            },
-        ) in self.loads.iter().enumerate()
-        {
+            } = load;
             let at = root.field("loads").index(k);
             self.check_block_index(&at.field("block"), *block, blocks)?;
             let point = self.point(&at.field("point"), "the load point", point)?;
@@ -922,7 +911,6 @@ impl Scene {
 
     /// A load's history samples once each has one time and one force
     /// component per axis.
-    #[allow(clippy::type_complexity)]
     fn history<const D: usize>(
         &self,
         at: &Place,
