@@ -391,6 +391,22 @@ fn boundary_distance(vertices: &[Point2<f64>], p: &Point2<f64>) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// How far `p` lies outside the polygon: 0 inside, or within a millionth
+/// of the polygon's size of its boundary (a point written on a corner
+/// keeps its round-off).
+pub fn distance_outside(vertices: &[Point2<f64>], p: &Point2<f64>) -> f64 {
+    let size = vertices
+        .iter()
+        .flat_map(|a| vertices.iter().map(move |b| (a - b).norm()))
+        .fold(0.0, f64::max);
+    let distance = boundary_distance(vertices, p);
+    if contains(vertices, p) || distance <= 1e-6 * size {
+        0.0
+    } else {
+        distance
+    }
+}
+
 /// Whether p is inside `poly` deeper than `tol`.
 fn deep_inside(poly: &[Point2<f64>], p: &Point2<f64>, tol: f64) -> bool {
     contains(poly, p) && boundary_distance(poly, p) > tol
@@ -441,6 +457,18 @@ fn common_interior(a: &[Point2<f64>], b: &[Point2<f64>], tol: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn distance_outside_is_zero_inside_and_on_the_boundary() {
+        let square =
+            [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(x, y)| Point2::new(x, y));
+        assert_eq!(distance_outside(&square, &Point2::new(0.5, 0.5)), 0.0);
+        assert_eq!(
+            distance_outside(&square, &Point2::new(1.0, 1.0 + 1e-9)),
+            0.0
+        );
+        assert!((distance_outside(&square, &Point2::new(2.0, 0.5)) - 1.0).abs() < 1e-15);
+    }
     use approx::assert_relative_eq;
     use std::f64::consts::{FRAC_PI_2, PI};
 

@@ -85,6 +85,9 @@ pub enum PolyhedronError {
     SelfIntersectingFace { face: usize },
     #[error("the polyhedron has zero volume (its corners lie in one plane); give corners that enclose a volume")]
     ZeroVolume,
+    /// Refused by [`validate_outward`] only.
+    #[error("the faces are listed clockwise seen from outside (the surface faces inward); reverse the order of every face's corners")]
+    InsideOut,
 }
 
 /// The part of a polyhedron's input an error is about.
@@ -106,7 +109,7 @@ impl PolyhedronError {
         use PolyhedronError as E;
         match *self {
             E::TooFewVertices(_) => Fault::Vertices,
-            E::TooFewFaces(_) | E::NonManifoldEdge { .. } => Fault::Faces,
+            E::TooFewFaces(_) | E::NonManifoldEdge { .. } | E::InsideOut => Fault::Faces,
             E::NotFinite { vertex, .. }
             | E::UnusedVertex { vertex }
             | E::NonManifoldVertex { vertex } => Fault::Vertex(vertex),
@@ -381,6 +384,19 @@ impl Polyhedron {
         nearest
     }
 
+    /// How far `p` lies outside: 0 inside, or within a millionth of the
+    /// polyhedron's size of its surface (a point written on a corner keeps
+    /// its round-off).
+    pub fn distance_outside(&self, p: &Point3<f64>) -> f64 {
+        let (lo, hi) = self.bounds();
+        let distance = self.distance(p);
+        if self.contains(p, 0.0) || distance <= 1e-6 * (hi - lo).norm() {
+            0.0
+        } else {
+            distance
+        }
+    }
+
     /// Whether `p` lies inside, farther than `tol` from the surface.
     pub fn contains(&self, p: &Point3<f64>, tol: f64) -> bool {
         let mut solid_angle = 0.0;
@@ -457,6 +473,20 @@ pub fn central_moments(vertices: &[Point3<f64>], faces: &[Vec<usize>]) -> Centra
         centroid: origin + c,
         second: second - c * c.transpose() * volume,
     }
+}
+
+/// [`validate`], refusing a surface listed inside out (which `validate`
+/// flips), so a face order mistake in written input is caught rather than
+/// silently fixed.
+pub fn validate_outward(
+    vertices: &[Point3<f64>],
+    faces: &[Vec<usize>],
+) -> Result<Polyhedron, PolyhedronError> {
+    let shape = validate(vertices, faces)?;
+    if central_moments(vertices, faces).volume < 0.0 {
+        return Err(PolyhedronError::InsideOut);
+    }
+    Ok(shape)
 }
 
 /// Checks a closed surface and builds the polyhedron.
@@ -967,6 +997,40 @@ pub fn closest_on_triangle(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_inside_out_surface_is_refused_by_validate_outward_only() {
+        let (points, faces) = cuboid(
+            Point3::origin(),
+            Vector3::repeat(1.0),
+            Rotation3::identity(),
+        );
+        assert!(validate_outward(&points, &faces).is_ok());
+        let inward: Vec<Vec<usize>> = faces
+            .iter()
+            .map(|f| f.iter().rev().copied().collect())
+            .collect();
+        assert!(validate(&points, &inward).is_ok());
+        let e = validate_outward(&points, &inward).unwrap_err();
+        assert_eq!(e, PolyhedronError::InsideOut);
+        assert_eq!(e.place(), Fault::Faces);
+    }
+
+    #[test]
+    fn distance_outside_is_zero_inside_and_on_the_surface() {
+        let (points, faces) = cuboid(
+            Point3::origin(),
+            Vector3::repeat(1.0),
+            Rotation3::identity(),
+        );
+        let cube = validate(&points, &faces).unwrap();
+        assert_eq!(cube.distance_outside(&Point3::origin()), 0.0);
+        assert_eq!(
+            cube.distance_outside(&Point3::new(0.5, 0.5, 0.5 + 1e-9)),
+            0.0
+        );
+        assert!((cube.distance_outside(&Point3::new(1.5, 0.0, 0.0)) - 1.0).abs() < 1e-12);
+    }
 
     fn unit_cube() -> (Vec<Point3<f64>>, Vec<Vec<usize>>) {
         cuboid(

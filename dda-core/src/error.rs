@@ -15,6 +15,14 @@ pub enum DdaError {
         field: &'static str,
         message: String,
     },
+    /// A bad entry of a list value: `field[index]`, like a load history's
+    /// sample.
+    #[error("{field}[{index}]: {message}")]
+    Entry {
+        field: &'static str,
+        index: usize,
+        message: String,
+    },
     #[error("invalid analysis setting: {0}")]
     Settings(String),
     /// A checkpoint that cannot be saved or does not fit the run.

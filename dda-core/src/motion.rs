@@ -2,7 +2,11 @@
 //! records, sinusoids and pulses, integrated exactly to the displacement
 //! that drives the base blocks. `D` is the number of components.
 
+mod file;
+
 use nalgebra::{DMatrix, DVector, SVector};
+
+pub use file::{read_samples, Layout, Sample};
 
 use crate::settings::{finite, positive};
 use crate::DdaError;

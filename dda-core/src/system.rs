@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use crate::contacts::{BlockVector, Contact};
 use crate::error::DdaError;
 use crate::loads::Support;
+use crate::settings::finite;
 
 /// One block's N×N matrix (mass, stiffness).
 pub type BlockMatrix<const N: usize> = SMatrix<f64, N, N>;
@@ -32,6 +33,24 @@ impl BlockKind {
             BlockKind::Rigid => n / 2,
             BlockKind::Deformable => n,
         }
+    }
+
+    /// Checks a block's initial state: its `velocity` and `stress` are
+    /// finite, and a rigid block, which never strains, carries no stress.
+    /// The error names the field.
+    pub fn check_state(self, velocity: &[f64], stress: &[f64]) -> Result<(), DdaError> {
+        if self == BlockKind::Rigid && stress.iter().any(|s| *s != 0.0) {
+            return Err(DdaError::Setting {
+                field: "stress",
+                message: "a rigid block carries no stress; remove the initial stress or make the block Deformable".into(),
+            });
+        }
+        velocity
+            .iter()
+            .try_for_each(|v| finite("velocity", "the initial velocity", *v))?;
+        stress
+            .iter()
+            .try_for_each(|s| finite("stress", "the initial stress", *s))
     }
 }
 
@@ -168,4 +187,35 @@ pub struct SystemState {
     pub fixed_points: Vec<Vec<f64>>,
     pub load_points: Vec<Vec<f64>>,
     pub measured_points: Vec<Vec<f64>>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn field_of(e: DdaError) -> &'static str {
+        match e {
+            DdaError::Setting { field, .. } => field,
+            e => panic!("{e}"),
+        }
+    }
+
+    #[test]
+    fn an_initial_state_is_finite_and_a_rigid_block_unstressed() {
+        let (rigid, deformable) = (BlockKind::Rigid, BlockKind::Deformable);
+        assert!(deformable
+            .check_state(&[1.0, 0.0, 0.5], &[-1e5, 0.0, 0.0])
+            .is_ok());
+        assert!(rigid.check_state(&[1.0, 0.0, 0.5], &[0.0; 3]).is_ok());
+        let e = rigid.check_state(&[0.0; 3], &[-1e5, 0.0, 0.0]).unwrap_err();
+        assert!(e.to_string().contains("a rigid block carries no stress"));
+        assert_eq!(field_of(e), "stress");
+        let e = deformable
+            .check_state(&[f64::NAN; 6], &[0.0; 6])
+            .unwrap_err();
+        assert!(e.to_string().contains("the initial velocity is NaN"));
+        assert_eq!(field_of(e), "velocity");
+        let e = deformable.check_state(&[0.0; 3], &[0.0, f64::INFINITY, 0.0]);
+        assert_eq!(field_of(e.unwrap_err()), "stress");
+    }
 }

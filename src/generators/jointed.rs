@@ -59,9 +59,9 @@ pub struct JointSet {
 
 impl JointSet {
     /// Whether the set's own values make joints in `dimension` 2 or 3: the
-    /// first field at fault and what to change. Its origin is checked
-    /// against the scene's axes, and its law by the law, where the scene
-    /// reads them.
+    /// first field at fault and what to change. Its origin's count is
+    /// checked against the scene's axes, and its law by the law, where the
+    /// scene reads them.
     pub fn check(&self, dimension: u32) -> Result<(), DdaError> {
         let fail = |field, message: &str| {
             Err(DdaError::Setting {
@@ -70,6 +70,10 @@ impl JointSet {
             })
         };
         let three = dimension == 3;
+        let origin = self.origin.as_slice();
+        origin
+            .iter()
+            .try_for_each(|v| finite("origin", "the origin", *v))?;
         finite("dip", "the dip", self.dip)?;
         let (lo, range) = if three {
             (0.0, "[0, 90]")

@@ -2,17 +2,17 @@
 
 use std::collections::HashMap;
 
-use dda_2d::{Block, Driver2d, PlaneElastic};
+use dda_2d::{Block, Driver2d, Plane, PlaneElastic};
 use dda_3d::{Driver3d, IsotropicElastic};
 use dda_contact::LawRegistry;
 use dda_core::{
     BlockKind, BlockSet, BlockSystem, ConstitutiveLaw, Driver, DynContactLaw, Element, FixedPoint,
-    Force, MeasuredPoint, Settings,
+    Settings,
 };
 use nalgebra::{Point3, SVector, Vector3, Vector6};
 
-use super::validate::{place_of, to_points, unit_axis, Place, Slot};
-use super::{Coords, JointLaw, Load, Material, Scene, SceneBlock, SceneError};
+use super::validate::{place_of, to_points, Place, Slot};
+use super::{JointLaw, Material, Scene, SceneBlock, SceneError};
 
 /// A scene ready to run: a 2D one by default ([`Driver2d`]), a 3D one as
 /// [`Model3`].
@@ -111,6 +111,25 @@ pub struct LawTable {
     pub pairs: HashMap<(usize, usize), usize>,
 }
 
+impl Material {
+    /// The elastic law of this material's blocks in a 2D scene.
+    pub(super) fn plane_law(&self, plane: Plane) -> PlaneElastic {
+        PlaneElastic {
+            young: self.young,
+            poisson: self.poisson,
+            plane,
+        }
+    }
+
+    /// The elastic law of this material's blocks in a 3D scene.
+    pub(super) fn space_law(&self) -> IsotropicElastic {
+        IsotropicElastic {
+            young: self.young,
+            poisson: self.poisson,
+        }
+    }
+}
+
 impl Scene {
     /// Validates a 2D scene and builds the blocks, laws and driver, with the
     /// built-in contact laws for `Custom` joints. A 3D scene is an error
@@ -165,23 +184,13 @@ impl Scene {
         self.build_blocks(
             registry,
             self.expanded_blocks(),
-            |m| -> Box<dyn ConstitutiveLaw<3>> {
-                Box::new(PlaneElastic {
-                    young: m.young,
-                    poisson: m.poisson,
-                    plane,
-                })
-            },
+            |m| -> Box<dyn ConstitutiveLaw<3>> { Box::new(m.plane_law(plane)) },
             |spec, material, density, kind| {
                 let mut block = Block::new(&to_points(&spec.vertices), material, density)
                     .map_err(|e| e.to_string())?;
                 block.stress = Vector3::from(spec.stress);
                 block.kind = kind;
                 Ok(block)
-            },
-            |spec| {
-                let [vx, vy, w] = spec.velocity;
-                Vector6::new(vx, vy, w, 0.0, 0.0, 0.0)
             },
         )
     }
@@ -196,12 +205,7 @@ impl Scene {
         self.build_blocks(
             registry,
             self.expanded_blocks_3d(),
-            |m| -> Box<dyn ConstitutiveLaw<6>> {
-                Box::new(IsotropicElastic {
-                    young: m.young,
-                    poisson: m.poisson,
-                })
-            },
+            |m| -> Box<dyn ConstitutiveLaw<6>> { Box::new(m.space_law()) },
             |spec, material, density, kind| {
                 let points: Vec<Point3<f64>> = spec.vertices.iter().map(|&v| v.into()).collect();
                 let mut block = dda_3d::Block::new(&points, &spec.faces, material, density)
@@ -210,19 +214,12 @@ impl Scene {
                 block.kind = kind;
                 Ok(block)
             },
-            |spec| {
-                let mut v = SVector::<f64, 12>::zeros();
-                v.fixed_rows_mut::<6>(0).copy_from_slice(&spec.velocity);
-                v
-            },
         )
     }
 
     /// The block set and driver of either dimension from the expanded
     /// blocks: `elastic` makes a material's law, `block` a block from its
-    /// corners (and faces), material, density and kind, `velocity` its
-    /// initial velocity.
-    #[allow(clippy::too_many_arguments)]
+    /// corners (and faces), material, density and kind.
     fn build_blocks<
         P,
         B,
@@ -237,7 +234,6 @@ impl Scene {
         specs: Vec<SceneBlock<P, K>>,
         elastic: impl Fn(&Material) -> Box<dyn ConstitutiveLaw<S>>,
         block: impl Fn(&SceneBlock<P, K>, usize, f64, BlockKind) -> Result<B, String>,
-        velocity: impl Fn(&SceneBlock<P, K>) -> SVector<f64, N>,
     ) -> Result<Model<Driver<BlockSet<B, D, N, T, S>, N, T>>, SceneError>
     where
         B: Element<D, N, T, S>,
@@ -260,7 +256,12 @@ impl Scene {
         let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
         let table = self.law_table();
         let notes = self.equip(&mut system, &table, specs.iter().map(|s| s.fixed), &slots)?;
-        self.model(system, &table, registry, specs.iter().map(velocity), notes)
+        // The velocity (translation, then rotation) is a block's leading
+        // DOFs; its strain rates start at zero.
+        let velocities = specs
+            .iter()
+            .map(|s| SVector::from_fn(|i, _| s.velocity.get(i).copied().unwrap_or(0.0)));
+        self.model(system, &table, registry, velocities, notes)
     }
 
     /// What a block set takes from the scene alike in 2D and 3D: gravity,
@@ -289,55 +290,16 @@ impl Scene {
         system.fixed_penalty = a.fixed_penalty.unwrap_or(10.0 * contact);
         system.joint_laws = table.materials.clone();
         system.pair_laws = table.pairs.clone();
-        system.loads = self.point_loads();
-        system.fixed = self.fixed_points();
-        system.measured = self
-            .measured_points
-            .iter()
-            .map(|m| MeasuredPoint::at(m.block, vector::<D>(&m.point).into()))
-            .collect();
+        let points = self.points::<D>(slots)?;
+        system.loads = points.loads;
+        system.fixed = points.fixed;
+        system.measured = points.measured;
         for (k, fixed) in fixed_blocks.enumerate() {
             if fixed {
                 system.fix_block(k);
             }
         }
         self.shake(slots, &mut system.fixed)
-    }
-
-    /// The scene's point loads, in `D` dimensions.
-    fn point_loads<const D: usize>(&self) -> Vec<dda_core::PointLoad<D>> {
-        let sample = |s: &Coords| (s.get(0), SVector::from_fn(|k, _| s.get(k + 1)));
-        self.loads
-            .iter()
-            .map(|load| match load {
-                Load::PointLoad {
-                    block,
-                    point,
-                    force,
-                    history,
-                } => dda_core::PointLoad {
-                    block: *block,
-                    point: vector::<D>(point).into(),
-                    force: match (force, history) {
-                        (Some(f), _) => Force::Constant(vector(f)),
-                        (None, Some(h)) => Force::History(h.iter().map(sample).collect()),
-                        (None, None) => Force::Constant(SVector::zeros()),
-                    },
-                },
-            })
-            .collect()
-    }
-
-    /// The scene's fixed points, in `D` dimensions.
-    fn fixed_points<const D: usize>(&self) -> Vec<FixedPoint<D>> {
-        self.fixed_points
-            .iter()
-            .map(|fp| FixedPoint {
-                velocity: vector(&fp.velocity),
-                axis: fp.axis.as_ref().and_then(|a| unit_axis(a.as_slice())),
-                ..FixedPoint::at(fp.block, vector::<D>(&fp.point).into())
-            })
-            .collect()
     }
 
     /// Makes the fixed points of the ground motion's blocks (those of fixed
@@ -498,9 +460,4 @@ impl Scene {
             pairs,
         }
     }
-}
-
-/// A validated tuple as a vector (zeros where numbers are left out).
-fn vector<const D: usize>(c: &Coords) -> SVector<f64, D> {
-    SVector::<f64, D>::from_fn(|k, _| c.get(k))
 }

@@ -15,7 +15,6 @@ mod analysis;
 mod build;
 mod error;
 mod locate;
-mod motion;
 mod validate;
 
 use std::path::{Path, PathBuf};

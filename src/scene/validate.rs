@@ -6,11 +6,13 @@ use std::sync::Arc;
 
 use dda_2d::polygon::{self, PolygonError};
 use dda_3d::polyhedron::{self as polyhedra, Fault, Polyhedron, PolyhedronError};
-use dda_core::{settings, BlockKind, ConstitutiveLaw, DdaError, GroundMotion, Quantity, Record};
-use nalgebra::{Point2, Point3, SVector};
+use dda_core::{
+    loads, motion::Layout, settings, ConstitutiveLaw, DdaError, FixedPoint, Force, GroundMotion,
+    MeasuredPoint, PointLoad, Quantity, Record,
+};
+use nalgebra::{Point, Point2, Point3, SVector};
 
 use super::locate::{locate_exact, Seg};
-use super::motion::{read_record, Layout};
 use super::{
     BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Scene, SceneBlock,
     SceneBlock3, SceneError,
@@ -101,6 +103,13 @@ impl fmt::Display for Place {
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
 
+/// A scene's loads, fixed and measured points, checked, in `D` dimensions.
+pub(super) struct Points<const D: usize> {
+    pub loads: Vec<PointLoad<D>>,
+    pub fixed: Vec<FixedPoint<D>>,
+    pub measured: Vec<MeasuredPoint<D>>,
+}
+
 /// What the checks of joints, loads and the ground motion need to know of a
 /// block, in either dimension.
 #[derive(Debug, Clone, PartialEq)]
@@ -141,41 +150,11 @@ impl Shapes {
         }
     }
 
-    /// How far `p` lies outside block `i`, 0 inside or within a millionth
-    /// of the block's size of its boundary (a point written on a corner
-    /// keeps its round-off).
+    /// How far `p` lies outside block `i` (0 inside or on it).
     fn outside(&self, i: usize, p: &[f64]) -> f64 {
-        let (inside, distance, size) = match self {
-            Shapes::Polygons(outlines) => {
-                let outline = &outlines[i];
-                let q = Point2::new(p[0], p[1]);
-                let distance = (0..outline.len())
-                    .map(|i| {
-                        let next = &outline[(i + 1) % outline.len()];
-                        polygon::point_segment(&q, &outline[i], next).0
-                    })
-                    .fold(f64::INFINITY, f64::min);
-                let size = outline
-                    .iter()
-                    .flat_map(|a| outline.iter().map(move |b| (a - b).norm()))
-                    .fold(0.0, f64::max);
-                (polygon::contains(outline, &q), distance, size)
-            }
-            Shapes::Polyhedra(shapes) => {
-                let shape = &shapes[i];
-                let q = Point3::new(p[0], p[1], p[2]);
-                let (lo, hi) = shape.bounds();
-                (
-                    shape.contains(&q, 0.0),
-                    shape.distance(&q),
-                    (hi - lo).norm(),
-                )
-            }
-        };
-        if inside || distance <= 1e-6 * size {
-            0.0
-        } else {
-            distance
+        match self {
+            Shapes::Polygons(o) => polygon::distance_outside(&o[i], &Point2::new(p[0], p[1])),
+            Shapes::Polyhedra(s) => s[i].distance_outside(&Point3::new(p[0], p[1], p[2])),
         }
     }
 }
@@ -218,11 +197,13 @@ impl Scene {
         self.check_materials()?;
         let (blocks, shapes) = self.check_blocks()?;
         self.check_joints(&blocks)?;
-        self.check_loads(&blocks)?;
-        self.check_measured_points(&blocks, &shapes)?;
         if self.dimension == 3 {
+            self.points::<3>(&blocks)?;
+            self.check_measured_points(&shapes)?;
             self.ground_motion::<3>(&blocks)?;
         } else {
+            self.points::<2>(&blocks)?;
+            self.check_measured_points(&shapes)?;
             self.ground_motion::<2>(&blocks)?;
         }
         Ok(())
@@ -243,26 +224,27 @@ impl Scene {
         }
     }
 
-    /// Checks that `c` has one finite number per name (`names` like
-    /// `["fx", "fy"]`), saying what to write when the count is off.
-    fn coords(&self, at: &Place, what: &str, c: &Coords, names: &[impl AsRef<str>]) -> Result {
-        if c.len() != names.len() {
-            let d = self.dimension;
-            let other = if d == 3 {
-                ""
-            } else {
-                " (or add dimension: 3 at the top for a 3D scene)"
-            };
-            return Err(self.error(
-                at,
-                format!(
-                    "{what} has {} numbers, but this is a {d}D scene: write {}{other}",
-                    c.len(),
-                    tuple_of(names)
-                ),
-            ));
+    /// Checks that `c` has one number per name (`names` like `["fx",
+    /// "fy"]`), saying what to write when the count is off; the values are
+    /// checked by the type they go into.
+    fn count(&self, at: &Place, what: &str, c: &Coords, names: &[impl AsRef<str>]) -> Result {
+        if c.len() == names.len() {
+            return Ok(());
         }
-        self.finite_all(at, what, c.as_slice())
+        let d = self.dimension;
+        let other = if d == 3 {
+            ""
+        } else {
+            " (or add dimension: 3 at the top for a 3D scene)"
+        };
+        Err(self.error(
+            at,
+            format!(
+                "{what} has {} numbers, but this is a {d}D scene: write {}{other}",
+                c.len(),
+                tuple_of(names)
+            ),
+        ))
     }
 
     /// Names like "fx", "fy"(, "fz") for this scene's dimension.
@@ -270,8 +252,22 @@ impl Scene {
         self.axes().iter().map(|a| format!("{prefix}{a}")).collect()
     }
 
-    fn vector(&self, at: &Place, what: &str, c: &Coords, prefix: &str) -> Result {
-        self.coords(at, what, c, &self.names(prefix))
+    /// `c` as a vector once it has one number per axis (names like "fx"
+    /// with `prefix` "f").
+    fn vector<const D: usize>(
+        &self,
+        at: &Place,
+        what: &str,
+        c: &Coords,
+        prefix: &str,
+    ) -> Result<SVector<f64, D>> {
+        self.count(at, what, c, &self.names(prefix))?;
+        Ok(SVector::from_fn(|k, _| c.get(k)))
+    }
+
+    /// `c` as a point once it has one number per axis.
+    fn point<const D: usize>(&self, at: &Place, what: &str, c: &Coords) -> Result<Point<f64, D>> {
+        self.vector(at, what, c, "").map(Point::from)
     }
 
     pub(super) fn error(&self, place: &Place, message: impl Into<String>) -> SceneError {
@@ -287,6 +283,11 @@ impl Scene {
                 self.error(&base.field(field), message)
             }
             DdaError::Setting { message, .. } => self.error(base, message),
+            DdaError::Entry {
+                field,
+                index,
+                message,
+            } => self.error(&base.field(field).index(index), message),
             e => self.error(base, e.to_string()),
         })
     }
@@ -317,7 +318,8 @@ impl Scene {
             self.positive(&at("fixed_penalty"), "the fixed-point penalty", p, auto)?;
         }
         if let Some(g) = &a.gravity {
-            self.vector(&at("gravity"), "gravity", g, "g")?;
+            self.count(&at("gravity"), "gravity", g, &self.names("g"))?;
+            self.finite_all(&at("gravity"), "gravity", g.as_slice())?;
         }
         if self.dimension == 3 && self.written(&at("plane")) {
             return Err(self.error(
@@ -339,18 +341,9 @@ impl Scene {
         for (name, m) in &self.materials {
             let checked = dda_core::constitutive::check_density(m.density).and_then(|()| {
                 if self.dimension == 3 {
-                    dda_3d::IsotropicElastic {
-                        young: m.young,
-                        poisson: m.poisson,
-                    }
-                    .check()
+                    m.space_law().check()
                 } else {
-                    dda_2d::PlaneElastic {
-                        young: m.young,
-                        poisson: m.poisson,
-                        plane: self.analysis.plane,
-                    }
-                    .check()
+                    m.plane_law(self.analysis.plane).check()
                 }
             });
             self.core_field(&Place::root().field("materials").key(name), checked)?;
@@ -498,12 +491,8 @@ impl Scene {
                 return Err(self.error(&at, self.wrong_entry(spec)));
             }
             self.check_block_material(&at, spec)?;
-            self.finite_all(
-                &at.field("velocity"),
-                "the initial velocity",
-                spec.velocity(),
-            )?;
-            self.finite_all(&at.field("stress"), "the initial stress", spec.stress())?;
+            let kind = self.kind_of(spec);
+            self.core_field(&at, kind.check_state(spec.velocity(), spec.stress()))?;
             self.check_sets(&at, spec.joint_sets())?;
             let written = matches!(
                 spec,
@@ -587,13 +576,6 @@ impl Scene {
                 ))
             }
         }
-        // A rigid block never strains, so it cannot carry a stress either.
-        if self.kind_of(block) == BlockKind::Rigid && block.stress().iter().any(|s| *s != 0.0) {
-            return Err(self.error(
-                &at.field("stress"),
-                "a rigid block carries no stress; remove the initial stress or make the block Deformable",
-            ));
-        }
         Ok(())
     }
 
@@ -613,7 +595,7 @@ impl Scene {
         for (k, set) in sets.iter().enumerate() {
             let at = at.field("sets").index(k);
             if !set.origin.is_empty() {
-                self.coords(&at.field("origin"), "the origin", &set.origin, self.axes())?;
+                self.count(&at.field("origin"), "the origin", &set.origin, self.axes())?;
             }
             if let Some(law) = &set.law {
                 self.check_law(&at.field("law"), law)?;
@@ -659,7 +641,7 @@ impl Scene {
         written: bool,
     ) -> Result<Polyhedron> {
         let points: Vec<Point3<f64>> = block.vertices.iter().map(|v| Point3::from(*v)).collect();
-        let shape = polyhedra::validate(&points, &block.faces).map_err(|e| {
+        polyhedra::validate_outward(&points, &block.faces).map_err(|e| {
             let place = match (e.place(), &e) {
                 (_, PolyhedronError::NotFinite { vertex, .. }) if written => {
                     at.field("vertices").index(*vertex)
@@ -671,84 +653,84 @@ impl Scene {
                 (Fault::Block, _) => at.clone(),
             };
             self.error(&place, e.to_string())
-        })?;
-        // The checks accept a surface listed inside out; a scene does not,
-        // so a face order mistake is caught here rather than silently fixed.
-        if signed_volume(&points, &block.faces) < 0.0 {
-            return Err(self.error(
-                &at.field("faces"),
-                "the faces are listed clockwise seen from outside (the surface faces inward); reverse the order of every face's corners",
-            ));
-        }
-        Ok(shape)
+        })
     }
 
-    fn check_loads(&self, blocks: &[Slot]) -> Result {
-        let forces = self.names("f");
-        let sample = format!("(t, {})", forces.join(", "));
-        let forces = format!("({})", forces.join(", "));
+    /// The scene's loads, fixed and measured points in `D` dimensions: the
+    /// scene checks their blocks and their tuples' counts, the core their
+    /// values (`PointLoad::check`, `FixedPoint::check`,
+    /// `MeasuredPoint::check`).
+    pub(super) fn points<const D: usize>(&self, blocks: &[Slot]) -> Result<Points<D>> {
+        let root = Place::root();
+        let mut loads = Vec::new();
         for (k, load) in self.loads.iter().enumerate() {
-            let at = Place::root().field("loads").index(k);
-            match load {
-                Load::PointLoad {
-                    block,
-                    point,
-                    force,
-                    history,
-                } => {
-                    self.check_block_index(&at.field("block"), *block, blocks)?;
-                    self.vector(&at.field("point"), "the load point", point, "")?;
-                    match (force, history) {
-                        (Some(f), None) => self.vector(&at.field("force"), "the force", f, "f")?,
-                        (None, Some(h)) => self.check_history(&at.field("history"), h)?,
-                        _ => {
-                            return Err(self.error(
-                                &at,
-                                format!("give either force: {forces} or history: [{sample}, ...], not both or neither"),
-                            ))
-                        }
-                    }
+            let Load::PointLoad {
+                block,
+                point,
+                force,
+                history,
+            } = load;
+            let at = root.field("loads").index(k);
+            self.check_block_index(&at.field("block"), *block, blocks)?;
+            let point = self.point(&at.field("point"), "the load point", point)?;
+            let force = match (force, history) {
+                (Some(f), None) => {
+                    Force::Constant(self.vector(&at.field("force"), "the force", f, "f")?)
                 }
-            }
-        }
-        for (k, fp) in self.fixed_points.iter().enumerate() {
-            let at = Place::root().field("fixed_points").index(k);
-            self.check_block_index(&at.field("block"), fp.block, blocks)?;
-            self.vector(&at.field("point"), "the fixed point", &fp.point, "")?;
-            if !fp.velocity.is_empty() {
-                self.vector(&at.field("velocity"), "the velocity", &fp.velocity, "v")?;
-            }
-            if let Some(axis) = &fp.axis {
-                let at = at.field("axis");
-                self.vector(&at, "the axis", axis, "")?;
-                // Its numbers are finite: it has a direction if one is not zero.
-                if axis.as_slice().iter().all(|x| *x == 0.0) {
-                    let (example, all) = if self.dimension == 3 {
-                        ("(0.0, 1.0, 0.0)", "all three")
-                    } else {
-                        ("(1.0, 0.0)", "both")
-                    };
-                    let shown: Vec<String> = axis.as_slice().iter().map(f64::to_string).collect();
+                (None, Some(h)) => Force::History(self.history(&at.field("history"), h)?),
+                _ => {
+                    let f = self.names("f").join(", ");
                     return Err(self.error(
                         &at,
-                        format!(
-                            "the axis ({}) has no direction; give the direction to hold, like {example}, or leave axis out to hold {all}",
-                            shown.join(", ")
-                        ),
+                        format!("give either force: ({f}) or history: [(t, {f}), ...], not both or neither"),
                     ));
                 }
-            }
+            };
+            let load = PointLoad {
+                block: *block,
+                point,
+                force,
+            };
+            self.core_field(&at, load.check())?;
+            loads.push(load);
         }
-        Ok(())
+        let mut fixed = Vec::new();
+        for (k, fp) in self.fixed_points.iter().enumerate() {
+            let at = root.field("fixed_points").index(k);
+            self.check_block_index(&at.field("block"), fp.block, blocks)?;
+            let point = self.point(&at.field("point"), "the fixed point", &fp.point)?;
+            let mut held = FixedPoint::at(fp.block, point);
+            if !fp.velocity.is_empty() {
+                held.velocity =
+                    self.vector(&at.field("velocity"), "the velocity", &fp.velocity, "v")?;
+            }
+            if let Some(axis) = &fp.axis {
+                held.axis = Some(self.vector(&at.field("axis"), "the axis", axis, "")?);
+            }
+            self.core_field(&at, held.check())?;
+            // Checked: the axis has a direction.
+            held.axis = held.axis.and_then(|a| loads::direction(&a).ok());
+            fixed.push(held);
+        }
+        let mut measured = Vec::new();
+        for (k, m) in self.measured_points.iter().enumerate() {
+            let at = root.field("measured_points").index(k);
+            self.check_block_index(&at.field("block"), m.block, blocks)?;
+            let point = self.point(&at.field("point"), "the measured point", &m.point)?;
+            let point = MeasuredPoint::at(m.block, point);
+            self.core_field(&at, point.check())?;
+            measured.push(point);
+        }
+        Ok(Points {
+            loads,
+            fixed,
+            measured,
+        })
     }
 
-    /// Each measured point names a block and lies inside or on it.
-    fn check_measured_points(&self, blocks: &[Slot], shapes: &Shapes) -> Result {
+    /// Each measured point lies inside or on its block.
+    fn check_measured_points(&self, shapes: &Shapes) -> Result {
         for (k, m) in self.measured_points.iter().enumerate() {
-            let at = Place::root().field("measured_points").index(k);
-            self.check_block_index(&at.field("block"), m.block, blocks)?;
-            let at = at.field("point");
-            self.vector(&at, "the measured point", &m.point, "")?;
             let p = m.point.as_slice();
             let off = shapes.outside(m.block, p);
             if off == 0.0 {
@@ -760,7 +742,7 @@ impl Scene {
                 None => "it lies in no block:".to_string(),
             };
             return Err(self.error(
-                &at,
+                &Place::root().field("measured_points").index(k).field("point"),
                 format!(
                     "the measured point ({}) is {} m outside block {}; {hint} move the point inside or onto the block",
                     shown.join(", "),
@@ -843,10 +825,7 @@ impl Scene {
             }
         }
         let at = root.field("motion");
-        let amplitude = |a: &Coords| -> Result<SVector<f64, D>> {
-            self.vector(&at.field("amplitude"), "the amplitude", a, "a")?;
-            Ok(SVector::from_fn(|k, _| a.get(k)))
-        };
+        let amplitude = |a| self.vector(&at.field("amplitude"), "the amplitude", a, "a");
         let mut note = None;
         let motion = match motion {
             MotionSpec::Sine {
@@ -891,26 +870,14 @@ impl Scene {
                     ));
                 }
                 let file = self.resolve(path);
-                let samples = read_record(&file, &layout).map_err(|message| {
+                let record = Record::<D>::read(&file, &layout, *quantity, *scale).map_err(|m| {
                     let place = if file.is_file() {
                         at.clone()
                     } else {
                         at.field("path")
                     };
-                    self.error(&place, message)
+                    self.error(&place, m)
                 })?;
-                let samples: Vec<(f64, SVector<f64, D>)> = samples
-                    .iter()
-                    .map(|(_, t, v)| {
-                        let mut a = SVector::<f64, D>::zeros();
-                        for (value, &axis) in v.iter().zip(&layout.axes) {
-                            a[axis] = value * scale;
-                        }
-                        (*t, a)
-                    })
-                    .collect();
-                let record = Record::new(*quantity, &samples)
-                    .map_err(|e| self.error(&at, format!("{}: {e}", file.display())))?;
                 if *quantity == Quantity::Acceleration {
                     let (u, v) = (record.end_displacement(), record.end_velocity());
                     let drift = format!(
@@ -942,32 +909,23 @@ impl Scene {
         Ok(Some((driven.clone(), Arc::new(motion), note)))
     }
 
-    fn check_history(&self, at: &Place, samples: &[Coords]) -> Result {
+    /// A load's history samples once each has one time and one force
+    /// component per axis.
+    fn history<const D: usize>(
+        &self,
+        at: &Place,
+        samples: &[Coords],
+    ) -> Result<Vec<(f64, SVector<f64, D>)>> {
         let mut names = vec!["t".to_string()];
         names.extend(self.names("f"));
-        if samples.is_empty() {
-            return Err(self.error(
-                at,
-                format!(
-                    "the history is empty; give at least one {} sample",
-                    tuple_of(&names)
-                ),
-            ));
-        }
-        for (i, s) in samples.iter().enumerate() {
-            self.coords(&at.index(i), "the sample", s, &names)?;
-            if i > 0 && s.get(0) < samples[i - 1].get(0) {
-                return Err(self.error(
-                    &at.index(i),
-                    format!(
-                        "the sample's time {} comes before the previous one's ({}); list samples in time order",
-                        s.get(0),
-                        samples[i - 1].get(0)
-                    ),
-                ));
-            }
-        }
-        Ok(())
+        samples
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                self.count(&at.index(i), "the sample", s, &names)?;
+                Ok((s.get(0), SVector::from_fn(|k, _| s.get(k + 1))))
+            })
+            .collect()
     }
 }
 
@@ -978,35 +936,6 @@ pub(super) fn place_of(entry: usize, part: Option<&str>) -> Place {
         Some(part) => at.label(part),
         None => at,
     }
-}
-
-/// The unit vector along `axis` (any number of components), if it has a
-/// direction.
-pub(super) fn unit_axis<const D: usize>(axis: &[f64]) -> Option<SVector<f64, D>> {
-    if axis.len() != D {
-        return None;
-    }
-    let v = SVector::<f64, D>::from_column_slice(axis);
-    let scale = v.amax();
-    if !(scale > 0.0 && scale.is_finite()) {
-        return None;
-    }
-    // Scaled first so tiny or huge components neither underflow nor overflow.
-    let v = v / scale;
-    Some(v / v.norm())
-}
-
-/// Signed volume of a closed surface as listed (negative when its faces
-/// are listed clockwise seen from outside).
-fn signed_volume(points: &[Point3<f64>], faces: &[Vec<usize>]) -> f64 {
-    let mut six = 0.0;
-    for f in faces {
-        let p0 = points[f[0]].coords;
-        for w in f[1..].windows(2) {
-            six += p0.dot(&points[w[0]].coords.cross(&points[w[1]].coords));
-        }
-    }
-    six / 6.0
 }
 
 pub(super) fn to_points(v: &[[f64; 2]]) -> Vec<Point2<f64>> {

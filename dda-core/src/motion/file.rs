@@ -1,14 +1,18 @@
-//! Ground-motion records: reading `time, ax, ay` (2D) or `time, ax, ay, az`
-//! (3D) CSV files.
+//! Ground-motion record files: `time, ax, ay` (2D) or `time, ax, ay, az`
+//! (3D) CSV rows, or the columns a [`Layout`] names.
 
 use std::path::Path;
 
+use nalgebra::SVector;
+
+use super::{Quantity, Record};
+
 /// One line of a record, 1-based, and its sample (time, values as written).
-pub(crate) type Sample = (usize, f64, Vec<f64>);
+pub type Sample = (usize, f64, Vec<f64>);
 
 /// The value columns a record's rows have after the time.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Layout {
+pub struct Layout {
     /// The axis of each column (0 for x), in order.
     pub axes: Vec<usize>,
     /// One more column is accepted if it is zero throughout (az in a 2D
@@ -17,7 +21,7 @@ pub(crate) struct Layout {
 }
 
 impl Layout {
-    /// The columns `components` names, like "xz", or every axis of a scene
+    /// The columns `components` names, like "xz", or every axis of a space
     /// of `dimension` when it is `None`; the error says what to write.
     pub fn new(components: Option<&str>, dimension: u32) -> Result<Self, String> {
         let axes = if dimension == 3 { "xyz" } else { "xy" };
@@ -67,7 +71,7 @@ impl Layout {
 /// ends (`\r\n` as well as `\n`), rather than by hand; only the rules of a
 /// record (a header row, space-separated rows, the layout) are this
 /// function's own.
-pub(crate) fn read_record(path: &Path, layout: &Layout) -> Result<Vec<Sample>, String> {
+pub fn read_samples(path: &Path, layout: &Layout) -> Result<Vec<Sample>, String> {
     let row = layout.row();
     let width = 1 + layout.axes.len();
     let file = path.display();
@@ -165,6 +169,30 @@ pub(crate) fn read_record(path: &Path, layout: &Layout) -> Result<Vec<Sample>, S
     Ok(samples)
 }
 
+impl<const D: usize> Record<D> {
+    /// Reads a record file of rows `layout` gives (see [`read_samples`]),
+    /// its values times `scale` (9.81 for a record in g); the error names
+    /// the file and, for a bad row, its line.
+    pub fn read(
+        path: &Path,
+        layout: &Layout,
+        quantity: Quantity,
+        scale: f64,
+    ) -> Result<Self, String> {
+        let samples: Vec<(f64, SVector<f64, D>)> = read_samples(path, layout)?
+            .iter()
+            .map(|(_, t, v)| {
+                let mut a = SVector::<f64, D>::zeros();
+                for (value, &axis) in v.iter().zip(&layout.axes) {
+                    a[axis] = value * scale;
+                }
+                (*t, a)
+            })
+            .collect();
+        Record::new(quantity, &samples).map_err(|e| format!("{}: {e}", path.display()))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -177,7 +205,7 @@ mod tests {
         let path =
             std::env::temp_dir().join(format!("dda-record-{}-{name}.csv", std::process::id()));
         std::fs::write(&path, text).unwrap();
-        let result = read_record(&path, layout);
+        let result = read_samples(&path, layout);
         let _ = std::fs::remove_file(&path);
         result
     }
@@ -224,8 +252,8 @@ mod tests {
     }
 
     /// Bad rows, 3D records and partial layouts are read through scenes in
-    /// `tests/bad_input.rs` and `tests/bad_input_3d.rs`; rows too long for
-    /// a 3D layout are not, so they are here.
+    /// the root package's `tests/bad_input.rs` and `tests/bad_input_3d.rs`;
+    /// rows too long for a 3D layout are not, so they are here.
     #[test]
     fn three_and_partial_layouts() {
         let e = read_as(
@@ -242,6 +270,25 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.contains("a row is `time, ax, az`"), "{e}");
+    }
+
+    /// A record reads its columns into the axes it names, scaled.
+    #[test]
+    fn a_record_is_read_scaled_into_its_axes() {
+        let path = std::env::temp_dir().join(format!("dda-record-{}-xz.csv", std::process::id()));
+        std::fs::write(&path, "t, ax, az\n0.0, 1.0, 2.0\n1.0, 1.0, 2.0\n").unwrap();
+        let layout = Layout::new(Some("xz"), 3).unwrap();
+        let record = Record::<3>::read(&path, &layout, Quantity::Velocity, 9.81);
+        let _ = std::fs::remove_file(&path);
+        let v = record.unwrap().end_velocity();
+        assert_eq!(v, SVector::<f64, 3>::new(9.81, 0.0, 2.0 * 9.81));
+        let missing = Record::<2>::read(
+            &path,
+            &Layout::new(None, 2).unwrap(),
+            Quantity::Velocity,
+            1.0,
+        );
+        assert!(missing.unwrap_err().contains("cannot read the record file"));
     }
 
     /// A record saved with a byte-order mark keeps its first row.
