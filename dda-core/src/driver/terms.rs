@@ -129,8 +129,11 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
 
     pub fn kinematics(&self, i: usize, e: usize, trial: &Trial<T>, dt: f64) -> LocalKinematics {
         self.kinematics_on(i, e, &self.contacts[i].entrances[e], trial, dt)
+            .0
     }
 
+    /// Contact `i`'s kinematics on `entrance` (its `e`-th), and the shear
+    /// spring's trial stretch.
     fn kinematics_on(
         &self,
         i: usize,
@@ -138,15 +141,16 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
         entrance: &Entrance<N, T>,
         trial: &Trial<T>,
         dt: f64,
-    ) -> LocalKinematics {
+    ) -> (LocalKinematics, SVector<f64, T>) {
         let c = &self.contacts[i];
         let da = block(&trial.d, c.blocks[0]);
         let db = block(&trial.d, c.blocks[1]);
         let ds = entrance.shear_at(&da, &db);
-        LocalKinematics {
+        let stretch = self.carried_shear(c, e) + ds;
+        let kin = LocalKinematics {
             gap: entrance.gap_at(&da, &db),
             gap_start: entrance.gap,
-            shear: (self.carried_shear(c, e) + ds).norm(),
+            shear: stretch.norm(),
             slip: ds.dot(&trial.directions[i]),
             slip_path: c.record.slip_path,
             slip_rate: c.record.slip_rate,
@@ -155,7 +159,8 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
             penalty: self.penalty,
             tolerance: self.tolerance,
             dt,
-        }
+        };
+        (kin, stretch)
     }
 
     /// Contact `i`'s load at the trial (`None` where it is open). The
@@ -179,7 +184,7 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
             Some(entrance) => entrance,
             None => &c.entrances[e],
         };
-        let kin = self.kinematics_on(i, e, entrance, trial, dt);
+        let (kin, stretch) = self.kinematics_on(i, e, entrance, trial, dt);
         let history = c.record.history.as_ref().expect("history set at search");
         let law = &self.laws[c.law];
         let mut response = law.response(state, &kin, history);
@@ -202,9 +207,7 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
         // Shear: a spring when locked; when sliding, the friction force
         // along the trial stretch (the radial return of an elastoplastic
         // spring), whose tangent turns the force with the stretch in 3D.
-        let stretch =
-            self.carried_shear(c, e) + entrance.shear_at(&block(&trial.d, a), &block(&trial.d, b));
-        let length = stretch.norm();
+        let length = kin.shear;
         // A sliding contact's force is the return map's, min(k_s·|s|,
         // strength) along the stretch s: within the elastic limit (an
         // iterate that reverses the slip) it is the spring's, so the force
@@ -229,7 +232,11 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
             }
         }
         let direction = stretch.try_normalize(1e-300).unwrap_or(trial.directions[i]);
-        let step_shear = entrance.shear_at(&block(moving, a), &block(moving, b));
+        let step_shear = if damped {
+            entrance.shear_at(&block(moving, a), &block(moving, b))
+        } else {
+            SVector::zeros()
+        };
         let mut shear_stiffness = SVector::<f64, T>::zeros();
         for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
             let mut stiffness = response.shear_stiffness;
