@@ -1,14 +1,9 @@
 //! A Shi polygon block: its geometry, integrals, stress and accumulated motion.
 
-use dda_core::{BlockKind, Element};
-use nalgebra::{Matrix2, Matrix2x6, Point2, Rotation2, Vector3, Vector6};
+use dda_core::BlockKind;
+use nalgebra::{Matrix2, Point2, Rotation2, Vector3, Vector6};
 
-use crate::broad_phase::near_pairs;
-use crate::contact::{pair_contacts, Contact2};
-
-use crate::kinematics::{
-    mass_matrix, move_point, strain_tensor, t_matrix, Matrix6, RotationUpdate,
-};
+use crate::kinematics::{mass_matrix, move_point, strain_tensor, Matrix6, RotationUpdate};
 use crate::polygon::{self, central_moments, CentralMoments, PolygonError};
 
 /// One polygonal block (convex or concave, counter-clockwise vertices).
@@ -123,99 +118,29 @@ impl Block {
         }
         (lo, hi)
     }
-}
 
-/// Shi's 6-DOF polygon: the 2D element of the shared block set.
-impl Element<2, 6, 1, 3> for Block {
-    fn vertices(&self) -> &[Point2<f64>] {
-        &self.vertices
-    }
-
-    fn centroid(&self) -> Point2<f64> {
-        self.moments.centroid
-    }
-
-    fn measure(&self) -> f64 {
-        self.moments.area
-    }
-
-    fn size(&self) -> f64 {
-        self.moments.area.abs().sqrt()
-    }
-
-    fn bounds(&self) -> (Point2<f64>, Point2<f64>) {
-        Block::bounds(self)
-    }
-
-    fn mass(&self) -> f64 {
-        self.mass
-    }
-
-    fn material(&self) -> usize {
-        self.material
-    }
-
-    fn kind(&self) -> BlockKind {
-        self.kind
-    }
-
-    fn stress(&self) -> &Vector3<f64> {
-        &self.stress
-    }
-
-    fn strain(&self) -> &Vector3<f64> {
-        &self.strain
-    }
-
-    fn mass_matrix(&self) -> Matrix6 {
-        Block::mass_matrix(self)
-    }
-
-    fn t_matrix(&self, p: &Point2<f64>) -> Matrix2x6<f64> {
-        t_matrix(p, &self.moments.centroid)
-    }
-
-    fn move_point(&self, p: &Point2<f64>, d: &Vector6<f64>, update: RotationUpdate) -> Point2<f64> {
-        Block::move_point(self, p, d, update)
-    }
-
-    fn commit(&mut self, d: &Vector6<f64>, stress: Vector3<f64>, update: RotationUpdate) {
-        Block::commit(self, d, stress, update)
-    }
-
-    fn rotation_state(&self) -> Vec<f64> {
-        vec![self.rotation]
-    }
-
-    fn restore(
+    /// Puts the block back at a checkpointed state (its integrals derived
+    /// as `commit` derives them, so a restored run goes on bit for bit).
+    pub(crate) fn restore(
         &mut self,
         vertices: Vec<Point2<f64>>,
         stress: Vector3<f64>,
         strain: Vector3<f64>,
-        rotation: &[f64],
+        rotation: f64,
     ) {
-        // As commit derives them, so a restored run goes on bit for bit.
         self.moments = central_moments(&vertices);
         self.angles = polygon::interior_angles(&vertices);
         self.vertices = vertices;
         self.stress = stress;
         self.strain = strain;
-        self.rotation = rotation[0];
-    }
-
-    fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)> {
-        let outlines: Vec<&[Point2<f64>]> = blocks.iter().map(|b| b.vertices()).collect();
-        near_pairs(&outlines, range)
-    }
-
-    fn pair_contacts(blocks: &[Self], i: usize, j: usize, range: f64, law: usize) -> Vec<Contact2> {
-        pair_contacts(blocks, i, j, range, law)
+        self.rotation = rotation;
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use dda_core::Element;
     use nalgebra::Vector2;
 
     #[test]

@@ -2,7 +2,13 @@
 //! fixed points and contact search (the shared shell of `dda-core` over
 //! [`Block`]).
 
+use dda_core::{BlockKind, Element};
+use nalgebra::{Matrix2x6, Point2, Vector3, Vector6};
+
 use crate::block::Block;
+use crate::broad_phase::near_pairs;
+use crate::contact::{pair_contacts, Contact2};
+use crate::kinematics::{t_matrix, Matrix6, RotationUpdate};
 
 /// A force at a material point, constant or a time history.
 pub type Force = dda_core::Force<2>;
@@ -14,6 +20,88 @@ pub type FixedPoint = dda_core::FixedPoint<2>;
 /// Polygonal blocks in the plane (per unit thickness): 2 dimensions, 6 DOF,
 /// one tangent per contact, 3 stress components.
 pub type Polygons = dda_core::BlockSet<Block, 2, 6, 1, 3>;
+
+/// Shi's 6-DOF polygon: the 2D element of the shared block set.
+impl Element<2, 6, 1, 3> for Block {
+    fn vertices(&self) -> &[Point2<f64>] {
+        Block::vertices(self)
+    }
+
+    fn centroid(&self) -> Point2<f64> {
+        Block::centroid(self)
+    }
+
+    fn measure(&self) -> f64 {
+        Block::area(self)
+    }
+
+    fn size(&self) -> f64 {
+        Block::area(self).abs().sqrt()
+    }
+
+    fn bounds(&self) -> (Point2<f64>, Point2<f64>) {
+        Block::bounds(self)
+    }
+
+    fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    fn material(&self) -> usize {
+        self.material
+    }
+
+    fn kind(&self) -> BlockKind {
+        self.kind
+    }
+
+    fn stress(&self) -> &Vector3<f64> {
+        &self.stress
+    }
+
+    fn strain(&self) -> &Vector3<f64> {
+        &self.strain
+    }
+
+    fn mass_matrix(&self) -> Matrix6 {
+        Block::mass_matrix(self)
+    }
+
+    fn t_matrix(&self, p: &Point2<f64>) -> Matrix2x6<f64> {
+        t_matrix(p, &Block::centroid(self))
+    }
+
+    fn move_point(&self, p: &Point2<f64>, d: &Vector6<f64>, update: RotationUpdate) -> Point2<f64> {
+        Block::move_point(self, p, d, update)
+    }
+
+    fn commit(&mut self, d: &Vector6<f64>, stress: Vector3<f64>, update: RotationUpdate) {
+        Block::commit(self, d, stress, update)
+    }
+
+    fn rotation_state(&self) -> Vec<f64> {
+        vec![self.rotation]
+    }
+
+    fn restore(
+        &mut self,
+        vertices: Vec<Point2<f64>>,
+        stress: Vector3<f64>,
+        strain: Vector3<f64>,
+        rotation: &[f64],
+    ) {
+        Block::restore(self, vertices, stress, strain, rotation[0])
+    }
+
+    fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)> {
+        let outlines: Vec<&[Point2<f64>]> = blocks.iter().map(|b| b.vertices()).collect();
+        near_pairs(&outlines, range)
+    }
+
+    fn pair_contacts(blocks: &[Self], i: usize, j: usize, range: f64, law: usize) -> Vec<Contact2> {
+        pair_contacts(blocks, i, j, range, law)
+    }
+}
 
 #[cfg(test)]
 mod tests {

@@ -1,9 +1,7 @@
 //! A polyhedral block: its geometry, integrals, stress and accumulated motion.
 
-use dda_core::{BlockKind, Element};
+use dda_core::BlockKind;
 
-use crate::broad_phase::near_pairs;
-use crate::contact::{pair_contacts, Contact3};
 use nalgebra::{Point3, Rotation3, Vector3, Vector6};
 
 use crate::kinematics::{
@@ -123,90 +121,19 @@ impl Block {
     pub fn bounds(&self) -> (Point3<f64>, Point3<f64>) {
         self.shape.bounds()
     }
-}
 
-/// Shi's 12-DOF polyhedron: the 3D element of the shared block set.
-impl Element<3, 12, 2, 6> for Block {
-    fn vertices(&self) -> &[Point3<f64>] {
-        self.shape.vertices()
-    }
-
-    fn centroid(&self) -> Point3<f64> {
-        self.shape.centroid()
-    }
-
-    fn measure(&self) -> f64 {
-        self.shape.volume()
-    }
-
-    fn size(&self) -> f64 {
-        self.shape.volume().abs().cbrt()
-    }
-
-    fn bounds(&self) -> (Point3<f64>, Point3<f64>) {
-        self.shape.bounds()
-    }
-
-    fn mass(&self) -> f64 {
-        self.mass
-    }
-
-    fn material(&self) -> usize {
-        self.material
-    }
-
-    fn kind(&self) -> BlockKind {
-        self.kind
-    }
-
-    fn stress(&self) -> &Vector6<f64> {
-        &self.stress
-    }
-
-    fn strain(&self) -> &Vector6<f64> {
-        &self.strain
-    }
-
-    fn mass_matrix(&self) -> Matrix12 {
-        Block::mass_matrix(self)
-    }
-
-    fn t_matrix(&self, p: &Point3<f64>) -> TMatrix {
-        Block::t_matrix(self, p)
-    }
-
-    fn move_point(&self, p: &Point3<f64>, d: &Vector12, update: RotationUpdate) -> Point3<f64> {
-        Block::move_point(self, p, d, update)
-    }
-
-    fn commit(&mut self, d: &Vector12, stress: Vector6<f64>, update: RotationUpdate) {
-        Block::commit(self, d, stress, update)
-    }
-
-    fn rotation_state(&self) -> Vec<f64> {
-        self.rotation.iter().copied().collect()
-    }
-
-    fn restore(
+    /// Puts the block back at a checkpointed state.
+    pub(crate) fn restore(
         &mut self,
         vertices: Vec<Point3<f64>>,
         stress: Vector6<f64>,
         strain: Vector6<f64>,
-        rotation: &[f64],
+        rotation: Vector3<f64>,
     ) {
         self.shape = self.shape.with_vertices(vertices);
         self.stress = stress;
         self.strain = strain;
-        self.rotation = Vector3::from_column_slice(rotation);
-    }
-
-    fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)> {
-        let points: Vec<&[Point3<f64>]> = blocks.iter().map(|b| b.vertices()).collect();
-        near_pairs(&points, range)
-    }
-
-    fn pair_contacts(blocks: &[Self], i: usize, j: usize, range: f64, law: usize) -> Vec<Contact3> {
-        pair_contacts(blocks, i, j, range, law)
+        self.rotation = rotation;
     }
 }
 
@@ -214,6 +141,7 @@ impl Element<3, 12, 2, 6> for Block {
 mod tests {
     use super::*;
     use crate::polyhedron::cuboid;
+    use dda_core::Element;
 
     fn brick() -> Block {
         let (v, f) = cuboid(

@@ -2,7 +2,13 @@
 //! fixed points and contact search (the shared shell of `dda-core` over
 //! [`Block`]).
 
+use dda_core::{BlockKind, Element};
+use nalgebra::{Point3, Vector3, Vector6};
+
 use crate::block::Block;
+use crate::broad_phase::near_pairs;
+use crate::contact::{pair_contacts, Contact3};
+use crate::kinematics::{Matrix12, RotationUpdate, TMatrix, Vector12};
 
 /// A force at a material point, constant or a time history.
 pub type Force = dda_core::Force<3>;
@@ -14,6 +20,94 @@ pub type FixedPoint = dda_core::FixedPoint<3>;
 /// Polyhedral blocks in space: 3 dimensions, 12 DOF, two tangents per
 /// contact, 6 stress components.
 pub type Polyhedra = dda_core::BlockSet<Block, 3, 12, 2, 6>;
+
+/// Shi's 12-DOF polyhedron: the 3D element of the shared block set.
+impl Element<3, 12, 2, 6> for Block {
+    fn vertices(&self) -> &[Point3<f64>] {
+        Block::vertices(self)
+    }
+
+    fn centroid(&self) -> Point3<f64> {
+        Block::centroid(self)
+    }
+
+    fn measure(&self) -> f64 {
+        Block::volume(self)
+    }
+
+    fn size(&self) -> f64 {
+        Block::volume(self).abs().cbrt()
+    }
+
+    fn bounds(&self) -> (Point3<f64>, Point3<f64>) {
+        Block::bounds(self)
+    }
+
+    fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    fn material(&self) -> usize {
+        self.material
+    }
+
+    fn kind(&self) -> BlockKind {
+        self.kind
+    }
+
+    fn stress(&self) -> &Vector6<f64> {
+        &self.stress
+    }
+
+    fn strain(&self) -> &Vector6<f64> {
+        &self.strain
+    }
+
+    fn mass_matrix(&self) -> Matrix12 {
+        Block::mass_matrix(self)
+    }
+
+    fn t_matrix(&self, p: &Point3<f64>) -> TMatrix {
+        Block::t_matrix(self, p)
+    }
+
+    fn move_point(&self, p: &Point3<f64>, d: &Vector12, update: RotationUpdate) -> Point3<f64> {
+        Block::move_point(self, p, d, update)
+    }
+
+    fn commit(&mut self, d: &Vector12, stress: Vector6<f64>, update: RotationUpdate) {
+        Block::commit(self, d, stress, update)
+    }
+
+    fn rotation_state(&self) -> Vec<f64> {
+        self.rotation.iter().copied().collect()
+    }
+
+    fn restore(
+        &mut self,
+        vertices: Vec<Point3<f64>>,
+        stress: Vector6<f64>,
+        strain: Vector6<f64>,
+        rotation: &[f64],
+    ) {
+        Block::restore(
+            self,
+            vertices,
+            stress,
+            strain,
+            Vector3::from_column_slice(rotation),
+        )
+    }
+
+    fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)> {
+        let points: Vec<&[Point3<f64>]> = blocks.iter().map(|b| b.vertices()).collect();
+        near_pairs(&points, range)
+    }
+
+    fn pair_contacts(blocks: &[Self], i: usize, j: usize, range: f64, law: usize) -> Vec<Contact3> {
+        pair_contacts(blocks, i, j, range, law)
+    }
+}
 
 #[cfg(test)]
 mod tests {
