@@ -110,6 +110,9 @@ struct Trial<const T: usize> {
     /// strength: they stay sliding for the passes (whose return map gives
     /// them the locked spring's force and tangent) and commit locked.
     within: Vec<bool>,
+    /// The residual at the step's start (its first pass's first), N: the
+    /// scale every pass's residual is measured against.
+    load_scale: f64,
 }
 
 /// What [`Driver::load`] assembles.
@@ -649,6 +652,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             unsettled: Vec::new(),
             pulled: vec![false; self.contacts.len()],
             within: vec![false; self.contacts.len()],
+            load_scale: 0.0,
         };
         let tolerance = self.settings.contact_tolerance * self.length_scale;
         trial.entrances = self
@@ -864,7 +868,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             let norm = residual.iter().map(|r| r * r).sum::<f64>().sqrt();
             if iteration == 0 {
-                first = norm;
+                // A later pass starts from the last one's solution, so its
+                // residual is only what the changed states add: measured
+                // against that alone, it would be solved to many more
+                // digits than the step's first pass was.
+                trial.load_scale = trial.load_scale.max(norm);
+                first = trial.load_scale;
             }
             if norm < best.0 {
                 best = (norm, trial.d.clone());

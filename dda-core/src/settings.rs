@@ -51,7 +51,8 @@ pub struct Settings {
     /// Newton-Raphson iterations per open-close pass, at most; default 25.
     pub newton_limit: usize,
     /// Newton-Raphson stops when the residual falls below this fraction of
-    /// its first value (default 1e-10) ...
+    /// the step's first one, at its start (a later open-close pass's own
+    /// first where that is larger), default 1e-10 ...
     pub residual_tolerance: f64,
     /// ... or the increment below this fraction of w0 (default 1e-14).
     pub increment_tolerance: f64,

@@ -195,6 +195,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             unsettled: Vec::new(),
             pulled: vec![false; self.contacts.len()],
             within: vec![false; self.contacts.len()],
+            load_scale: 0.0,
         }
     }
 
