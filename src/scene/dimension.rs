@@ -68,7 +68,7 @@ impl SceneElement<2, 3> for dda_2d::Block {
         block: &SceneBlock,
         written: bool,
     ) -> Result<Self::Shape, SceneError> {
-        let points = to_points(&block.vertices);
+        let points: Vec<Point2<f64>> = block.vertices.iter().map(|&v| v.into()).collect();
         polygon::validate(&points).map_err(|e| {
             let place = match e {
                 PolygonError::NotFinite { index, .. } if written => {
@@ -133,7 +133,7 @@ impl SceneElement<3, 6> for dda_3d::Block {
         block: &SceneBlock<[f64; 3], 6>,
         written: bool,
     ) -> Result<Polyhedron, SceneError> {
-        let points: Vec<Point3<f64>> = block.vertices.iter().map(|v| Point3::from(*v)).collect();
+        let points: Vec<Point3<f64>> = block.vertices.iter().map(|&v| v.into()).collect();
         polyhedra::validate_outward(&points, &block.faces).map_err(|e| {
             let place = match (e.place(), &e) {
                 (_, PolyhedronError::NotFinite { vertex, .. }) if written => {
@@ -176,8 +176,4 @@ impl SceneElement<3, 6> for dda_3d::Block {
         block.kind = kind;
         Ok(block)
     }
-}
-
-pub(super) fn to_points(v: &[[f64; 2]]) -> Vec<Point2<f64>> {
-    v.iter().map(|p| Point2::new(p[0], p[1])).collect()
 }

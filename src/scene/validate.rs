@@ -193,10 +193,6 @@ impl Scene {
         self.core_field(place, settings::finite("", what, v))
     }
 
-    fn finite_all(&self, place: &Place, what: &str, values: &[f64]) -> Result {
-        values.iter().try_for_each(|v| self.finite(place, what, *v))
-    }
-
     fn positive(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
         self.core_field(place, settings::positive("", what, v, hint))
     }
@@ -216,7 +212,8 @@ impl Scene {
         }
         if let Some(g) = &a.gravity {
             self.count(&at("gravity"), "gravity", g, &self.names("g"))?;
-            self.finite_all(&at("gravity"), "gravity", g.as_slice())?;
+            let finite = |v: &f64| self.finite(&at("gravity"), "gravity", *v);
+            g.as_slice().iter().try_for_each(finite)?;
         }
         if self.dimension == 3 && self.written(&at("plane")) {
             return Err(self.error(
