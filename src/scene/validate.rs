@@ -55,12 +55,6 @@ fn short(x: f64) -> String {
     }
 }
 
-/// "(x, y)" or "(x, y, z)".
-fn tuple_of(names: &[impl AsRef<str>]) -> String {
-    let names: Vec<&str> = names.iter().map(AsRef::as_ref).collect();
-    format!("({})", names.join(", "))
-}
-
 impl Scene {
     /// Checks the whole scene; the first problem found is returned.
     pub fn validate(&self) -> Result {
@@ -112,19 +106,10 @@ impl Scene {
         locate_exact(&self.source.text, place.segs()).is_some()
     }
 
-    /// The names of a point's coordinates in this scene's dimension.
-    fn axes(&self) -> &'static [&'static str] {
-        if self.dimension == 3 {
-            &["x", "y", "z"]
-        } else {
-            &["x", "y"]
-        }
-    }
-
     /// Checks that `c` has one number per name (`names` like `["fx",
     /// "fy"]`), saying what to write when the count is off; the values are
     /// checked by the type they go into.
-    fn count(&self, at: &Place, what: &str, c: &Coords, names: &[impl AsRef<str>]) -> Result {
+    fn count(&self, at: &Place, what: &str, c: &Coords, names: &[String]) -> Result {
         if c.len() == names.len() {
             return Ok(());
         }
@@ -137,16 +122,17 @@ impl Scene {
         Err(self.error(
             at,
             format!(
-                "{what} has {} numbers, but this is a {d}D scene: write {}{other}",
+                "{what} has {} numbers, but this is a {d}D scene: write ({}){other}",
                 c.len(),
-                tuple_of(names)
+                names.join(", ")
             ),
         ))
     }
 
     /// Names like "fx", "fy"(, "fz") for this scene's dimension.
     fn names(&self, prefix: &str) -> Vec<String> {
-        self.axes().iter().map(|a| format!("{prefix}{a}")).collect()
+        let axes = ["x", "y", "z"].into_iter().take(self.dimension as usize);
+        axes.map(|a| format!("{prefix}{a}")).collect()
     }
 
     /// `c` as a vector once it has one number per axis (names like "fx"
@@ -447,7 +433,12 @@ impl Scene {
         for (k, set) in sets.iter().enumerate() {
             let at = at.field("sets").index(k);
             if !set.origin.is_empty() {
-                self.count(&at.field("origin"), "the origin", &set.origin, self.axes())?;
+                self.count(
+                    &at.field("origin"),
+                    "the origin",
+                    &set.origin,
+                    &self.names(""),
+                )?;
             }
             if let Some(law) = &set.law {
                 self.check_law(&at.field("law"), law)?;
