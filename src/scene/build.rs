@@ -2,17 +2,16 @@
 
 use std::collections::HashMap;
 
-use dda_2d::{Block, Driver2d, Plane, PlaneElastic};
-use dda_3d::{Driver3d, IsotropicElastic};
+use dda_2d::{Block, Driver2d};
+use dda_3d::Driver3d;
 use dda_contact::LawRegistry;
-use dda_core::{
-    BlockKind, BlockSet, BlockSystem, ConstitutiveLaw, Driver, DynContactLaw, Element, FixedPoint,
-    Settings,
-};
-use nalgebra::{Point3, SVector, Vector3, Vector6};
+use dda_core::{BlockSet, BlockSystem, Driver, DynContactLaw, Element, Settings};
+use nalgebra::SVector;
 
-use super::validate::{place_of, to_points, Place, Slot};
-use super::{JointLaw, Material, Scene, SceneBlock, SceneError};
+use super::dimension::SceneElement;
+use super::locate::Place;
+use super::validate::place_of;
+use super::{JointLaw, Scene, SceneError};
 
 /// A scene ready to run: a 2D one by default ([`Driver2d`]), a 3D one as
 /// [`Model3`].
@@ -111,25 +110,6 @@ pub struct LawTable {
     pub pairs: HashMap<(usize, usize), usize>,
 }
 
-impl Material {
-    /// The elastic law of this material's blocks in a 2D scene.
-    pub(super) fn plane_law(&self, plane: Plane) -> PlaneElastic {
-        PlaneElastic {
-            young: self.young,
-            poisson: self.poisson,
-            plane,
-        }
-    }
-
-    /// The elastic law of this material's blocks in a 3D scene.
-    pub(super) fn space_law(&self) -> IsotropicElastic {
-        IsotropicElastic {
-            young: self.young,
-            poisson: self.poisson,
-        }
-    }
-}
-
 impl Scene {
     /// Validates a 2D scene and builds the blocks, laws and driver, with the
     /// built-in contact laws for `Custom` joints. A 3D scene is an error
@@ -157,127 +137,59 @@ impl Scene {
         self.build_3d_with(&LawRegistry::with_builtin())
     }
 
-    /// The error of building a scene as the other dimension.
-    fn wrong_dimension(&self, wanted: u32) -> SceneError {
-        let (builder, other) = if wanted == 2 {
-            ("Scene::build", "Scene::build_3d")
-        } else {
-            ("Scene::build_3d", "Scene::build")
-        };
-        self.error(
-            &Place::root().field("dimension"),
-            format!(
-                "this is a {}D scene, and {builder} builds {wanted}D ones; use {other} or Scene::build_any",
-                self.dimension
-            ),
-        )
-    }
-
     /// [`Scene::build`] with `Custom` joint laws built through `registry`, so
     /// scenes can name laws written elsewhere.
     pub fn build_with(&self, registry: &LawRegistry) -> Result<Model, SceneError> {
-        self.validate()?;
-        if self.dimension != 2 {
-            return Err(self.wrong_dimension(2));
-        }
-        let plane = self.analysis.plane;
-        self.build_blocks(
-            registry,
-            self.expanded_blocks(),
-            |m| -> Box<dyn ConstitutiveLaw<3>> { Box::new(m.plane_law(plane)) },
-            |spec, material, density, kind| {
-                let mut block = Block::new(&to_points(&spec.vertices), material, density)
-                    .map_err(|e| e.to_string())?;
-                block.stress = Vector3::from(spec.stress);
-                block.kind = kind;
-                Ok(block)
-            },
-        )
+        self.build_as::<Block, 2, 6, 1, 3>(registry)
     }
 
     /// Validates a 3D scene and builds it with `Custom` joint laws built
     /// through `registry`.
     pub fn build_3d_with(&self, registry: &LawRegistry) -> Result<Model3, SceneError> {
-        self.validate()?;
-        if self.dimension != 3 {
-            return Err(self.wrong_dimension(3));
-        }
-        self.build_blocks(
-            registry,
-            self.expanded_blocks_3d(),
-            |m| -> Box<dyn ConstitutiveLaw<6>> { Box::new(m.space_law()) },
-            |spec, material, density, kind| {
-                let points: Vec<Point3<f64>> = spec.vertices.iter().map(|&v| v.into()).collect();
-                let mut block = dda_3d::Block::new(&points, &spec.faces, material, density)
-                    .map_err(|e| e.to_string())?;
-                block.stress = Vector6::from(spec.stress);
-                block.kind = kind;
-                Ok(block)
-            },
-        )
+        self.build_as::<dda_3d::Block, 3, 12, 2, 6>(registry)
     }
 
-    /// The block set and driver of either dimension from the expanded
-    /// blocks: `elastic` makes a material's law, `block` a block from its
-    /// corners (and faces), material, density and kind.
-    fn build_blocks<
-        P,
-        B,
-        const D: usize,
-        const N: usize,
-        const T: usize,
-        const S: usize,
-        const K: usize,
-    >(
+    /// Validates the scene as one of `D` dimensions and builds its blocks
+    /// of type `B`, laws and driver; a scene of the other dimension is
+    /// refused once it is valid.
+    #[allow(clippy::type_complexity)]
+    fn build_as<B, const D: usize, const N: usize, const T: usize, const S: usize>(
         &self,
         registry: &LawRegistry,
-        specs: Vec<SceneBlock<P, K>>,
-        elastic: impl Fn(&Material) -> Box<dyn ConstitutiveLaw<S>>,
-        block: impl Fn(&SceneBlock<P, K>, usize, f64, BlockKind) -> Result<B, String>,
     ) -> Result<Model<Driver<BlockSet<B, D, N, T, S>, N, T>>, SceneError>
     where
-        B: Element<D, N, T, S>,
+        B: SceneElement<D, S> + Element<D, N, T, S>,
     {
-        let materials = self.materials.iter().map(|(_, m)| elastic(m)).collect();
-        let mut blocks = Vec::with_capacity(specs.len());
-        for spec in &specs {
+        if self.dimension != D as u32 {
+            self.validate()?;
+            let (builder, other) = if D == 2 {
+                ("Scene::build", "Scene::build_3d")
+            } else {
+                ("Scene::build_3d", "Scene::build")
+            };
+            return Err(self.error(
+                &Place::root().field("dimension"),
+                format!(
+                    "this is a {}D scene, and {builder} builds {D}D ones; use {other} or Scene::build_any",
+                    self.dimension
+                ),
+            ));
+        }
+        let checked = self.checked::<B, D, S>()?;
+        let plane = self.analysis.plane;
+        let materials = self.materials.iter().map(|(_, m)| B::elastic(m, plane));
+        let mut blocks = Vec::with_capacity(checked.blocks.len());
+        for (spec, shape) in checked.blocks.iter().zip(checked.shapes) {
             let at = place_of(spec.entry, spec.part.as_deref());
             let entry = &self.blocks[spec.entry];
             let material = self
                 .material_index(entry)
                 .ok_or_else(|| self.error(&at, "the block's material is not defined"))?;
             let density = self.materials[material].1.density;
-            blocks.push(
-                block(spec, material, density, self.kind_of(entry))
-                    .map_err(|e| self.error(&at, e))?,
-            );
+            let block = B::block(shape, material, density, self.kind_of(entry), spec.stress);
+            blocks.push(block.map_err(|e| self.error(&at, e))?);
         }
-        let mut system = BlockSet::new(blocks, materials);
-        let slots: Vec<Slot> = specs.iter().map(Slot::from).collect();
-        let table = self.law_table();
-        let notes = self.equip(&mut system, &table, specs.iter().map(|s| s.fixed), &slots)?;
-        // The velocity (translation, then rotation) is a block's leading
-        // DOFs; its strain rates start at zero.
-        let velocities = specs
-            .iter()
-            .map(|s| SVector::from_fn(|i, _| s.velocity.get(i).copied().unwrap_or(0.0)));
-        self.model(system, &table, registry, velocities, notes)
-    }
-
-    /// What a block set takes from the scene alike in 2D and 3D: gravity,
-    /// rotation update, length scale, the fixed points' springs, joint
-    /// laws, loads, fixed, driven and measured points; returns the ground motion's
-    /// notes.
-    fn equip<B, const D: usize, const N: usize, const T: usize, const S: usize>(
-        &self,
-        system: &mut BlockSet<B, D, N, T, S>,
-        table: &LawTable,
-        fixed_blocks: impl Iterator<Item = bool>,
-        slots: &[Slot],
-    ) -> Result<Vec<String>, SceneError>
-    where
-        B: Element<D, N, T, S>,
-    {
+        let mut system = BlockSet::new(blocks, materials.collect());
         let a = &self.analysis;
         system.gravity = SVector::<f64, D>::from_column_slice(&self.gravity());
         system.rotation_update = a.rotation_update;
@@ -288,34 +200,38 @@ impl Scene {
         let contact = a.penalty.unwrap_or_else(|| system.automatic_penalty())
             * (system.block_size() / 2.0).powi(D as i32 - 1);
         system.fixed_penalty = a.fixed_penalty.unwrap_or(10.0 * contact);
+        let table = self.law_table();
         system.joint_laws = table.materials.clone();
         system.pair_laws = table.pairs.clone();
-        let points = self.points::<D>(slots)?;
+        let points = checked.points;
         system.loads = points.loads;
         system.fixed = points.fixed;
         system.measured = points.measured;
-        for (k, fixed) in fixed_blocks.enumerate() {
-            if fixed {
+        for (k, block) in checked.blocks.iter().enumerate() {
+            if block.fixed {
                 system.fix_block(k);
             }
         }
-        self.shake(slots, &mut system.fixed)
-    }
-
-    /// Makes the fixed points of the ground motion's blocks (those of fixed
-    /// blocks included) follow it; a note on the motion.
-    fn shake<const D: usize>(
-        &self,
-        slots: &[Slot],
-        fixed: &mut [FixedPoint<D>],
-    ) -> Result<Vec<String>, SceneError> {
-        let Some((driven, motion, note)) = self.ground_motion::<D>(slots)? else {
-            return Ok(Vec::new());
-        };
-        for fp in fixed.iter_mut().filter(|f| driven.contains(&f.block)) {
-            fp.ground = Some(motion.clone());
+        // The ground moves the fixed points of its blocks, those of fixed
+        // blocks included.
+        let mut notes = Vec::new();
+        if let Some((driven, motion, note)) = checked.ground {
+            for fp in system
+                .fixed
+                .iter_mut()
+                .filter(|f| driven.contains(&f.block))
+            {
+                fp.ground = Some(motion.clone());
+            }
+            notes.extend(note);
         }
-        Ok(note.into_iter().collect())
+        // The velocity (translation, then rotation) is a block's leading
+        // DOFs; its strain rates start at zero.
+        let velocities = checked
+            .blocks
+            .iter()
+            .map(|s| SVector::from_fn(|i, _| s.velocity.get(i).copied().unwrap_or(0.0)));
+        self.model(system, &table, registry, velocities, notes)
     }
 
     /// The driver of `system` with the scene's laws and settings, its

@@ -2,8 +2,7 @@
 
 use std::fmt;
 
-use super::locate::{locate, Seg};
-use super::validate::Place;
+use super::locate::{locate, Place};
 use super::Source;
 
 /// A position in a scene file; line and column are 1-based.
@@ -91,8 +90,7 @@ impl Source {
     }
 
     pub(super) fn invalid(&self, place: &Place, message: impl Into<String>) -> SceneError {
-        let segs: Vec<Seg<'_>> = place.segs().collect();
-        let (line, column) = match locate(&self.text, &segs) {
+        let (line, column) = match locate(&self.text, place) {
             Some((l, c)) => (Some(l), Some(c)),
             None => (None, None),
         };

@@ -11,26 +11,100 @@ use serde::de::{self, DeserializeSeed, IgnoredAny, MapAccess, SeqAccess, Visitor
 use serde::Deserializer;
 
 /// One step of a path into the scene.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Seg<'a> {
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Seg {
     /// A struct field (or a variant's field) by name.
-    Field(&'a str),
+    Field(String),
     /// An element of a list or tuple.
     Index(usize),
     /// A map entry by its string key.
-    Key(&'a str),
+    Key(String),
 }
 
-/// Line and column (1-based) of the value at `path`, or of the deepest part
-/// of it that can be found; `None` if not even the first step is found.
-pub fn locate(text: &str, path: &[Seg<'_>]) -> Option<(usize, usize)> {
+/// A path into the scene, like `blocks[2].vertices[1]`: the steps it
+/// shows, then any it is only located by (`blocks[3]` pointing at its
+/// face 2), and a note shown after it (`blocks[0] (voussoir 3)`).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Place {
+    segs: Vec<Seg>,
+    shown: usize,
+    label: Option<String>,
+}
+
+impl Place {
+    pub fn root() -> Self {
+        Self::default()
+    }
+
+    fn with(&self, seg: Seg) -> Self {
+        let mut p = self.clone();
+        p.segs.push(seg);
+        p.shown = p.segs.len();
+        p
+    }
+
+    pub fn field(&self, name: &str) -> Self {
+        self.with(Seg::Field(name.to_string()))
+    }
+
+    pub fn index(&self, k: usize) -> Self {
+        self.with(Seg::Index(k))
+    }
+
+    pub fn key(&self, k: &str) -> Self {
+        self.with(Seg::Key(k.to_string()))
+    }
+
+    /// A note after the place, like `blocks[0] (voussoir 3)`.
+    pub fn label(&self, label: &str) -> Self {
+        let mut p = self.clone();
+        p.label = Some(label.to_string());
+        p
+    }
+
+    /// `field[k]` inside this place, used for the line and column only:
+    /// the place still reads as this one.
+    pub fn pointing_at(&self, field: &str, k: usize) -> Self {
+        let mut p = self.clone();
+        p.segs
+            .extend([Seg::Field(field.to_string()), Seg::Index(k)]);
+        p
+    }
+
+    pub fn segs(&self) -> &[Seg] {
+        &self.segs
+    }
+}
+
+impl fmt::Display for Place {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, seg) in self.segs[..self.shown].iter().enumerate() {
+            match seg {
+                Seg::Field(name) if i == 0 => f.write_str(name)?,
+                Seg::Field(name) => write!(f, ".{name}")?,
+                Seg::Index(k) => write!(f, "[{k}]")?,
+                Seg::Key(k) => write!(f, "[{k:?}]")?,
+            }
+        }
+        match &self.label {
+            Some(label) => write!(f, " ({label})"),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Line and column (1-based) of the value at `place`, or of the deepest
+/// part of it that can be found; `None` if not even the first step is
+/// found.
+pub fn locate(text: &str, place: &Place) -> Option<(usize, usize)> {
+    let path = place.segs();
     (1..=path.len())
         .rev()
         .find_map(|n| locate_exact(text, &path[..n]))
 }
 
 /// Line and column of the value at `path` if every step of it is written.
-pub fn locate_exact(text: &str, path: &[Seg<'_>]) -> Option<(usize, usize)> {
+pub fn locate_exact(text: &str, path: &[Seg]) -> Option<(usize, usize)> {
     if path.is_empty() {
         return None;
     }
@@ -64,9 +138,9 @@ const AT_NAME: &str = "located at a name";
 const AT_VALUE: &str = "located at a value";
 
 /// What is left of the path at a value.
-struct Walk<'p, 'a>(&'p [Seg<'a>]);
+struct Walk<'p>(&'p [Seg]);
 
-impl<'de> DeserializeSeed<'de> for Walk<'_, '_> {
+impl<'de> DeserializeSeed<'de> for Walk<'_> {
     type Value = ();
 
     fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
@@ -77,7 +151,7 @@ impl<'de> DeserializeSeed<'de> for Walk<'_, '_> {
     }
 }
 
-impl<'de> Visitor<'de> for Walk<'_, '_> {
+impl<'de> Visitor<'de> for Walk<'_> {
     type Value = ();
 
     fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
@@ -172,48 +246,31 @@ Scene(
 
     #[test]
     fn finds_fields_elements_and_keys() {
-        use Seg::*;
-        assert_eq!(locate(TEXT, &[Field("analysis"), Field("dt")]), at(4, "dt"));
-        assert_eq!(locate(TEXT, &[Field("blocks"), Index(0)]), at(7, "Polygon"));
-        assert_eq!(
-            locate(TEXT, &[Field("blocks"), Index(1)]),
-            at(9, "Rectangle")
-        );
-        assert_eq!(
-            locate(TEXT, &[Field("blocks"), Index(1), Field("width")]),
-            at(9, "width")
-        );
-        assert_eq!(
-            locate(
-                TEXT,
-                &[Field("blocks"), Index(0), Field("vertices"), Index(2)]
-            ),
-            at(7, "(1, 1)")
-        );
-        assert_eq!(
-            locate(TEXT, &[Field("materials"), Key("rock")]),
-            at(5, "\"rock\"")
-        );
-        assert_eq!(
-            locate(TEXT, &[Field("materials"), Key("rock"), Field("young")]),
-            at(5, "young")
-        );
-        assert_eq!(
-            locate(TEXT, &[Field("materials"), Key("sand")]),
-            at(5, "r#\"sand")
-        );
-        // Missing parts fall back to the deepest found.
-        assert_eq!(locate(TEXT, &[Field("blocks"), Index(5)]), at(6, "blocks"));
-        assert_eq!(locate(TEXT, &[Field("loads"), Index(0)]), None);
+        let root = Place::root();
+        let (analysis, blocks) = (root.field("analysis"), root.field("blocks"));
+        let rock = root.field("materials").key("rock");
+        let find = |place: &Place| locate(TEXT, place);
+        assert_eq!(find(&analysis.field("dt")), at(4, "dt"));
+        assert_eq!(find(&blocks.index(0)), at(7, "Polygon"));
+        assert_eq!(find(&blocks.index(1)), at(9, "Rectangle"));
+        assert_eq!(find(&blocks.index(1).field("width")), at(9, "width"));
+        let corner = blocks.index(0).field("vertices").index(2);
+        assert_eq!(find(&corner), at(7, "(1, 1)"));
+        assert_eq!(find(&rock), at(5, "\"rock\""));
+        assert_eq!(find(&rock.field("young")), at(5, "young"));
+        let sand = root.field("materials").key("sand");
+        assert_eq!(find(&sand), at(5, "r#\"sand"));
+        // Missing parts fall back to the deepest found; a hidden part is
+        // located, not shown.
+        assert_eq!(find(&blocks.index(5)), at(6, "blocks"));
+        assert_eq!(find(&root.field("loads").index(0)), None);
+        let hidden = blocks.index(0).pointing_at("vertices", 2);
+        assert_eq!(hidden.to_string(), "blocks[0]");
+        assert_eq!(find(&hidden), at(7, "(1, 1)"));
         // Exactly: only when every step is written.
-        assert_eq!(
-            locate_exact(TEXT, &[Field("analysis"), Field("dt")]),
-            at(4, "dt")
-        );
-        assert_eq!(
-            locate_exact(TEXT, &[Field("analysis"), Field("plane")]),
-            None
-        );
-        assert_eq!(locate_exact(TEXT, &[Field("blocks"), Index(5)]), None);
+        let exact = |place: Place| locate_exact(TEXT, place.segs());
+        assert_eq!(exact(analysis.field("dt")), at(4, "dt"));
+        assert_eq!(exact(analysis.field("plane")), None);
+        assert_eq!(exact(blocks.index(5)), None);
     }
 }

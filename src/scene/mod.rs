@@ -13,6 +13,7 @@
 
 mod analysis;
 mod build;
+mod dimension;
 mod error;
 mod locate;
 mod validate;
@@ -32,6 +33,7 @@ use crate::values::ordered_map;
 pub use crate::values::{Coords, JointLaw};
 pub use analysis::{Analysis, Damping, Mode};
 pub use build::{AnyModel, LawTable, Model, Model3};
+use dimension::SceneElement;
 pub use error::{Location, SceneError};
 
 /// One experiment. Field order and names are the file format.
@@ -503,22 +505,6 @@ impl BlockSpec {
         })
     }
 
-    /// The 2D blocks of this entry (one for a polygon or rectangle), with
-    /// `entry` as their entry index; none for a 3D entry or one whose
-    /// values make none (see [`Scene::validate`]).
-    pub fn expand(&self, entry: usize) -> Vec<SceneBlock> {
-        self.generate_2d()
-            .map_or(Vec::new(), |g| self.blocks_of(entry, g.pieces))
-    }
-
-    /// The 3D blocks of this entry (one but for a jointed domain), with
-    /// `entry` as their entry index; none for a 2D entry or one whose
-    /// values make none (see [`Scene::validate`]).
-    pub fn expand_3d(&self, entry: usize) -> Vec<SceneBlock3> {
-        self.generate_3d()
-            .map_or(Vec::new(), |g| self.blocks_of(entry, g.pieces))
-    }
-
     /// The entry's pieces as blocks numbered `entry`, with its initial state
     /// (none if that has the other dimension's length).
     pub(crate) fn blocks_of<P, const K: usize>(
@@ -689,7 +675,7 @@ impl Scene {
         if let Ok(d) = ron_options().from_str::<DimensionOnly>(text) {
             if !(2..=3).contains(&d.dimension) {
                 return Err(source.invalid(
-                    &validate::Place::root().field("dimension"),
+                    &locate::Place::root().field("dimension"),
                     validate::dimension_message(d.dimension),
                 ));
             }
@@ -738,22 +724,26 @@ impl Scene {
 
     /// The blocks of a 2D scene with generators expanded in place: what
     /// block indices in the scene (loads, fixed points, joint sets, ground
-    /// motion) and in the outputs count. 3D entries are left out.
+    /// motion) and in the outputs count. 3D entries are left out, and so
+    /// are entries whose values make no blocks (see [`Scene::validate`]).
     pub fn expanded_blocks(&self) -> Vec<SceneBlock> {
-        self.blocks
-            .iter()
-            .enumerate()
-            .flat_map(|(k, spec)| spec.expand(k))
-            .collect()
+        self.expanded::<dda_2d::Block, 2, 3>()
     }
 
-    /// The blocks of a 3D scene, one per entry, as corners and faces. 2D
-    /// entries are left out.
+    /// The blocks of a 3D scene, as corners and faces. 2D entries are left
+    /// out.
     pub fn expanded_blocks_3d(&self) -> Vec<SceneBlock3> {
-        self.blocks
-            .iter()
-            .enumerate()
-            .flat_map(|(k, spec)| spec.expand_3d(k))
+        self.expanded::<dda_3d::Block, 3, 6>()
+    }
+
+    fn expanded<B: SceneElement<D, S>, const D: usize, const S: usize>(
+        &self,
+    ) -> Vec<SceneBlock<B::Corner, S>> {
+        let entries = self.blocks.iter().enumerate();
+        entries
+            .flat_map(|(k, spec)| {
+                B::generate(spec).map_or(Vec::new(), |g| spec.blocks_of(k, g.pieces))
+            })
             .collect()
     }
 

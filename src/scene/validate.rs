@@ -1,105 +1,21 @@
 //! Checks every value of a scene before anything is built, so errors point
 //! at the file instead of surfacing mid-run.
 
-use std::fmt;
 use std::sync::Arc;
 
-use dda_2d::polygon::{self, PolygonError};
-use dda_3d::polyhedron::{self as polyhedra, Fault, Polyhedron, PolyhedronError};
 use dda_core::{
-    loads, motion::Layout, settings, ConstitutiveLaw, DdaError, FixedPoint, Force, GroundMotion,
-    MeasuredPoint, PointLoad, Quantity, Record,
+    loads, motion::Layout, settings, DdaError, FixedPoint, Force, GroundMotion, MeasuredPoint,
+    PointLoad, Quantity, Record,
 };
-use nalgebra::{Point, Point2, Point3, SVector};
+use nalgebra::{Point, SVector};
 
-use super::locate::{locate_exact, Seg};
+use super::dimension::SceneElement;
+use super::locate::{locate_exact, Place};
 use super::{
     BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Scene, SceneBlock,
-    SceneBlock3, SceneError,
+    SceneError,
 };
 use crate::generators::Failure;
-
-/// A path into the scene, like `blocks[2].vertices[1]`.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct Place(Vec<Part>);
-
-#[derive(Debug, Clone)]
-enum Part {
-    Field(String),
-    Index(usize),
-    Key(String),
-    /// Which block of a generator; shown, not located.
-    Label(String),
-    /// Located, not shown: `blocks[3]` pointing at its face 2.
-    Hidden(Box<Part>),
-}
-
-impl Place {
-    pub fn root() -> Self {
-        Self::default()
-    }
-
-    fn with(&self, part: Part) -> Self {
-        let mut p = self.clone();
-        p.0.push(part);
-        p
-    }
-
-    pub fn field(&self, name: &str) -> Self {
-        self.with(Part::Field(name.to_string()))
-    }
-
-    pub fn index(&self, k: usize) -> Self {
-        self.with(Part::Index(k))
-    }
-
-    pub fn key(&self, k: &str) -> Self {
-        self.with(Part::Key(k.to_string()))
-    }
-
-    /// A note after the place, like `blocks[0] (voussoir 3)`.
-    pub fn label(&self, label: &str) -> Self {
-        self.with(Part::Label(label.to_string()))
-    }
-
-    /// `field[k]` inside this place, used for the line and column only:
-    /// the place still reads as this one.
-    pub fn pointing_at(&self, field: &str, k: usize) -> Self {
-        self.with(Part::Hidden(Box::new(Part::Field(field.to_string()))))
-            .with(Part::Hidden(Box::new(Part::Index(k))))
-    }
-
-    pub fn segs(&self) -> impl Iterator<Item = Seg<'_>> {
-        self.0.iter().filter_map(|p| {
-            let p = match p {
-                Part::Hidden(inner) => inner,
-                p => p,
-            };
-            match p {
-                Part::Field(f) => Some(Seg::Field(f)),
-                Part::Index(k) => Some(Seg::Index(*k)),
-                Part::Key(k) => Some(Seg::Key(k)),
-                Part::Label(_) | Part::Hidden(_) => None,
-            }
-        })
-    }
-}
-
-impl fmt::Display for Place {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for (i, p) in self.0.iter().enumerate() {
-            match p {
-                Part::Field(name) if i == 0 => f.write_str(name)?,
-                Part::Field(name) => write!(f, ".{name}")?,
-                Part::Index(k) => write!(f, "[{k}]")?,
-                Part::Key(k) => write!(f, "[{k:?}]")?,
-                Part::Label(label) => write!(f, " ({label})")?,
-                Part::Hidden(_) => {}
-            }
-        }
-        Ok(())
-    }
-}
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
 
@@ -110,53 +26,17 @@ pub(super) struct Points<const D: usize> {
     pub measured: Vec<MeasuredPoint<D>>,
 }
 
-/// What the checks of joints, loads and the ground motion need to know of a
-/// block, in either dimension.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) struct Slot {
-    pub entry: usize,
-    pub part: Option<String>,
-    pub fixed: bool,
-}
+/// The blocks the ground motion drives, the motion, and a note on a
+/// record's baseline.
+pub(super) type Ground<const D: usize> = (Vec<usize>, Arc<GroundMotion<D>>, Option<String>);
 
-impl<P, const K: usize> From<&SceneBlock<P, K>> for Slot {
-    fn from(b: &SceneBlock<P, K>) -> Self {
-        Slot {
-            entry: b.entry,
-            part: b.part.clone(),
-            fixed: b.fixed,
-        }
-    }
-}
-
-/// The blocks' shapes, for overlaps and the points that must lie on them.
-enum Shapes {
-    Polygons(Vec<Vec<Point2<f64>>>),
-    Polyhedra(Vec<Polyhedron>),
-}
-
-impl Shapes {
-    fn len(&self) -> usize {
-        match self {
-            Shapes::Polygons(o) => o.len(),
-            Shapes::Polyhedra(s) => s.len(),
-        }
-    }
-
-    fn first_overlap(&self) -> Option<(usize, usize)> {
-        match self {
-            Shapes::Polygons(o) => polygon::first_overlap(o).first,
-            Shapes::Polyhedra(s) => polyhedra::first_overlap(s).first,
-        }
-    }
-
-    /// How far `p` lies outside block `i` (0 inside or on it).
-    fn outside(&self, i: usize, p: &[f64]) -> f64 {
-        match self {
-            Shapes::Polygons(o) => polygon::distance_outside(&o[i], &Point2::new(p[0], p[1])),
-            Shapes::Polyhedra(s) => s[i].distance_outside(&Point3::new(p[0], p[1], p[2])),
-        }
-    }
+/// A scene checked as one of `D` dimensions: its blocks (generators
+/// expanded) with their shapes, and what acts on them.
+pub(super) struct Checked<P, Shape, const D: usize, const S: usize> {
+    pub blocks: Vec<SceneBlock<P, S>>,
+    pub shapes: Vec<Shape>,
+    pub points: Points<D>,
+    pub ground: Option<Ground<D>>,
 }
 
 /// Why a dimension is refused.
@@ -175,59 +55,61 @@ fn short(x: f64) -> String {
     }
 }
 
-/// "(x, y)" or "(x, y, z)".
-fn tuple_of(names: &[impl AsRef<str>]) -> String {
-    let names: Vec<&str> = names.iter().map(AsRef::as_ref).collect();
-    format!("({})", names.join(", "))
-}
-
 impl Scene {
     /// Checks the whole scene; the first problem found is returned.
     pub fn validate(&self) -> Result {
-        let root = Place::root();
         if !(2..=3).contains(&self.dimension) {
-            return Err(self.error(&root.field("dimension"), dimension_message(self.dimension)));
+            let at = Place::root().field("dimension");
+            return Err(self.error(&at, dimension_message(self.dimension)));
         }
+        if self.dimension == 3 {
+            self.checked::<dda_3d::Block, 3, 6>().map(drop)
+        } else {
+            self.checked::<dda_2d::Block, 2, 3>().map(drop)
+        }
+    }
+
+    /// Checks the scene as one of `D` dimensions made of `B` blocks, and
+    /// returns what building it needs.
+    pub(super) fn checked<B: SceneElement<D, S>, const D: usize, const S: usize>(
+        &self,
+    ) -> Result<Checked<B::Corner, B::Shape, D, S>> {
+        let root = Place::root();
         self.check_analysis()?;
         if let Some(interval) = self.output.interval {
             let hint = "use 0 to write every step, or leave it out for an automatic one";
             let check = settings::non_negative("", "the output interval", interval, hint);
             self.core_field(&root.field("output").field("interval"), check)?;
         }
-        self.check_materials()?;
-        let (blocks, shapes) = self.check_blocks()?;
-        self.check_joints(&blocks)?;
-        if self.dimension == 3 {
-            self.points::<3>(&blocks)?;
-            self.check_measured_points(&shapes)?;
-            self.ground_motion::<3>(&blocks)?;
-        } else {
-            self.points::<2>(&blocks)?;
-            self.check_measured_points(&shapes)?;
-            self.ground_motion::<2>(&blocks)?;
+        // A material's values are checked by the core (its density) and
+        // by the elastic law of the scene's dimension.
+        for (name, m) in &self.materials {
+            let checked = dda_core::constitutive::check_density(m.density)
+                .and_then(|()| B::elastic(m, self.analysis.plane).check());
+            self.core_field(&root.field("materials").key(name), checked)?;
         }
-        Ok(())
+        let (blocks, shapes) = self.check_blocks::<B, D, S>()?;
+        self.check_joints(blocks.len())?;
+        let points = self.points::<D>(blocks.len())?;
+        self.check_measured_points::<B, D, S>(&points.measured, &shapes)?;
+        let ground = self.ground_motion(&blocks)?;
+        Ok(Checked {
+            blocks,
+            shapes,
+            points,
+            ground,
+        })
     }
 
     /// Whether the text the scene was read from writes a value at `place`.
     fn written(&self, place: &Place) -> bool {
-        let segs: Vec<Seg<'_>> = place.segs().collect();
-        locate_exact(&self.source.text, &segs).is_some()
-    }
-
-    /// The names of a point's coordinates in this scene's dimension.
-    fn axes(&self) -> &'static [&'static str] {
-        if self.dimension == 3 {
-            &["x", "y", "z"]
-        } else {
-            &["x", "y"]
-        }
+        locate_exact(&self.source.text, place.segs()).is_some()
     }
 
     /// Checks that `c` has one number per name (`names` like `["fx",
     /// "fy"]`), saying what to write when the count is off; the values are
     /// checked by the type they go into.
-    fn count(&self, at: &Place, what: &str, c: &Coords, names: &[impl AsRef<str>]) -> Result {
+    fn count(&self, at: &Place, what: &str, c: &Coords, names: &[String]) -> Result {
         if c.len() == names.len() {
             return Ok(());
         }
@@ -240,16 +122,17 @@ impl Scene {
         Err(self.error(
             at,
             format!(
-                "{what} has {} numbers, but this is a {d}D scene: write {}{other}",
+                "{what} has {} numbers, but this is a {d}D scene: write ({}){other}",
                 c.len(),
-                tuple_of(names)
+                names.join(", ")
             ),
         ))
     }
 
     /// Names like "fx", "fy"(, "fz") for this scene's dimension.
     fn names(&self, prefix: &str) -> Vec<String> {
-        self.axes().iter().map(|a| format!("{prefix}{a}")).collect()
+        let axes = ["x", "y", "z"].into_iter().take(self.dimension as usize);
+        axes.map(|a| format!("{prefix}{a}")).collect()
     }
 
     /// `c` as a vector once it has one number per axis (names like "fx"
@@ -296,10 +179,6 @@ impl Scene {
         self.core_field(place, settings::finite("", what, v))
     }
 
-    fn finite_all(&self, place: &Place, what: &str, values: &[f64]) -> Result {
-        values.iter().try_for_each(|v| self.finite(place, what, *v))
-    }
-
     fn positive(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
         self.core_field(place, settings::positive("", what, v, hint))
     }
@@ -319,7 +198,8 @@ impl Scene {
         }
         if let Some(g) = &a.gravity {
             self.count(&at("gravity"), "gravity", g, &self.names("g"))?;
-            self.finite_all(&at("gravity"), "gravity", g.as_slice())?;
+            let finite = |v: &f64| self.finite(&at("gravity"), "gravity", *v);
+            g.as_slice().iter().try_for_each(finite)?;
         }
         if self.dimension == 3 && self.written(&at("plane")) {
             return Err(self.error(
@@ -332,22 +212,6 @@ impl Scene {
         }
         // The driver checks its own settings; the scene names the place.
         self.core_field(&Place::root().field("analysis"), self.settings().validate())?;
-        Ok(())
-    }
-
-    /// A material's values are checked by the core (its density) and by
-    /// the elastic law of the scene's dimension; the scene names the place.
-    fn check_materials(&self) -> Result {
-        for (name, m) in &self.materials {
-            let checked = dda_core::constitutive::check_density(m.density).and_then(|()| {
-                if self.dimension == 3 {
-                    m.space_law().check()
-                } else {
-                    m.plane_law(self.analysis.plane).check()
-                }
-            });
-            self.core_field(&Place::root().field("materials").key(name), checked)?;
-        }
         Ok(())
     }
 
@@ -365,7 +229,7 @@ impl Scene {
         Ok(())
     }
 
-    fn check_joints(&self, blocks: &[Slot]) -> Result {
+    fn check_joints(&self, n: usize) -> Result {
         self.check_law(&Place::root().field("default_joint"), &self.default_joint)?;
         let mut pairs: Vec<(usize, usize)> = Vec::new();
         let mut block_pairs: Vec<((usize, usize), usize)> = Vec::new();
@@ -398,7 +262,7 @@ impl Scene {
                     for (i, &[a, b]) in list.iter().enumerate() {
                         let at_pair = at.field("blocks").index(i);
                         for block in [a, b] {
-                            self.check_block_index(&at_pair, block, blocks)?;
+                            self.check_block_index(&at_pair, block, n)?;
                         }
                         if a == b {
                             return Err(self.error(
@@ -470,11 +334,13 @@ impl Scene {
 
     /// Checks every entry and the blocks it makes (each generator checks
     /// its own values); returns them and their shapes.
-    fn check_blocks(&self) -> Result<(Vec<Slot>, Shapes)> {
+    #[allow(clippy::type_complexity)]
+    fn check_blocks<B: SceneElement<D, S>, const D: usize, const S: usize>(
+        &self,
+    ) -> Result<(Vec<SceneBlock<B::Corner, S>>, Vec<B::Shape>)> {
         let root = Place::root().field("blocks");
-        let three = self.dimension == 3;
         if self.blocks.is_empty() {
-            let like = if three {
+            let like = if D == 3 {
                 "Box(center: (0.0, 0.0, 0.5), size: (1.0, 1.0, 1.0))"
             } else {
                 "Rectangle(center: (0.0, 0.0), width: 1.0, height: 1.0)"
@@ -484,7 +350,7 @@ impl Scene {
                 format!("the scene has no blocks; add at least one, like {like}"),
             ));
         }
-        let (mut slots, mut outlines, mut polyhedra) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut blocks, mut shapes) = (Vec::new(), Vec::new());
         for (k, spec) in self.blocks.iter().enumerate() {
             let at = root.index(k);
             if spec.dimension() != self.dimension {
@@ -498,36 +364,23 @@ impl Scene {
                 spec,
                 BlockSpec::Polygon { .. } | BlockSpec::Polyhedron { .. }
             );
-            if three {
-                let made = spec.generate_3d().map_err(|e| self.failure(&at, e))?;
-                for block in spec.blocks_of(k, made.pieces) {
-                    polyhedra.push(self.check_polyhedron(&at, &block, written)?);
-                    slots.push(Slot::from(&block));
-                }
-            } else {
-                let made = spec.generate_2d().map_err(|e| self.failure(&at, e))?;
-                for block in spec.blocks_of(k, made.pieces) {
-                    outlines.push(self.check_polygon(&at, &block, written)?);
-                    slots.push(Slot::from(&block));
-                }
+            let made = B::generate(spec).map_err(|e| self.failure(&at, e))?;
+            for block in spec.blocks_of(k, made.pieces) {
+                shapes.push(B::shape(self, &at, &block, written)?);
+                blocks.push(block);
             }
         }
-        let shapes = if three {
-            Shapes::Polyhedra(polyhedra)
-        } else {
-            Shapes::Polygons(outlines)
-        };
-        if let Some((i, j)) = shapes.first_overlap() {
-            let place = |b: &Slot| place_of(b.entry, b.part.as_deref());
+        if let Some((i, j)) = B::first_overlap(&shapes) {
+            let place = |b: &SceneBlock<_, S>| place_of(b.entry, b.part.as_deref());
             return Err(self.error(
-                &place(&slots[i]),
+                &place(&blocks[i]),
                 format!(
                     "the block overlaps {} at the start; move or resize one of them so they touch at most",
-                    place(&slots[j])
+                    place(&blocks[j])
                 ),
             ));
         }
-        Ok((slots, shapes))
+        Ok((blocks, shapes))
     }
 
     /// Why an entry of the other dimension does not belong.
@@ -542,21 +395,6 @@ impl Scene {
             "dimension: 2, the default"
         };
         format!("{kind} is a 3D block, but this is a 2D scene ({d}); add dimension: 3 at the top for a 3D scene, or use Polygon or Rectangle")
-    }
-
-    /// "block 7", and which entry makes it when that is not plain.
-    fn block_name(&self, index: usize, blocks: &[Slot]) -> String {
-        match blocks.get(index) {
-            Some(Slot {
-                entry,
-                part: Some(part),
-                ..
-            }) => format!("block {index} (blocks[{entry}], {part})"),
-            Some(Slot { entry, .. }) if *entry != index => {
-                format!("block {index} (blocks[{entry}])")
-            }
-            _ => format!("block {index}"),
-        }
     }
 
     /// The entry names an existing material, or the scene has only one.
@@ -595,7 +433,12 @@ impl Scene {
         for (k, set) in sets.iter().enumerate() {
             let at = at.field("sets").index(k);
             if !set.origin.is_empty() {
-                self.count(&at.field("origin"), "the origin", &set.origin, self.axes())?;
+                self.count(
+                    &at.field("origin"),
+                    "the origin",
+                    &set.origin,
+                    &self.names(""),
+                )?;
             }
             if let Some(law) = &set.law {
                 self.check_law(&at.field("law"), law)?;
@@ -604,63 +447,11 @@ impl Scene {
         Ok(())
     }
 
-    /// Validates a 2D block's outline; a written polygon's non-finite
-    /// corner is named where it is written.
-    fn check_polygon(
-        &self,
-        at: &Place,
-        block: &SceneBlock,
-        written: bool,
-    ) -> Result<Vec<Point2<f64>>> {
-        let points = to_points(&block.vertices);
-        polygon::validate(&points).map_err(|e| {
-            let place = match e {
-                PolygonError::NotFinite { index, .. } if written => {
-                    at.field("vertices").index(index)
-                }
-                _ => place_of(block.entry, block.part.as_deref()),
-            };
-            let message = match block.part {
-                // "Remove a vertex" is no help with generated blocks.
-                Some(_) => format!(
-                    "the generated block is degenerate: {}; change the generator's sizes",
-                    e.to_string().split(';').next().unwrap_or_default()
-                ),
-                None => e.to_string(),
-            };
-            self.error(&place, message)
-        })?;
-        Ok(points)
-    }
-
-    /// Validates a 3D block's surface; errors name the face or corner.
-    fn check_polyhedron(
-        &self,
-        at: &Place,
-        block: &SceneBlock3,
-        written: bool,
-    ) -> Result<Polyhedron> {
-        let points: Vec<Point3<f64>> = block.vertices.iter().map(|v| Point3::from(*v)).collect();
-        polyhedra::validate_outward(&points, &block.faces).map_err(|e| {
-            let place = match (e.place(), &e) {
-                (_, PolyhedronError::NotFinite { vertex, .. }) if written => {
-                    at.field("vertices").index(*vertex)
-                }
-                (Fault::Vertices, _) => at.field("vertices"),
-                (Fault::Faces, _) => at.field("faces"),
-                (Fault::Vertex(v), _) => at.pointing_at("vertices", v),
-                (Fault::Face(f), _) => at.pointing_at("faces", f),
-                (Fault::Block, _) => at.clone(),
-            };
-            self.error(&place, e.to_string())
-        })
-    }
-
     /// The scene's loads, fixed and measured points in `D` dimensions: the
     /// scene checks their blocks and their tuples' counts, the core their
     /// values (`PointLoad::check`, `FixedPoint::check`,
     /// `MeasuredPoint::check`).
-    pub(super) fn points<const D: usize>(&self, blocks: &[Slot]) -> Result<Points<D>> {
+    pub(super) fn points<const D: usize>(&self, n: usize) -> Result<Points<D>> {
         let root = Place::root();
         let mut loads = Vec::new();
         for (k, load) in self.loads.iter().enumerate() {
@@ -671,7 +462,7 @@ impl Scene {
                 history,
             } = load;
             let at = root.field("loads").index(k);
-            self.check_block_index(&at.field("block"), *block, blocks)?;
+            self.check_block_index(&at.field("block"), *block, n)?;
             let point = self.point(&at.field("point"), "the load point", point)?;
             let force = match (force, history) {
                 (Some(f), None) => {
@@ -697,7 +488,7 @@ impl Scene {
         let mut fixed = Vec::new();
         for (k, fp) in self.fixed_points.iter().enumerate() {
             let at = root.field("fixed_points").index(k);
-            self.check_block_index(&at.field("block"), fp.block, blocks)?;
+            self.check_block_index(&at.field("block"), fp.block, n)?;
             let point = self.point(&at.field("point"), "the fixed point", &fp.point)?;
             let mut held = FixedPoint::at(fp.block, point);
             if !fp.velocity.is_empty() {
@@ -715,7 +506,7 @@ impl Scene {
         let mut measured = Vec::new();
         for (k, m) in self.measured_points.iter().enumerate() {
             let at = root.field("measured_points").index(k);
-            self.check_block_index(&at.field("block"), m.block, blocks)?;
+            self.check_block_index(&at.field("block"), m.block, n)?;
             let point = self.point(&at.field("point"), "the measured point", &m.point)?;
             let point = MeasuredPoint::at(m.block, point);
             self.core_field(&at, point.check())?;
@@ -729,15 +520,18 @@ impl Scene {
     }
 
     /// Each measured point lies inside or on its block.
-    fn check_measured_points(&self, shapes: &Shapes) -> Result {
-        for (k, m) in self.measured_points.iter().enumerate() {
-            let p = m.point.as_slice();
-            let off = shapes.outside(m.block, p);
+    fn check_measured_points<B: SceneElement<D, S>, const D: usize, const S: usize>(
+        &self,
+        measured: &[MeasuredPoint<D>],
+        shapes: &[B::Shape],
+    ) -> Result {
+        for (k, m) in measured.iter().enumerate() {
+            let off = B::outside(&shapes[m.block], &m.point);
             if off == 0.0 {
                 continue;
             }
-            let shown: Vec<String> = p.iter().map(|x| x.to_string()).collect();
-            let hint = match (0..shapes.len()).position(|i| shapes.outside(i, p) == 0.0) {
+            let shown: Vec<String> = m.point.iter().map(|x| x.to_string()).collect();
+            let hint = match shapes.iter().position(|s| B::outside(s, &m.point) == 0.0) {
                 Some(other) => format!("it lies in block {other}: give block: {other}, or"),
                 None => "it lies in no block:".to_string(),
             };
@@ -754,8 +548,7 @@ impl Scene {
         Ok(())
     }
 
-    fn check_block_index(&self, at: &Place, block: usize, blocks: &[Slot]) -> Result {
-        let n = blocks.len();
+    fn check_block_index(&self, at: &Place, block: usize, n: usize) -> Result {
         if block < n {
             return Ok(());
         }
@@ -775,11 +568,10 @@ impl Scene {
 
     /// Checks the ground motion (reading its record, if any) and returns it
     /// with the blocks it drives and a note on a record's baseline.
-    #[allow(clippy::type_complexity)]
-    pub(super) fn ground_motion<const D: usize>(
+    fn ground_motion<P, const D: usize, const S: usize>(
         &self,
-        blocks: &[Slot],
-    ) -> Result<Option<(Vec<usize>, Arc<GroundMotion<D>>, Option<String>)>> {
+        blocks: &[SceneBlock<P, S>],
+    ) -> Result<Option<Ground<D>>> {
         let Some(GroundMotionSpec {
             blocks: driven,
             motion,
@@ -797,30 +589,34 @@ impl Scene {
         }
         for (i, &b) in driven.iter().enumerate() {
             let at = at.index(i);
-            self.check_block_index(&at, b, blocks)?;
+            self.check_block_index(&at, b, blocks.len())?;
             if driven[..i].contains(&b) {
                 return Err(self.error(
                     &at,
                     format!("block {b} is listed twice; list each base block once"),
                 ));
             }
-            let block = &blocks[b];
+            let (block, entry) = (&blocks[b], blocks[b].entry);
             if !block.fixed {
-                let fix = match block.part {
-                    Some(_) => {
-                        "list fixed base blocks instead, like an arch's abutments".to_string()
-                    }
-                    None => format!(
-                        "add fixed: true to blocks[{}], or list the fixed base blocks",
-                        block.entry
+                let (name, fix) = match &block.part {
+                    Some(part) => (
+                        format!("block {b} (blocks[{entry}], {part})"),
+                        "list fixed base blocks instead, like an arch's abutments".to_string(),
+                    ),
+                    None => (
+                        if entry == b {
+                            format!("block {b}")
+                        } else {
+                            format!("block {b} (blocks[{entry}])")
+                        },
+                        format!(
+                            "add fixed: true to blocks[{entry}], or list the fixed base blocks"
+                        ),
                     ),
                 };
                 return Err(self.error(
                     &at,
-                    format!(
-                        "{} is not fixed, so the ground cannot carry it; {fix}",
-                        self.block_name(b, blocks),
-                    ),
+                    format!("{name} is not fixed, so the ground cannot carry it; {fix}"),
                 ));
             }
         }
@@ -936,8 +732,4 @@ pub(super) fn place_of(entry: usize, part: Option<&str>) -> Place {
         Some(part) => at.label(part),
         None => at,
     }
-}
-
-pub(super) fn to_points(v: &[[f64; 2]]) -> Vec<Point2<f64>> {
-    v.iter().map(|p| Point2::new(p[0], p[1])).collect()
 }
