@@ -1,13 +1,11 @@
 //! The 40 × 40 running-bond wall at rest under gravity, stepped at 1 ms (the
 //! step `dda bench` times). Its head joints carry almost no normal force, so
-//! thousands of them pass between locked and sliding, and dozens open, as it
-//! settles onto its springs. Coulomb friction yields at its sliding strength
-//! and a dry joint holds no tension, so the driver applies both limits within
-//! each pass: a contact passing between locked and sliding, or opening with
-//! nothing on it, costs no pass. The wall settles as Shi's springs settle it
-//! at a finer contact tolerance, in fewer passes than with a law that does
-//! not say so. Rigid or deformable, no step is cut and none is left
-//! unconverged.
+//! thousands of them pass between locked and sliding as it settles onto its
+//! springs. Coulomb friction yields at its sliding strength, so the driver
+//! applies that limit to locked contacts within each pass and those changes
+//! cost no pass: the wall settles the same, in fewer passes, than with a
+//! law that does not say so. Rigid or deformable, no step is cut and none
+//! is left unconverged.
 
 use dda::scene::Model;
 use dda::Scene;
@@ -49,17 +47,14 @@ struct Run {
 
 /// The wall `dda bench` times: 40 courses of 40 bricks, 0.5 m × 0.25 m, on a
 /// fixed base, dt 1 ms, penalty 1e9.
-fn scene(kind: &str, law: &str, tolerance: f64) -> Scene {
-    Scene::from_str(&scene_text(kind, law, tolerance), "wall_40x40.ron").unwrap()
+fn scene(kind: &str, law: &str) -> Scene {
+    Scene::from_str(&scene_text(kind, law), "wall_40x40.ron").unwrap()
 }
 
-/// The wall at the default contact tolerance, 1e-7 of the length scale, or
-/// at `tolerance`.
-fn scene_text(kind: &str, law: &str, tolerance: f64) -> String {
+fn scene_text(kind: &str, law: &str) -> String {
     format!(
         r#"Scene(
-    analysis: (duration: 1.0, dt: 0.001, penalty: 1e9, gravity: (0.0, -9.81),
-        contact_tolerance: {tolerance:e}),
+    analysis: (duration: 1.0, dt: 0.001, penalty: 1e9, gravity: (0.0, -9.81)),
     materials: {{ "brick": (density: 1800.0, young: 5e9, poisson: 0.2, kind: {kind}) }},
     default_joint: {law},
     blocks: [
@@ -70,20 +65,16 @@ fn scene_text(kind: &str, law: &str, tolerance: f64) -> String {
     )
 }
 
-/// The default contact tolerance, and one a hundredth as large.
-const TOLERANCE: f64 = 1e-7;
-const FINE: f64 = 1e-9;
-
-fn run(kind: &str, undeclared: bool, tolerance: f64) -> Run {
+fn run(kind: &str, undeclared: bool) -> Run {
     let mut model: Model = if undeclared {
         let mut registry = LawRegistry::with_builtin();
         registry.register("undeclared", |p: &mut Params| {
             Ok(Undeclared(Coulomb::frictional(p.take("friction_angle")?)))
         });
         let law = r#"Custom(name: "undeclared", params: {"friction_angle": 35.0})"#;
-        scene(kind, law, tolerance).build_with(&registry).unwrap()
+        scene(kind, law).build_with(&registry).unwrap()
     } else {
-        scene(kind, "Coulomb(friction_angle: 35.0)", tolerance)
+        scene(kind, "Coulomb(friction_angle: 35.0)")
             .build()
             .unwrap()
     };
@@ -101,7 +92,7 @@ fn run(kind: &str, undeclared: bool, tolerance: f64) -> Run {
         .sum::<f64>()
         / start.len() as f64;
     println!(
-        "{kind}{} at tolerance {tolerance:e}: {} steps, {passes:.2} passes a step, {:.2} Newton iterations a step, \
+        "{kind}{}: {} steps, {passes:.2} passes a step, {:.2} Newton iterations a step, \
          cuts {}, unconverged {}, largest settlement {settled:.2e} m, mean {sank:.6e} m",
         if undeclared { " (undeclared)" } else { "" },
         stats.steps,
@@ -119,34 +110,26 @@ fn run(kind: &str, undeclared: bool, tolerance: f64) -> Run {
 
 #[test]
 fn a_rigid_wall_settles_alike_in_fewer_passes_when_friction_yields_at_its_strength() {
-    let declared = run("Rigid", false, TOLERANCE);
-    let undeclared = run("Rigid", true, TOLERANCE);
-    // The same physics: the wall sinks as Shi's springs make it sink where
-    // the contact tolerance, and the pull a closed joint holds within it, is
-    // a hundredth as large, within a ten-thousandth (measured: 9e-7 of its
-    // 0.61 mm; Shi's springs at the default tolerance sink 1.6e-4 more).
-    // Single bricks may differ more: a head joint at no normal force slides
-    // by an undetermined amount, which the Newton tolerance decides.
-    let reference = run("Rigid", true, FINE);
-    let apart = (declared.sank - reference.sank).abs();
-    assert!(apart < 1e-4 * reference.sank, "sank {apart} m apart");
-    // Each of the first 100 steps has some locked-sliding changes, and most
-    // some openings.
+    let declared = run("Rigid", false);
+    let undeclared = run("Rigid", true);
+    // The same physics: the wall sinks alike, within a ten-thousandth
+    // (measured: about 1e-5 of its 0.61 mm). Single bricks may differ more: a
+    // head joint at no normal force slides by an undetermined amount,
+    // which the Newton tolerance decides.
+    let apart = (declared.sank - undeclared.sank).abs();
+    assert!(apart < 1e-4 * declared.sank, "sank {apart} m apart");
+    // Each of the first 100 steps has some locked-sliding changes.
     assert!(
         declared.passes < 0.95 * undeclared.passes,
         "{} passes a step against {}",
         declared.passes,
         undeclared.passes
     );
-    // At most two passes a step (measured: 1.45).
-    assert!(declared.passes <= 2.0, "{} passes a step", declared.passes);
 }
 
 #[test]
 fn a_deformable_wall_steps_at_1_ms_without_a_cut() {
-    let run = run("Deformable", false, TOLERANCE);
-    // At most two passes a step (measured: 1.84).
-    assert!(run.passes <= 2.0, "{} passes a step", run.passes);
+    run("Deformable", false);
 }
 
 /// With contact damping on, the same wall's head joints (at no normal
@@ -156,7 +139,7 @@ fn a_deformable_wall_steps_at_1_ms_without_a_cut() {
 /// no longer decide between the two, and the wall steps.
 #[test]
 fn a_damped_wall_steps_at_1_ms() {
-    let text = scene_text("Rigid", "Coulomb(friction_angle: 35.0)", TOLERANCE)
+    let text = scene_text("Rigid", "Coulomb(friction_angle: 35.0)")
         .replace("duration: 1.0,", "duration: 1.0, contact_damping: 1.0,");
     let mut model = Scene::from_str(&text, "wall_40x40.ron")
         .unwrap()

@@ -207,22 +207,6 @@ mod tests {
         );
     }
 
-    /// The pull the driver caps a closed contact's spring at: the bond's
-    /// tensile strength over the contact's length, none once broken.
-    #[test]
-    fn holds_its_tensile_strength_until_the_bond_breaks() {
-        let law = Coulomb {
-            tensile_strength: 2e5,
-            ..Coulomb::frictional(30.0)
-        };
-        let mut h = law.initial_history(true);
-        let k = kin(1e-5, 0.0, 0.0);
-        assert_eq!(law.tension(&k, &h), 2e5 * k.length);
-        law.commit(ContactState::Open, &k, &mut h);
-        assert_eq!(law.tension(&k, &h), 0.0);
-        assert_eq!(Coulomb::frictional(30.0).tension(&k, &h), 0.0);
-    }
-
     #[test]
     fn spring_forces_are_the_gradient_of_the_spring_energy() {
         // Energy ½k_n·gap² + ½k_s·shear²: forces are −dE/dgap and dE/dshear.

@@ -146,17 +146,6 @@ pub fn next_state<L: StrengthLaw>(
     law.adjust_state(state, next, kin, history)
 }
 
-/// `ContactLaw::tension` of a strength law: its strength's, or no cap
-/// where a rule of its own (`adjust_state`) may hold a contact beyond it.
-pub fn tension<L: StrengthLaw>(law: &L, kin: &LocalKinematics, history: &L::History) -> f64 {
-    if !law.yields_at_strength() {
-        return f64::INFINITY;
-    }
-    let springs = springs(law, kin);
-    law.strength(springs.normal_force(kin), kin, history)
-        .tension
-}
-
 /// Implements `dda_core::ContactLaw` for types that implement
 /// [`StrengthLaw`].
 #[macro_export]
@@ -202,14 +191,6 @@ macro_rules! strength_law {
 
             fn yields_at_strength(&self) -> bool {
                 $crate::StrengthLaw::yields_at_strength(self)
-            }
-
-            fn tension(
-                &self,
-                kin: &$crate::core::LocalKinematics,
-                history: &Self::History,
-            ) -> f64 {
-                $crate::strength::tension(self, kin, history)
             }
         }
     )+};

@@ -109,21 +109,6 @@ mod tests {
     use super::*;
     use crate::springs::kinematics;
 
-    /// A bond holds tension by its own threshold, so the driver caps no
-    /// spring's pull at the strength's (none).
-    #[test]
-    fn leaves_the_pull_uncapped() {
-        let law = ThresholdBond {
-            friction_angle: 30.0,
-            max_opening: 1e-4,
-            max_shear: 2e-4,
-            normal_stiffness: None,
-            shear_stiffness: None,
-        };
-        let h = law.initial_history(true);
-        assert_eq!(law.tension(&kinematics(5e-5, 0.0, 0.0), &h), f64::INFINITY);
-    }
-
     #[test]
     fn bond_holds_tension_and_shear_up_to_its_thresholds_then_breaks() {
         let law = ThresholdBond {

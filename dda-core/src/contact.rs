@@ -162,15 +162,6 @@ pub trait ContactLaw: Send + Sync + 'static {
     fn yields_at_strength(&self) -> bool {
         false
     }
-
-    /// The pull a closed contact's normal spring holds before the contact
-    /// opens, N (per unit thickness in 2D): 0 for a dry joint. Read only
-    /// where the law yields at its strength: the driver caps the spring's
-    /// pull there (the no-tension rule's return map), so a contact that
-    /// opens carrying nothing costs no open-close pass. Default: no cap.
-    fn tension(&self, _kin: &LocalKinematics, _history: &Self::History) -> f64 {
-        f64::INFINITY
-    }
 }
 
 /// Type-erased contact history, stored per contact by the driver.
@@ -186,8 +177,6 @@ pub trait DynContactLaw: Send + Sync {
     fn check(&self) -> Result<(), crate::DdaError>;
     /// [`ContactLaw::yields_at_strength`].
     fn yields_at_strength(&self) -> bool;
-    /// [`ContactLaw::tension`].
-    fn tension(&self, kin: &LocalKinematics, h: &History) -> f64;
     /// A contact's history as a checkpoint keeps it.
     fn save_history(&self, h: &History) -> Result<Vec<u8>, crate::DdaError>;
     /// A history saved by [`DynContactLaw::save_history`] of this law.
@@ -220,10 +209,6 @@ impl<L: ContactLaw> DynContactLaw for L {
 
     fn yields_at_strength(&self) -> bool {
         ContactLaw::yields_at_strength(self)
-    }
-
-    fn tension(&self, kin: &LocalKinematics, h: &History) -> f64 {
-        ContactLaw::tension(self, kin, downcast::<L>(h))
     }
 
     fn save_history(&self, h: &History) -> Result<Vec<u8>, crate::DdaError> {

@@ -99,32 +99,9 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
     /// (which locking adds) makes the two states load the blocks
     /// differently.
     pub fn yields(&self, i: usize, state: ContactState) -> bool {
-        state == ContactState::Locked && self.maps(i)
-    }
-
-    /// Whether contact `i` takes the return maps this pass: its law yields
-    /// at its strength, and no dashpot loads it beyond its springs.
-    fn maps(&self, i: usize) -> bool {
-        !self.damped(i) && self.laws[self.contacts[i].law].yields_at_strength()
-    }
-
-    /// Closed contact `i`'s law's response in `state`, its spring's pull
-    /// capped by the no-tension rule's return map where the contact takes
-    /// the return maps: a joint separated within the open-close tolerance
-    /// carries what it will carry once open.
-    fn response(&self, i: usize, state: ContactState, kin: &LocalKinematics) -> ContactResponse {
-        let c = &self.contacts[i];
-        let law = &self.laws[c.law];
-        let history = c.record.history.as_ref().expect("history set at search");
-        let mut response = law.response(state, kin, history);
-        if response.normal_force < 0.0 && self.maps(i) {
-            let cap = law.tension(kin, history);
-            if response.normal_force < -cap {
-                response.normal_force = -cap;
-                response.normal_stiffness = 0.0;
-            }
-        }
-        response
+        state == ContactState::Locked
+            && !self.damped(i)
+            && self.laws[self.contacts[i].law].yields_at_strength()
     }
 
     /// The coefficient of the dashpot beside a spring of stiffness `k`
@@ -210,7 +187,7 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
         let (kin, stretch) = self.kinematics_on(i, e, entrance, trial, dt);
         let history = c.record.history.as_ref().expect("history set at search");
         let law = &self.laws[c.law];
-        let mut response = self.response(i, state, &kin);
+        let mut response = law.response(state, &kin, history);
         let [a, b] = c.blocks;
         let damped = self.damped(i);
         if damped {
@@ -386,16 +363,8 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
             next = ContactState::Sliding;
         }
         // Where both states take the return map they load the blocks
-        // alike: the pass's forces stand whichever is recorded. So does
-        // a contact that opens carrying nothing (a dry joint separated
-        // within the tolerance: its spring's return map pulls with no
-        // force).
-        let alike = state.is_closed()
-            && if next.is_closed() {
-                self.yields(i, ContactState::Locked)
-            } else {
-                self.maps(i) && self.unloaded(i, trial, dt, moving)
-            };
+        // alike: the pass's forces stand whichever is recorded.
+        let alike = state.is_closed() && next.is_closed() && self.yields(i, ContactState::Locked);
         let entrance = widest_entrance(c, &trial.d, e, self.tolerance);
         Decision {
             state: next,
@@ -405,12 +374,6 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
             entrance,
             changed: (next != state && !alike) || entrance != e,
         }
-    }
-
-    /// Whether closed contact `i` carries no force at the trial.
-    fn unloaded(&self, i: usize, trial: &Trial<T>, dt: f64, moving: &[f64]) -> bool {
-        self.load(i, trial, dt, moving, false)
-            .is_some_and(|l| l.force.iter().all(|f| f.iter().all(|&x| x == 0.0)))
     }
 
     /// What contact `i` keeps of the accepted trial.
@@ -426,7 +389,7 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
             trial.states[i]
         };
         let response = if state.is_closed() {
-            self.response(i, state, &kin)
+            law.response(state, &kin, history)
         } else {
             ContactResponse::default()
         };
