@@ -220,8 +220,15 @@ fn entrance(
         return None;
     }
     let along = tangent.dot(&(p1 - q1)) / l;
-    // Past the ends only when approaching (near a corner), not when behind.
-    let slack = if gap > 0.0 { range / l } else { 0.0 };
+    // Past the ends when approaching (near a corner); when behind, only by
+    // its depth within the angle tolerance, as where the corners of two
+    // parallel edges meet: there round-off puts each vertex a hair past
+    // the other's edge, and the corner would find no entrance at all.
+    let slack = if gap > 0.0 {
+        range / l
+    } else {
+        -gap * ANGLE_TOLERANCE.tan() / l
+    };
     if !(-slack..=1.0 + slack).contains(&along) {
         return None;
     }
@@ -324,6 +331,38 @@ mod tests {
     fn signed_distance(p: &Point2<f64>, q1: &Point2<f64>, q2: &Point2<f64>) -> f64 {
         let t = (q2 - q1).normalize();
         Vector2::new(t.y, -t.x).dot(&(p - q1))
+    }
+
+    /// Two bricks of a wall squeezed together at their head joint, as a
+    /// step left them: each pair of corners meets, a hair inside the other
+    /// brick, and round-off puts each corner just past the other's edge.
+    /// Both corners are found, each closed by its depth.
+    #[test]
+    fn meeting_corners_of_a_squeezed_head_joint_are_both_found() {
+        let blocks = vec![
+            block(&[
+                (9.499999641393076, -2.275629695877579e-5),
+                (10.00000031290121, -2.2753075836587366e-5),
+                (10.000000295098468, 0.24997155830749368),
+                (9.499999623590334, 0.24997155508637148),
+            ]),
+            block(&[
+                (9.99999968709879, -2.2753075836587366e-5),
+                (10.500000358606924, -2.275629695877579e-5),
+                (10.500000376409666, 0.24997155508637148),
+                (9.999999704901532, 0.24997155830749368),
+            ]),
+        ];
+        let contacts = pair_contacts(&blocks, 0, 1, 0.22, 0);
+        let corners: Vec<(u32, u32)> = contacts
+            .iter()
+            .map(|c| (c.key.feature_a, c.key.feature_b & !VERTEX))
+            .collect();
+        assert_eq!(corners, [(1, 0), (2, 3)], "{contacts:?}");
+        for c in &contacts {
+            let deepest = c.entrances.iter().map(|e| e.gap).fold(0.0, f64::min);
+            assert!((-6.3e-7..-5.8e-7).contains(&deepest), "{deepest}");
+        }
     }
 
     #[test]
