@@ -9,8 +9,7 @@ use dda_core::{BlockSet, BlockSystem, Driver, DynContactLaw, Element, Settings};
 use nalgebra::SVector;
 
 use super::dimension::SceneElement;
-use super::locate::Place;
-use super::validate::place_of;
+use super::locate::{place_of, Place};
 use super::{JointLaw, Scene, SceneError};
 
 /// A scene ready to run: a 2D one by default ([`Driver2d`]), a 3D one as

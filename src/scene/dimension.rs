@@ -10,8 +10,7 @@ use dda_3d::IsotropicElastic;
 use dda_core::{BlockKind, ConstitutiveLaw};
 use nalgebra::{Point, Point2, Point3};
 
-use super::locate::Place;
-use super::validate::place_of;
+use super::locate::{place_of, Place};
 use super::{BlockSpec, Material, Scene, SceneBlock, SceneError};
 use crate::generators::{Failure, Generated};
 

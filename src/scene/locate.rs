@@ -76,6 +76,15 @@ impl Place {
     }
 }
 
+/// `blocks[k]`, with the part for a generated block.
+pub(super) fn place_of(entry: usize, part: Option<&str>) -> Place {
+    let at = Place::root().field("blocks").index(entry);
+    match part {
+        Some(part) => at.label(part),
+        None => at,
+    }
+}
+
 impl fmt::Display for Place {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         for (i, seg) in self.segs[..self.shown].iter().enumerate() {

@@ -10,7 +10,7 @@ use dda_core::{
 use nalgebra::{Point, SVector};
 
 use super::dimension::SceneElement;
-use super::locate::{locate_exact, Place};
+use super::locate::{locate_exact, place_of, Place};
 use super::{
     BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Scene, SceneBlock,
     SceneError,
@@ -722,14 +722,5 @@ impl Scene {
                 Ok((s.get(0), SVector::from_fn(|k, _| s.get(k + 1))))
             })
             .collect()
-    }
-}
-
-/// `blocks[k]`, with the part for a generated block.
-pub(super) fn place_of(entry: usize, part: Option<&str>) -> Place {
-    let at = Place::root().field("blocks").index(entry);
-    match part {
-        Some(part) => at.label(part),
-        None => at,
     }
 }
