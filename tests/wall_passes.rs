@@ -7,10 +7,11 @@
 //! law that does not say so. Rigid or deformable, no step is cut and none
 //! is left unconverged.
 
+use dda::bench::Stepping;
 use dda::scene::Model;
 use dda::Scene;
 use dda_contact::{Coulomb, LawRegistry, Params};
-use dda_core::{ContactLaw, ContactResponse, ContactState, LocalKinematics};
+use dda_core::{BlockKind, ContactLaw, ContactResponse, ContactState, LocalKinematics};
 
 /// Steps taken: the wall's first tenth of a second, while it settles.
 const STEPS: usize = 100;
@@ -165,18 +166,8 @@ fn a_damped_wall_steps_at_1_ms() {
 /// pass to close it again: 62 passes over these 32 steps.)
 #[test]
 fn a_deformable_wall_at_its_automatic_step_takes_one_pass_a_step() {
-    let text = scene_text("Deformable", "Coulomb(friction_angle: 35.0)")
-        .replace("dt: 0.001, penalty: 1e9, ", "")
-        .replace("courses: 40", "courses: 20")
-        .replace("length: 20.0", "length: 10.0")
-        .replace(
-            "center: (10.0, -0.5), width: 22.0",
-            "center: (5.0, -0.5), width: 12.0",
-        );
-    let mut model = Scene::from_str(&text, "wall_20x20.ron")
-        .unwrap()
-        .build()
-        .unwrap();
+    let scene = dda::bench::wall(20, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
+    let mut model = scene.build().unwrap();
     let driver = &mut model.driver;
     driver.advance_to(0.3).unwrap();
     let stats = driver.statistics();
