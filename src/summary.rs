@@ -57,6 +57,12 @@ pub struct Summary {
     /// settled by keeping each cycling contact sliding or closed.
     #[serde(default)]
     pub cycle_breaks: usize,
+    /// Contacts that started a step opened or closed by its foreseen
+    /// motion, and the passes spent turning such a state back.
+    #[serde(default)]
+    pub foreseen: usize,
+    #[serde(default)]
+    pub foresight_misses: usize,
     /// Contacts that struck and took an impulse (`analysis.restitution`).
     #[serde(default)]
     pub impacts: usize,
@@ -276,6 +282,8 @@ impl SummaryWriter {
             penetration_cuts: stats.penetration_cuts,
             unconverged_steps: stats.unconverged_steps,
             cycle_breaks: stats.cycle_breaks,
+            foreseen: stats.foreseen,
+            foresight_misses: stats.foresight_misses,
             impacts: stats.impacts,
             cycles: stats.cycles.iter().map(CycleReport::from).collect(),
             coupled_solves: stats.coupled_solves,

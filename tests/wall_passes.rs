@@ -4,8 +4,9 @@
 //! springs. Coulomb friction yields at its sliding strength, so the driver
 //! applies that limit to locked contacts within each pass and those changes
 //! cost no pass: the wall settles the same, in fewer passes, than with a
-//! law that does not say so. Rigid or deformable, no step is cut and none
-//! is left unconverged.
+//! law that does not say so. Joints that the last steps' motion carries
+//! open start a step open. Rigid or deformable, no step is cut, none is
+//! left unconverged, and a step takes at most two passes.
 
 use dda::bench::Stepping;
 use dda::scene::Model;
@@ -106,6 +107,12 @@ fn run(kind: &str, undeclared: bool) -> Run {
     assert_eq!(stats.unconverged_steps, 0, "{kind}");
     // Settling onto 40 courses of springs, not falling: under a millimetre.
     assert!(settled < 1e-3, "{kind}: {settled} m");
+    if !undeclared {
+        // Head joints the last two steps' motion carries open start the step
+        // open instead of costing a pass (measured: 1.72 passes a step
+        // rigid, 1.60 deformable; 2.50 and 2.38 when each cost a pass).
+        assert!(passes <= 2.0, "{kind}: {passes} passes a step");
+    }
     Run { passes, sank }
 }
 
@@ -161,7 +168,8 @@ fn a_damped_wall_steps_at_1_ms() {
 
 /// The 20 × 20 wall of deformable bricks at its automatic step (9.5 ms)
 /// while it settles: nothing opens, closes or starts to slide, so each
-/// step is one pass. (The corners of its head joints, squeezed a hair into
+/// step is one pass, but for a pass where a foreseen opening did not come
+/// (one, measured). (The corners of its head joints, squeezed a hair into
 /// each other, once lost their contact every other step and took a second
 /// pass to close it again: 62 passes over these 32 steps.)
 #[test]
@@ -172,10 +180,18 @@ fn a_deformable_wall_at_its_automatic_step_takes_one_pass_a_step() {
     driver.advance_to(0.3).unwrap();
     let stats = driver.statistics();
     println!(
-        "automatic step: {} steps, {} passes, {} factorisations",
-        stats.steps, stats.open_close_iterations, stats.factorizations
+        "automatic step: {} steps, {} passes, {} factorisations, {} foreseen, {} missed",
+        stats.steps,
+        stats.open_close_iterations,
+        stats.factorizations,
+        stats.foreseen,
+        stats.foresight_misses
     );
     assert!(stats.steps >= 30, "{} steps", stats.steps);
     assert_eq!(stats.open_close_cuts, 0);
-    assert_eq!(stats.open_close_iterations, stats.steps);
+    assert_eq!(
+        stats.open_close_iterations,
+        stats.steps + stats.foresight_misses
+    );
+    assert!(10 * stats.foresight_misses < stats.steps);
 }

@@ -110,13 +110,16 @@ fn without_damping_a_sliding_contact_within_its_strength_locks_at_no_cost() {
     assert_eq!(stats.unconverged_steps, 0, "{stats:?}");
     assert_eq!(stats.open_close_cuts, 0, "{stats:?}");
     // Each step: the pass that unlocks them, and the one that finds them
-    // within their strength.
+    // within their strength; and, rarely, one that turns back a foreseen
+    // opening (the block rocks on its springs by about the open-close
+    // tolerance).
     assert!(
-        stats.open_close_iterations <= 2 * stats.steps,
+        stats.open_close_iterations <= 2 * stats.steps + stats.foresight_misses,
         "{} passes in {} steps",
         stats.open_close_iterations,
         stats.steps
     );
+    assert!(10 * stats.foresight_misses < stats.steps, "{stats:?}");
     let closed = closed_states(&driver);
     assert!(
         closed.iter().all(|&s| s == ContactState::Locked),

@@ -23,12 +23,14 @@ use crate::statistics::CYCLES_KEPT;
 pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
 use anderson::Anderson;
+use predict::RecentSteps;
 use terms::{ContactLoad, ContactTerms, Decision, Kept};
 
 mod anderson;
 mod checkpoint;
 mod explicit;
 mod impact;
+mod predict;
 mod terms;
 
 /// The automatic step's ceiling is sqrt(block size / g) over this: a block
@@ -113,6 +115,9 @@ struct Trial<const T: usize> {
     /// The residual at the step's start (its first pass's first), N: the
     /// scale every pass's residual is measured against.
     load_scale: f64,
+    /// Contacts started in their foreseen state, until a pass turns one
+    /// back.
+    foreseen: Vec<usize>,
 }
 
 /// What [`Driver::load`] assembles.
@@ -202,6 +207,9 @@ pub struct Driver<S, const N: usize, const T: usize> {
     /// Explicit integration: each block's ω² bound on its own springs
     /// (elastic, fixed points), found at the first step.
     block_rates: Vec<f64>,
+    /// The last accepted steps, from which the next one's motion is
+    /// foreseen (implicit integration).
+    recent: RecentSteps,
 }
 
 impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
@@ -306,6 +314,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             last_dt: None,
             half_velocity: Vec::new(),
             block_rates: Vec::new(),
+            recent: RecentSteps::default(),
         }
         .explained())
     }
@@ -640,26 +649,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.striking.clear();
         self.sliding_impact.clear();
         let mut trial = Trial {
-            d: vec![0.0; nb * N],
-            states: self.contacts.iter().map(|c| c.record.state).collect(),
-            entrances: Vec::new(),
-            directions: self
-                .contacts
-                .iter()
-                .map(|c| c.record.slip_direction)
-                .collect(),
             converged: false,
-            unsettled: Vec::new(),
-            pulled: vec![false; self.contacts.len()],
-            within: vec![false; self.contacts.len()],
-            load_scale: 0.0,
+            ..self.at_rest()
         };
-        let tolerance = self.settings.contact_tolerance * self.length_scale;
-        trial.entrances = self
-            .contacts
-            .iter()
-            .map(|c| widest_entrance(c, &trial.d, c.record.entrance, tolerance))
-            .collect();
         let masses: Vec<BlockMatrix<N>> = (0..nb).map(|i| self.system.mass(i)).collect();
         self.inverse_masses = masses
             .iter()
@@ -671,6 +663,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         } else {
             Vec::new()
         };
+        self.foresee_states(&mut trial, dt);
         // The states two passes back: a pass that returns to them is a
         // cycle, which more passes would only repeat.
         let mut before: Option<Vec<ContactState>> = None;
@@ -685,7 +678,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             self.newton(dt, &masses, &mut trial)?;
             let assumed = trial.states.clone();
-            if !self.decide(&mut trial, dt, None) {
+            let changed = self.decide(&mut trial, dt, None);
+            let contacts = &self.contacts;
+            let missed =
+                |&i: &usize| trial.states[i].is_closed() == contacts[i].record.state.is_closed();
+            if trial.foreseen.iter().any(missed) {
+                self.stats.foresight_misses += 1;
+                trial.foreseen.clear();
+            }
+            if !changed {
                 trial.converged = true;
                 break;
             }
@@ -725,6 +726,39 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             before = Some(assumed);
         }
         Ok(trial)
+    }
+
+    /// Starts each contact that the foreseen motion carries across its
+    /// open-close tolerance closed or open as that motion leaves it (see
+    /// `predict`). With restitution only openings are foreseen: a contact
+    /// struck in an attempt stays struck, and a foreseen closing may not
+    /// come.
+    fn foresee_states(&mut self, trial: &mut Trial<T>, dt: f64) {
+        let Some(foreseen) = self.recent.foresee(dt) else {
+            return;
+        };
+        let at_rest = std::mem::replace(&mut trial.d, foreseen);
+        let mut decisions = std::mem::take(&mut self.decisions);
+        let terms = self.terms();
+        (0..self.contacts.len())
+            .into_par_iter()
+            .with_min_len(CONTACTS_PER_TASK)
+            .map(|i| terms.decision(i, trial, dt, &trial.d))
+            .collect_into_vec(&mut decisions);
+        trial.d = at_rest;
+        let closings = self.settings.restitution.is_none();
+        for (i, decision) in decisions.iter().enumerate() {
+            let closed = decision.state.is_closed();
+            if closed != trial.states[i].is_closed() && (closings || !closed) {
+                trial.states[i] = decision.state;
+                if let Some(direction) = decision.direction {
+                    trial.directions[i] = direction;
+                }
+                trial.foreseen.push(i);
+            }
+        }
+        self.stats.foreseen += trial.foreseen.len();
+        self.decisions = decisions;
     }
 
     /// One open-close decision at the trial: each contact's next state,
@@ -1229,6 +1263,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             *v = block(&trial.d, i) * (2.0 / dt) - *v * ratio - self.struck_early[i] * 2.0
                 + self.struck[i];
         }
+        self.recent.push(dt, &trial.d);
         self.finish_step(&trial.d, dt, spring_energy);
     }
 

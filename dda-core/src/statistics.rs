@@ -28,6 +28,12 @@ pub struct Statistics {
     /// before (a cycle), settled by keeping each cycling contact's sliding
     /// or closed state.
     pub cycle_breaks: usize,
+    /// Contacts that started a step in the state its foreseen motion
+    /// leads to (opening or closing), not the one they ended the last in.
+    pub foreseen: usize,
+    /// Open-close passes spent turning back a foreseen state: the motion
+    /// did not carry the contact across after all.
+    pub foresight_misses: usize,
     /// Contacts that struck (closed with an approach speed while
     /// `restitution` is set) and took an impulse.
     pub impacts: usize,

@@ -9,6 +9,7 @@
 use nalgebra::SVector;
 use serde::{Deserialize, Serialize};
 
+use super::predict::RecentSteps;
 use super::Driver;
 use crate::contact::ContactState;
 use crate::contacts::{BlockVector, Contact, ContactKey, ContactRecord};
@@ -35,6 +36,7 @@ struct Saved {
     first_potential: Option<f64>,
     velocity: Vec<Vec<f64>>,
     half_velocity: Vec<Vec<f64>>,
+    recent: RecentSteps,
     contacts: Vec<SavedContact>,
     pattern: Vec<(usize, usize)>,
     statistics: Statistics,
@@ -115,6 +117,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             half_velocity: (self.half_velocity.iter())
                 .map(|v| v.iter().copied().collect())
                 .collect(),
+            recent: self.recent.clone(),
             contacts,
             pattern: self.matrix.pairs().to_vec(),
             statistics: self.stats.clone(),
@@ -137,6 +140,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             && saved.velocity.iter().all(|v| v.len() == N)
             && [0, blocks].contains(&saved.half_velocity.len())
             && saved.half_velocity.iter().all(|v| v.len() == N)
+            && saved.recent.fits(blocks * N)
             && saved.pattern.iter().all(|&(a, b)| a < blocks && b < blocks)
             && saved.contacts.iter().all(|c| {
                 c.law < self.laws.len()
@@ -185,6 +189,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.half_velocity = (saved.half_velocity.iter())
             .map(|v| BlockVector::<N>::from_column_slice(v))
             .collect();
+        self.recent = saved.recent;
         self.time = saved.time;
         self.time_carry = saved.time_carry;
         self.dt = saved.dt;

@@ -179,7 +179,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// The trial of a step that has not moved the blocks: the records'
     /// states, slip directions and widest entrances.
-    fn at_rest(&self) -> Trial<T> {
+    pub(super) fn at_rest(&self) -> Trial<T> {
         let d = vec![0.0; self.system.block_count() * N];
         let tolerance = self.settings.contact_tolerance * self.length_scale;
         Trial {
@@ -196,6 +196,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             pulled: vec![false; self.contacts.len()],
             within: vec![false; self.contacts.len()],
             load_scale: 0.0,
+            foreseen: Vec::new(),
         }
     }
 
