@@ -29,6 +29,7 @@ use terms::{ContactLoad, ContactTerms, Decision, Kept};
 mod anderson;
 mod checkpoint;
 mod explicit;
+mod gmres;
 mod impact;
 mod predict;
 mod terms;
@@ -45,9 +46,20 @@ const AUTO_MOTION_SHARE: f64 = 2.5e-4;
 /// The automatic step never falls below this share of its ceiling.
 const AUTO_FLOOR: f64 = 1e-4;
 
-/// Sliding contacts beyond this many are solved with the symmetric tangent
-/// only (the coupled solve costs one back-substitution per contact).
-const COUPLED_SLIDING_LIMIT: usize = 64;
+/// Couplings (sliding contacts) up to this many are applied by the
+/// Sherman-Morrison-Woodbury formula, one back-substitution each; more, by
+/// GMRES on the symmetric factor (`driver/gmres.rs`), one a product.
+const SMW_COUPLINGS: usize = 64;
+
+/// With more sliding contacts than `SMW_COUPLINGS`, moves on fresh factors
+/// that raise the residual this many times in a row end the symmetric
+/// iteration, and the whole tangent takes over: there the symmetric one
+/// climbs on to the iteration limit (a wall at a fine contact tolerance
+/// spent 25 iterations and factorisations on each such pass). With fewer,
+/// it runs to the limit, since its best iterate starts the whole-tangent
+/// iteration, which on a wedge at its friction limit failed from an
+/// earlier one.
+const RISES_BEFORE_WHOLE_TANGENT: usize = 3;
 
 /// The least reach of the matrix pattern, as a share of the median block
 /// size: open contacts this near enter the pattern whatever the motion.
@@ -836,17 +848,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         masses: &[BlockMatrix<N>],
         trial: &mut Trial<T>,
     ) -> Result<(), DdaError> {
-        if self.iterate(dt, masses, trial, false)? {
-            return Ok(());
-        }
-        let sliding = trial
-            .states
-            .iter()
+        let sliding = (trial.states.iter())
             .filter(|s| **s == ContactState::Sliding)
             .count();
-        if (1..=COUPLED_SLIDING_LIMIT).contains(&sliding)
-            && self.iterate(dt, masses, trial, true)?
-        {
+        let hand_over = sliding > SMW_COUPLINGS;
+        if self.iterate(dt, masses, trial, false, hand_over)? {
+            return Ok(());
+        }
+        if sliding > 0 && self.iterate(dt, masses, trial, true, false)? {
             self.stats.coupled_solves += 1;
             return Ok(());
         }
@@ -866,6 +875,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         masses: &[BlockMatrix<N>],
         trial: &mut Trial<T>,
         coupled: bool,
+        hand_over: bool,
     ) -> Result<bool, DdaError> {
         let mut first = 0.0;
         let mut residual = vec![0.0; self.matrix.dim()];
@@ -882,6 +892,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut factored = false;
         let mut kept = false;
         let mut keeping = true;
+        let mut rises = 0;
         for iteration in 0..=self.settings.newton_limit {
             couplings.clear();
             // The tangent is assembled where a new factor is sure to be
@@ -913,7 +924,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 best = (norm, trial.d.clone());
             }
             let converged = iteration > 0 && norm <= self.settings.residual_tolerance * first;
-            let diverging = !kept && norm > 1e3 * best.0;
+            rises = if !kept && norm > last { rises + 1 } else { 0 };
+            let diverging = !kept
+                && (norm > 1e3 * best.0 || (hand_over && rises >= RISES_BEFORE_WHOLE_TANGENT));
             if converged || diverging || iteration == self.settings.newton_limit {
                 if !converged {
                     trial.d = best.1;
@@ -1019,7 +1032,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     }
 
     /// Turns `y = K⁻¹r` (K the symmetric tangent) into the solution with
-    /// K + Σ sⱼ uⱼvⱼᵀ: x = y − Z (I + S VᵀZ)⁻¹ S Vᵀy, with Z = K⁻¹U.
+    /// K + Σ sⱼ uⱼvⱼᵀ: x = y − Z (I + S VᵀZ)⁻¹ S Vᵀy, with Z = K⁻¹U; beyond
+    /// `SMW_COUPLINGS` couplings, by GMRES on x + K⁻¹U S Vᵀx = y.
     fn correct(&self, couplings: &[FrictionCoupling<N>], y: &mut [f64]) {
         let m = couplings.len();
         let size = y.len();
@@ -1027,6 +1041,24 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             c.v[0].dot(&self.matrix.block(x, c.blocks[0]))
                 + c.v[1].dot(&self.matrix.block(x, c.blocks[1]))
         };
+        if m > SMW_COUPLINGS {
+            // x + K⁻¹Σ sⱼuⱼ(vⱼᵀx) = y, from x = y.
+            let apply = |v: &[f64], out: &mut [f64]| {
+                out.iter_mut().for_each(|o| *o = 0.0);
+                for c in couplings {
+                    let w = c.slope * dot(c, v);
+                    self.matrix.add_block(out, c.blocks[0], &(c.u[0] * w));
+                    self.matrix.add_block(out, c.blocks[1], &(c.u[1] * w));
+                }
+                self.solver.solve(out);
+                for (o, v) in out.iter_mut().zip(v) {
+                    *o += v;
+                }
+            };
+            let rhs = y.to_vec();
+            gmres::gmres(apply, &rhs, y, 1e-6, 60);
+            return;
+        }
         let z: Vec<Vec<f64>> = couplings
             .iter()
             .map(|c| {
