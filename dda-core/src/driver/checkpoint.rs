@@ -39,6 +39,8 @@ struct Saved {
     recent: RecentSteps,
     contacts: Vec<SavedContact>,
     pattern: Vec<(usize, usize)>,
+    /// The matrix values of the factor the next step starts on.
+    factored: Option<Vec<f64>>,
     statistics: Statistics,
     system: SystemState,
 }
@@ -120,6 +122,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             recent: self.recent.clone(),
             contacts,
             pattern: self.matrix.pairs().to_vec(),
+            factored: self.factored.clone(),
             statistics: self.stats.clone(),
             system: self.system.save_state()?,
         };
@@ -203,6 +206,20 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.stats = saved.statistics;
         self.rebuild_pattern(saved.pattern);
         self.find_slots();
+        if let Some(values) = saved.factored {
+            // The factor the next step starts on, made again from its
+            // values (not counted: the run made it before it stopped).
+            let pattern = self.matrix.pattern();
+            if values.len() != pattern.row_idx.len() {
+                return Err(DdaError::Checkpoint(
+                    "the checkpoint's matrix does not match its contact pattern: it is damaged or from another version".into(),
+                ));
+            }
+            self.solver.analyse(&pattern)?;
+            self.solver.factorize(&values)?;
+            self.analysed = true;
+            self.factored = Some(values);
+        }
         Ok(())
     }
 }
