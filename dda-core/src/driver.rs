@@ -916,7 +916,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         for iteration in 0..=self.settings.newton_limit {
             couplings.clear();
             // The tangent is assembled where a new factor is sure to be
-            // needed; elsewhere only if the kept one falls short.
+            // needed, and at a pass's start to weigh the last step's factor
+            // against it; elsewhere only if the kept one falls short.
             let tangent = coupled || !keeping || !factored || iteration == 0;
             self.assemble(
                 dt,
