@@ -765,13 +765,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             return;
         };
         let at_rest = std::mem::replace(&mut trial.d, foreseen);
-        let mut decisions = std::mem::take(&mut self.decisions);
-        let terms = self.terms();
-        (0..self.contacts.len())
-            .into_par_iter()
-            .with_min_len(CONTACTS_PER_TASK)
-            .map(|i| terms.decision(i, trial, dt, &trial.d))
-            .collect_into_vec(&mut decisions);
+        let decisions = self.decisions_at(trial, dt, &trial.d);
         trial.d = at_rest;
         let closings = self.settings.restitution.is_none();
         for (i, decision) in decisions.iter().enumerate() {
@@ -788,15 +782,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.decisions = decisions;
     }
 
-    /// One open-close decision at the trial: each contact's next state,
-    /// slip direction and entrance; returns whether any changed (listed in
-    /// `trial.unsettled`). The shear dashpots act on the step's motion, or
-    /// on `approach` where given (an explicit step's start velocities × dt).
-    fn decide(&mut self, trial: &mut Trial<T>, dt: f64, approach: Option<&[f64]>) -> bool {
-        let moving = approach.unwrap_or(&trial.d);
-        let deciding = Instant::now();
-        // Each contact's decision reads the trial and writes nothing; they
-        // are made in parallel and entered in contact order.
+    /// Every contact's decision at the trial, in the kept buffer (give it
+    /// back to `self.decisions`). Each reads the trial and writes nothing:
+    /// they are made in parallel and come in contact order.
+    fn decisions_at(&mut self, trial: &Trial<T>, dt: f64, moving: &[f64]) -> Vec<Decision<T>> {
         let mut decisions = std::mem::take(&mut self.decisions);
         let terms = self.terms();
         (0..self.contacts.len())
@@ -804,6 +793,17 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             .with_min_len(CONTACTS_PER_TASK)
             .map(|i| terms.decision(i, trial, dt, moving))
             .collect_into_vec(&mut decisions);
+        decisions
+    }
+
+    /// One open-close decision at the trial: each contact's next state,
+    /// slip direction and entrance; returns whether any changed (listed in
+    /// `trial.unsettled`). The shear dashpots act on the step's motion, or
+    /// on `approach` where given (an explicit step's start velocities × dt).
+    fn decide(&mut self, trial: &mut Trial<T>, dt: f64, approach: Option<&[f64]>) -> bool {
+        let moving = approach.unwrap_or(&trial.d);
+        let deciding = Instant::now();
+        let decisions = self.decisions_at(trial, dt, moving);
         let mut changed = false;
         trial.unsettled.clear();
         for (i, decision) in decisions.iter().enumerate() {
