@@ -253,10 +253,13 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
         }
         let slope = if couple && slipping {
             // d(friction)/d(gap), by central differences: laws are pure.
+            // The friction's, also for a locked contact past its strength:
+            // its own (locked) response is the spring's, which no gap moves.
             let h = 1e-6 * kin.gap.abs().max(kin.tolerance);
             let at = |gap: f64| {
                 let kin = LocalKinematics { gap, ..kin };
-                law.response(state, &kin, history).shear_force
+                law.response(ContactState::Sliding, &kin, history)
+                    .shear_force
             };
             (at(kin.gap + h) - at(kin.gap - h)) / (2.0 * h)
         } else {
@@ -437,6 +440,141 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
                 stored(response.normal_force, response.normal_stiffness),
                 shear_energy,
             ],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::{ContactLaw, DynContactLaw};
+    use crate::contacts::{ContactKey, ContactRecord};
+
+    /// Penalty springs with Coulomb friction, yielding at its strength.
+    struct Friction;
+
+    const PENALTY: f64 = 1e9;
+    const SHEAR: f64 = 4e8;
+    const MU: f64 = 0.6;
+
+    impl ContactLaw for Friction {
+        type History = ();
+
+        fn initial_history(&self, _: bool) {}
+
+        fn response(&self, state: ContactState, kin: &LocalKinematics, _: &()) -> ContactResponse {
+            let normal_force = -PENALTY * kin.gap;
+            let (shear_force, shear_stiffness) = match state {
+                ContactState::Sliding => (MU * normal_force.max(0.0), 0.0),
+                _ => (SHEAR * kin.shear, SHEAR),
+            };
+            ContactResponse {
+                normal_force,
+                normal_stiffness: PENALTY,
+                shear_force,
+                shear_stiffness,
+            }
+        }
+
+        fn next_state(&self, state: ContactState, _: &LocalKinematics, _: &()) -> ContactState {
+            state
+        }
+
+        fn commit(&self, _: ContactState, _: &LocalKinematics, _: &mut ()) {}
+
+        fn yields_at_strength(&self) -> bool {
+            true
+        }
+    }
+
+    /// The force of a slipping contact, locked and past its strength or
+    /// sliding, changes with the blocks' DOF as the whole tangent says:
+    /// −(k_n·n nᵀ + slope·u nᵀ), u the friction's direction (finite
+    /// differences).
+    #[test]
+    fn the_whole_tangent_is_the_derivative_of_a_slipping_contacts_force() {
+        let n = |v: [f64; 3]| BlockVector::<3>::from(v);
+        let entrance = Entrance {
+            gap: -1e-5,
+            normal: [n([0.0, 1.0, 0.2]), n([0.0, -1.0, 0.1])],
+            tangents: [[n([1.0, 0.0, -0.3]), n([-1.0, 0.0, 0.05])]],
+        };
+        let contact = Contact {
+            key: ContactKey {
+                block_a: 0,
+                feature_a: 0,
+                block_b: 1,
+                feature_b: 0,
+            },
+            blocks: [0, 1],
+            law: 0,
+            length: 0.0,
+            spring_length: 1.0,
+            entrances: vec![entrance],
+            record: ContactRecord {
+                history: Some(DynContactLaw::initial_history(&Friction, true)),
+                ..ContactRecord::default()
+            },
+        };
+        let contacts = [contact];
+        let laws: Vec<Box<dyn DynContactLaw>> = vec![Box::new(Friction)];
+        let masses = [BlockMatrix::<3>::identity(); 2];
+        let terms = ContactTerms {
+            contacts: &contacts,
+            laws: &laws,
+            inverse_masses: &masses,
+            striking: &[],
+            damping: 0.0,
+            tolerance: 1e-7,
+            penalty: PENALTY,
+            active: &[],
+        };
+        // A stretch of 1e-4 carries 4e4 N on the spring; the friction is
+        // 0.6 · 1e4 N.
+        let d = vec![1e-4, 0.0, 0.0, 0.0, 0.0, 0.0];
+        for state in [ContactState::Locked, ContactState::Sliding] {
+            let trial = |d: Vec<f64>| Trial {
+                d,
+                states: vec![state],
+                entrances: vec![0],
+                directions: vec![SVector::<f64, 1>::from([1.0])],
+                converged: false,
+                unsettled: Vec::new(),
+                pulled: vec![false],
+                within: vec![false],
+                load_scale: 0.0,
+                foreseen: Vec::new(),
+            };
+            let at = trial(d.clone());
+            let load = terms.load(0, &at, 1e-3, &at.d, true).expect("closed");
+            assert_eq!(load.shear_stiffness[0], 0.0, "{state:?} slips");
+            let [na, nb] = &contacts[0].entrances[0].normal;
+            let [ta, tb] = &contacts[0].entrances[0].tangents[0];
+            let (v, u) = ([na, nb], [ta * load.direction[0], tb * load.direction[0]]);
+            for j in 0..6 {
+                let h = 1e-9;
+                let moved = |s: f64| {
+                    let mut d = d.clone();
+                    d[j] += s * h;
+                    let t = trial(d);
+                    let l = terms.load(0, &t, 1e-3, &t.d, true).expect("closed");
+                    [l.force[0], l.force[1]]
+                };
+                let (plus, minus) = (moved(1.0), moved(-1.0));
+                // Column j of −(k_n·v vᵀ + slope·u vᵀ), block by block.
+                let vj = v[j / 3][j % 3];
+                let column = |side: usize| {
+                    -(v[side] * (load.normal_stiffness * vj) + u[side] * (load.slope * vj))
+                };
+                for side in 0..2 {
+                    let fd = (plus[side] - minus[side]) / (2.0 * h);
+                    let exact = column(side);
+                    assert!(
+                        (fd - exact).norm() <= 1e-6 * exact.norm().max(1.0),
+                        "{state:?}, DOF {j}, block {side}: {fd} against {exact}"
+                    );
+                }
+            }
         }
     }
 }
