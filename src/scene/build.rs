@@ -202,10 +202,9 @@ impl Scene {
         let table = self.law_table();
         system.joint_laws = table.materials.clone();
         system.pair_laws = table.pairs.clone();
-        let points = checked.points;
-        system.loads = points.loads;
-        system.fixed = points.fixed;
-        system.measured = points.measured;
+        system.loads = checked.loads;
+        system.fixed = checked.fixed;
+        system.measured = checked.measured;
         for (k, block) in checked.blocks.iter().enumerate() {
             if block.fixed {
                 system.fix_block(k);

@@ -802,10 +802,14 @@ impl Scene {
     /// Index of the block's material, if it names one that exists (or the
     /// only material when it names none).
     pub fn material_index(&self, block: &BlockSpec) -> Option<usize> {
-        match block.material() {
+        self.material_named(block.material())
+    }
+
+    /// Index of the material `name`, or of the only one for `None`.
+    fn material_named(&self, name: Option<&str>) -> Option<usize> {
+        match name {
             Some(name) => self.materials.iter().position(|(n, _)| n == name),
-            None if self.materials.len() == 1 => Some(0),
-            None => None,
+            None => (self.materials.len() == 1).then_some(0),
         }
     }
 }
