@@ -15,7 +15,7 @@
 //! }
 //! ```
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -26,9 +26,9 @@ use dda_contact::LawRegistry;
 use crate::extrude::{extrude_with, Extrusion};
 use crate::pictures::plot::{plot, PlotOptions};
 use crate::pictures::render::{render, ColorField, RenderOptions};
-use crate::run::{bytes_text, default_out_dir, estimate, run_with_registry, RunOptions};
-use crate::scene::MotionSpec;
-use crate::Scene;
+use crate::run::{bytes_text, default_out_dir, estimate_model, run_with_registry, RunOptions};
+use crate::scene::{AnyModel, Model, MotionSpec};
+use crate::{Scene, Simulation};
 
 #[derive(Parser)]
 #[command(
@@ -346,47 +346,9 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
         }
         Command::Check { scene: path } => {
             let scene = Scene::load(&path)?;
-            let model = scene.build_any_with(registry)?;
-            let laws = scene.law_table().laws;
-            let dt = model.dt();
-            let auto = if scene.analysis.dt.is_none() {
-                " (automatic)"
-            } else {
-                ""
-            };
-            let space = if model.dimension() == 3 { "3D, " } else { "" };
-            println!(
-                "{}: ok ({space}{}, {}, {}, duration {} s, dt {dt:.4e} s{auto})",
-                path.display(),
-                count(model.block_count(), "block"),
-                count(scene.materials.len(), "material"),
-                count(laws.len(), "joint law"),
-                model.duration(),
-            );
-            let expected = estimate(&model);
-            let every = if model.output_interval().is_none() {
-                " (every step)".to_string()
-            } else {
-                String::new()
-            };
-            println!(
-                "expects {:.0} steps at dt, {:.0} output times{every}, {:.0} history rows (about {}{})",
-                expected.steps,
-                expected.output_times,
-                expected.rows,
-                bytes_text(expected.bytes),
-                if model.write_contacts() {
-                    ", plus contacts.csv"
-                } else {
-                    ""
-                },
-            );
-            println!("needs about {} of memory", bytes_text(expected.memory));
-            for note in model.notes() {
-                eprintln!("note: {note}");
-            }
-            for warning in &expected.warnings {
-                eprintln!("warning: {warning}");
+            match scene.build_any_with(registry)? {
+                AnyModel::Plane(model) => check(&path, &scene, &model),
+                AnyModel::Space(model) => check(&path, &scene, &model),
             }
         }
         Command::Bench {
@@ -557,6 +519,51 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
         ));
     }
     Ok((w, h))
+}
+
+/// What `dda check` says of a scene built into `model`.
+fn check<S: Simulation>(path: &Path, scene: &Scene, model: &Model<S>) {
+    let laws = scene.law_table().laws;
+    let dt = model.driver.dt();
+    let auto = if scene.analysis.dt.is_none() {
+        " (automatic)"
+    } else {
+        ""
+    };
+    let space = if S::DIMENSION == 3 { "3D, " } else { "" };
+    println!(
+        "{}: ok ({space}{}, {}, {}, duration {} s, dt {dt:.4e} s{auto})",
+        path.display(),
+        count(model.driver.block_count(), "block"),
+        count(scene.materials.len(), "material"),
+        count(laws.len(), "joint law"),
+        model.duration,
+    );
+    let expected = estimate_model(model);
+    let every = if model.output_interval.is_none() {
+        " (every step)".to_string()
+    } else {
+        String::new()
+    };
+    println!(
+        "expects {:.0} steps at dt, {:.0} output times{every}, {:.0} history rows (about {}{})",
+        expected.steps,
+        expected.output_times,
+        expected.rows,
+        bytes_text(expected.bytes),
+        if model.write_contacts {
+            ", plus contacts.csv"
+        } else {
+            ""
+        },
+    );
+    println!("needs about {} of memory", bytes_text(expected.memory));
+    for note in model.all_notes() {
+        eprintln!("note: {note}");
+    }
+    for warning in &expected.warnings {
+        eprintln!("warning: {warning}");
+    }
 }
 
 /// "a", "a and b", "a, b and c".

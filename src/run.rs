@@ -76,7 +76,15 @@ pub const MAX_SENSIBLE_BYTES: f64 = 1e9;
 
 /// The steps and output size a built scene asks for.
 pub fn estimate(model: &AnyModel) -> Estimate {
-    let (duration, dt) = (model.duration(), model.dt());
+    match model {
+        AnyModel::Plane(m) => estimate_model(m),
+        AnyModel::Space(m) => estimate_model(m),
+    }
+}
+
+/// [`estimate`] of a model of either dimension.
+pub fn estimate_model<S: Simulation>(model: &Model<S>) -> Estimate {
+    let (duration, dt) = (model.duration, model.driver.dt());
     let ratio = duration / dt;
     // A whole number of steps that division leaves a hair above is whole.
     let steps = if (ratio - ratio.round()).abs() <= 1e-9 * ratio {
@@ -84,14 +92,14 @@ pub fn estimate(model: &AnyModel) -> Estimate {
     } else {
         ratio.ceil()
     };
-    let output_times = match model.output_interval() {
+    let output_times = match model.output_interval {
         Some(interval) => (duration / interval).ceil().min(steps) + 1.0,
         None => steps + 1.0,
     };
-    let blocks = model.block_count() as f64;
+    let blocks = model.driver.block_count() as f64;
     let rows = output_times * blocks;
     // Numbers take about 20 characters each as written, with their commas.
-    let fields = if model.dimension() == 3 { 18.0 } else { 9.0 };
+    let fields = if S::DIMENSION == 3 { 18.0 } else { 9.0 };
     let bytes = rows * (20.0 * fields + 20.0);
     let mut warnings = Vec::new();
     if steps > MAX_SENSIBLE_STEPS {
@@ -110,7 +118,7 @@ pub fn estimate(model: &AnyModel) -> Estimate {
         output_times,
         rows,
         bytes,
-        memory: memory_estimate(blocks, model.dimension()),
+        memory: memory_estimate(blocks, S::DIMENSION),
         warnings,
     }
 }

@@ -164,12 +164,43 @@ impl JointLaw {
 /// Numbers written as a tuple, like `(0.0, -9.81)` or `(1.0, 2.0, 3.0)`: a
 /// point or vector with one number per dimension of the scene (a load
 /// history's samples have the time first). The count is checked against
-/// the scene's dimension by
-/// [`crate::Scene::validate`], with the place named.
+/// the scene's dimension ([`Coords::numbers`]), and the scene names the
+/// place.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Coords(pub Vec<f64>);
 
 impl Coords {
+    /// The numbers once there is one per axis of a `d`D scene (after a
+    /// time when `timed`), or what to write: `what` names the tuple and
+    /// `prefix` its numbers, like "f" for (fx, fy).
+    pub fn numbers(
+        &self,
+        d: usize,
+        what: &str,
+        timed: bool,
+        prefix: &str,
+    ) -> Result<&[f64], String> {
+        let axes = ["x", "y", "z"][..d].iter().map(|a| format!("{prefix}{a}"));
+        let names: Vec<String> = timed
+            .then(|| "t".to_string())
+            .into_iter()
+            .chain(axes)
+            .collect();
+        if self.len() == names.len() {
+            return Ok(&self.0);
+        }
+        let other = if d == 3 {
+            ""
+        } else {
+            " (or add dimension: 3 at the top for a 3D scene)"
+        };
+        Err(format!(
+            "{what} has {} numbers, but this is a {d}D scene: write ({}){other}",
+            self.len(),
+            names.join(", ")
+        ))
+    }
+
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()
     }

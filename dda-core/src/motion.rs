@@ -16,8 +16,9 @@ use crate::DdaError;
 pub const BASELINE_DEGREE: usize = 3;
 
 /// What the samples of a recorded motion are.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum Quantity {
+    #[default]
     Acceleration,
     Velocity,
     Displacement,

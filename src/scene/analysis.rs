@@ -20,7 +20,7 @@ use serde::{forward_to_deserialize_any, Deserialize, Deserializer, Serialize, Se
 
 use dda_2d::{Plane, RotationUpdate};
 
-use super::Coords;
+use super::{is_default, Coords};
 use crate::guard::OnFailure;
 
 /// The analysis: what the scene decides, and the driver's settings
@@ -77,10 +77,6 @@ impl DerefMut for Analysis {
     fn deref_mut(&mut self) -> &mut Settings {
         &mut self.settings
     }
-}
-
-fn is_default<T: Default + PartialEq>(value: &T) -> bool {
-    *value == T::default()
 }
 
 /// Mass-proportional damping giving the ratio `ratio` of critical damping

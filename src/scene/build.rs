@@ -49,16 +49,6 @@ pub enum AnyModel {
     Space(Model3),
 }
 
-/// `$body` with `$m` the model of either dimension.
-macro_rules! either {
-    ($model:expr, $m:ident => $body:expr) => {
-        match $model {
-            AnyModel::Plane($m) => $body,
-            AnyModel::Space($m) => $body,
-        }
-    };
-}
-
 impl AnyModel {
     /// 2 or 3.
     pub fn dimension(&self) -> u32 {
@@ -66,34 +56,6 @@ impl AnyModel {
             AnyModel::Plane(_) => 2,
             AnyModel::Space(_) => 3,
         }
-    }
-
-    pub fn block_count(&self) -> usize {
-        either!(self, m => m.driver.system.blocks.len())
-    }
-
-    pub fn duration(&self) -> f64 {
-        either!(self, m => m.duration)
-    }
-
-    /// The nominal time step.
-    pub fn dt(&self) -> f64 {
-        either!(self, m => m.driver.dt())
-    }
-
-    /// Why automatic values were chosen, the driver's and the scene's.
-    pub fn notes(&self) -> Vec<String> {
-        either!(self, m => m.all_notes())
-    }
-
-    /// The time between outputs; `None` writes every step.
-    pub fn output_interval(&self) -> Option<f64> {
-        either!(self, m => m.output_interval)
-    }
-
-    /// Whether `contacts.csv` is written.
-    pub fn write_contacts(&self) -> bool {
-        either!(self, m => m.write_contacts)
     }
 }
 
@@ -179,13 +141,11 @@ impl Scene {
         let materials = self.materials.iter().map(|(_, m)| B::elastic(m, plane));
         let mut blocks = Vec::with_capacity(checked.blocks.len());
         for (spec, shape) in checked.blocks.iter().zip(checked.shapes) {
-            let at = place_of(spec.entry, spec.part.as_deref());
             let entry = &self.blocks[spec.entry];
-            let material = self
-                .material_index(entry)
-                .ok_or_else(|| self.error(&at, "the block's material is not defined"))?;
+            let material = self.material_index(entry).expect("checked");
             let density = self.materials[material].1.density;
             let block = B::block(shape, material, density, self.kind_of(entry), spec.stress);
+            let at = place_of(spec.entry, spec.part.as_deref());
             blocks.push(block.map_err(|e| self.error(&at, e))?);
         }
         let mut system = BlockSet::new(blocks, materials.collect());
@@ -202,10 +162,9 @@ impl Scene {
         let table = self.law_table();
         system.joint_laws = table.materials.clone();
         system.pair_laws = table.pairs.clone();
-        let points = checked.points;
-        system.loads = points.loads;
-        system.fixed = points.fixed;
-        system.measured = points.measured;
+        system.loads = checked.loads;
+        system.fixed = checked.fixed;
+        system.measured = checked.measured;
         for (k, block) in checked.blocks.iter().enumerate() {
             if block.fixed {
                 system.fix_block(k);
@@ -215,39 +174,21 @@ impl Scene {
         // blocks included.
         let mut notes = Vec::new();
         if let Some((driven, motion, note)) = checked.ground {
-            for fp in system
+            let driven = system
                 .fixed
                 .iter_mut()
-                .filter(|f| driven.contains(&f.block))
-            {
-                fp.ground = Some(motion.clone());
-            }
+                .filter(|f| driven.contains(&f.block));
+            driven.for_each(|fp| fp.ground = Some(motion.clone()));
             notes.extend(note);
         }
-        // The velocity (translation, then rotation) is a block's leading
-        // DOFs; its strain rates start at zero.
-        let velocities = checked
-            .blocks
-            .iter()
-            .map(|s| SVector::from_fn(|i, _| s.velocity.get(i).copied().unwrap_or(0.0)));
-        self.model(system, &table, registry, velocities, notes)
-    }
-
-    /// The driver of `system` with the scene's laws and settings, its
-    /// blocks at their initial velocities, as a model.
-    fn model<S: BlockSystem<N, T>, const N: usize, const T: usize>(
-        &self,
-        system: S,
-        table: &LawTable,
-        registry: &LawRegistry,
-        velocities: impl Iterator<Item = SVector<f64, N>>,
-        mut notes: Vec<String>,
-    ) -> Result<Model<Driver<S, N, T>>, SceneError> {
         let settings = self.settings();
-        let laws = self.contact_laws(table, registry)?;
+        let laws = self.contact_laws(&table, registry)?;
         let mut driver = Driver::new(system, laws, settings.clone())
             .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
-        for (k, v) in velocities.enumerate() {
+        // The velocity (translation, then rotation) is a block's leading
+        // DOFs; its strain rates start at zero.
+        for (k, block) in checked.blocks.iter().enumerate() {
+            let v = SVector::from_fn(|i, _| block.velocity.get(i).copied().unwrap_or(0.0));
             driver.set_velocity(k, v);
         }
         // An automatic step shortens itself to land on the output times, so
@@ -318,18 +259,6 @@ impl Scene {
         root.field("default_joint")
     }
 
-    /// How many blocks an entry makes and, for a jointed domain, which set
-    /// separates each pair of them (indices within the entry).
-    fn generated_joints(&self, spec: &super::BlockSpec) -> (usize, Vec<(usize, usize, usize)>) {
-        if self.dimension == 3 {
-            spec.generate_3d()
-                .map_or((0, Vec::new()), |g| (g.pieces.len(), g.joints))
-        } else {
-            spec.generate_2d()
-                .map_or((0, Vec::new()), |g| (g.pieces.len(), g.joints))
-        }
-    }
-
     /// The distinct joint laws (the default first) and which joints use
     /// which.
     pub fn law_table(&self) -> LawTable {
@@ -348,7 +277,14 @@ impl Scene {
         // block pairs override them.
         let mut offset = 0;
         for spec in &self.blocks {
-            let (count, joints) = self.generated_joints(spec);
+            // How many blocks the entry makes and which set separates each
+            // pair of them (indices within the entry).
+            let made = if self.dimension == 3 {
+                spec.generate_3d().map(|g| (g.pieces.len(), g.joints))
+            } else {
+                spec.generate_2d().map(|g| (g.pieces.len(), g.joints))
+            };
+            let (count, joints) = made.unwrap_or_default();
             for (a, b, set) in joints {
                 if let Some(law) = spec.joint_sets().get(set).and_then(|s| s.law.as_ref()) {
                     pairs.insert((offset + a, offset + b), index_of(&mut laws, law));

@@ -21,14 +21,14 @@ pub enum Seg {
     Key(String),
 }
 
-/// A path into the scene, like `blocks[2].vertices[1]`: the steps it
-/// shows, then any it is only located by (`blocks[3]` pointing at its
-/// face 2), and a note shown after it (`blocks[0] (voussoir 3)`).
+/// A path into the scene, like `blocks[2].vertices[1]`: the steps it is
+/// located by, and how it reads, which leaves out any it is only located by
+/// (`blocks[3]` pointing at its face 2) and may end in a note (`blocks[0]
+/// (voussoir 3)`).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Place {
     segs: Vec<Seg>,
-    shown: usize,
-    label: Option<String>,
+    shown: String,
 }
 
 impl Place {
@@ -38,8 +38,13 @@ impl Place {
 
     fn with(&self, seg: Seg) -> Self {
         let mut p = self.clone();
+        p.shown += &match &seg {
+            Seg::Field(name) if p.segs.is_empty() => name.clone(),
+            Seg::Field(name) => format!(".{name}"),
+            Seg::Index(k) => format!("[{k}]"),
+            Seg::Key(k) => format!("[{k:?}]"),
+        };
         p.segs.push(seg);
-        p.shown = p.segs.len();
         p
     }
 
@@ -53,13 +58,6 @@ impl Place {
 
     pub fn key(&self, k: &str) -> Self {
         self.with(Seg::Key(k.to_string()))
-    }
-
-    /// A note after the place, like `blocks[0] (voussoir 3)`.
-    pub fn label(&self, label: &str) -> Self {
-        let mut p = self.clone();
-        p.label = Some(label.to_string());
-        p
     }
 
     /// `field[k]` inside this place, used for the line and column only:
@@ -76,29 +74,19 @@ impl Place {
     }
 }
 
-/// `blocks[k]`, with the part for a generated block.
+/// `blocks[k]`, with the part for a generated block, like `blocks[0]
+/// (voussoir 3)`.
 pub(super) fn place_of(entry: usize, part: Option<&str>) -> Place {
-    let at = Place::root().field("blocks").index(entry);
-    match part {
-        Some(part) => at.label(part),
-        None => at,
+    let mut at = Place::root().field("blocks").index(entry);
+    if let Some(part) = part {
+        at.shown += &format!(" ({part})");
     }
+    at
 }
 
 impl fmt::Display for Place {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for (i, seg) in self.segs[..self.shown].iter().enumerate() {
-            match seg {
-                Seg::Field(name) if i == 0 => f.write_str(name)?,
-                Seg::Field(name) => write!(f, ".{name}")?,
-                Seg::Index(k) => write!(f, "[{k}]")?,
-                Seg::Key(k) => write!(f, "[{k:?}]")?,
-            }
-        }
-        match &self.label {
-            Some(label) => write!(f, " ({label})"),
-            None => Ok(()),
-        }
+        f.write_str(&self.shown)
     }
 }
 

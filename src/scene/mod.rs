@@ -28,7 +28,7 @@ pub use dda_core::{BlockKind, Integrator, Quantity, Solver};
 
 pub use crate::generators::jointed::{JointSet, Placement, Region3};
 pub use crate::generators::Bond;
-use crate::generators::{Failure, Generated};
+use crate::generators::{self as g, Failure, Generated};
 use crate::values::ordered_map;
 pub use crate::values::{Coords, JointLaw};
 pub use analysis::{Analysis, Damping, Mode};
@@ -119,12 +119,8 @@ pub struct Material {
     pub poisson: f64,
     /// `Rigid` (translation and rotation only) or `Deformable` (also
     /// uniform strain, the default) for the blocks of this material.
-    #[serde(default, skip_serializing_if = "is_deformable")]
+    #[serde(default, skip_serializing_if = "is_default")]
     pub kind: BlockKind,
-}
-
-fn is_deformable(kind: &BlockKind) -> bool {
-    *kind == BlockKind::Deformable
 }
 
 fn default_poisson() -> f64 {
@@ -151,9 +147,19 @@ pub struct Joint {
 /// the state three numbers in 2D and six in 3D. serde's `flatten` would
 /// lose `deny_unknown_fields`, so the fields are written into each variant
 /// here. `terse: true` leaves them out of the written text when they are
-/// at their defaults (`false` writes them).
+/// at their defaults (`false` writes them). After its fields, each entry
+/// says what it makes (`BlockSpec::generate_2d` and `generate_3d`, by the
+/// length of its state), or why its values make nothing: each generator
+/// checks its own.
 macro_rules! block_specs {
-    ($($(#[$doc:meta])* $name:ident([f64; $k:literal], terse: $terse:tt) { $($own:tt)* })*) => {
+    (@made 3, 3, $make:expr) => { $make };
+    (@made 6, 6, $make:expr) => { $make };
+    (@made $k:tt, $made:tt, $make:expr) => { Ok(Vec::new().into()) };
+    (@dimension 3) => { 2 };
+    (@dimension 6) => { 3 };
+    ($($(#[$doc:meta])* $name:ident([f64; $k:tt], terse: $terse:tt) {
+        $($(#[$attr:meta])* $field:ident: $ty:ty,)*
+    } => $make:expr,)*) => {
         /// A block, or a generator of several (`Arch`, `Column`, `Wall`):
         /// shape, material and initial state. A generator's blocks take its
         /// place in the block numbering, in the order documented for each.
@@ -167,18 +173,18 @@ macro_rules! block_specs {
                 /// `Rigid` or `Deformable`; the material's kind when left out.
                 #[serde(default, skip_serializing_if = "Option::is_none")]
                 kind: Option<BlockKind>,
-                $($own)*
+                $($(#[$attr])* $field: $ty,)*
                 #[serde(default)]
-                #[cfg_attr($terse, serde(skip_serializing_if = "is_false"))]
+                #[cfg_attr($terse, serde(skip_serializing_if = "is_default"))]
                 fixed: bool,
                 /// (vx, vy, ω) in 2D, (vx, vy, vz, ωx, ωy, ωz) in 3D.
                 #[serde(default)]
-                #[cfg_attr($terse, serde(skip_serializing_if = "is_zero"))]
+                #[cfg_attr($terse, serde(skip_serializing_if = "is_default"))]
                 velocity: [f64; $k],
                 /// (σx, σy, τxy) in 2D, (σx, σy, σz, τyz, τzx, τxy) in 3D,
                 /// tension positive.
                 #[serde(default)]
-                #[cfg_attr($terse, serde(skip_serializing_if = "is_zero"))]
+                #[cfg_attr($terse, serde(skip_serializing_if = "is_default"))]
                 stress: [f64; $k],
             },)*
         }
@@ -211,6 +217,27 @@ macro_rules! block_specs {
             pub fn kind(&self) -> &'static str {
                 match self { $(BlockSpec::$name { .. } => stringify!($name),)* }
             }
+
+            /// The dimension of scene the entry belongs in: 2 or 3.
+            pub fn dimension(&self) -> u32 {
+                match self { $(BlockSpec::$name { .. } => block_specs!(@dimension $k),)* }
+            }
+
+            /// What a 2D entry makes (nothing for a 3D one).
+            #[allow(unused_variables)]
+            pub(crate) fn generate_2d(&self) -> Result<Generated<[f64; 2]>, Failure> {
+                match self {
+                    $(BlockSpec::$name { $($field,)* .. } => block_specs!(@made $k, 3, $make),)*
+                }
+            }
+
+            /// What a 3D entry makes (nothing for a 2D one).
+            #[allow(unused_variables)]
+            pub(crate) fn generate_3d(&self) -> Result<Generated<[f64; 3]>, Failure> {
+                match self {
+                    $(BlockSpec::$name { $($field,)* .. } => block_specs!(@made $k, 6, $make),)*
+                }
+            }
         }
     };
 }
@@ -218,7 +245,7 @@ macro_rules! block_specs {
 block_specs! {
     Polygon([f64; 3], terse: false) {
         vertices: Vec<[f64; 2]>,
-    }
+    } => Ok(whole((vertices.clone(), vec![]))),
     Rectangle([f64; 3], terse: false) {
         center: [f64; 2],
         width: f64,
@@ -226,7 +253,7 @@ block_specs! {
         /// Degrees, counter-clockwise.
         #[serde(default)]
         angle: f64,
-    }
+    } => Ok(g::rectangle(*center, *width, *height, *angle)?.into()),
     /// Voussoirs between radial joints (chords, no arc subdivision), numbered
     /// from the left springing to the right, then (with `abutments`) a fixed
     /// block under each springing joint, left then right.
@@ -249,14 +276,23 @@ block_specs! {
         /// the joint, t/2 longer at each end, and they reach t below it.
         #[serde(default = "default_true")]
         abutments: bool,
-    }
+    } => Ok(g::arch(&g::ArchShape {
+        center: *center,
+        radius: *radius,
+        thickness: *thickness,
+        voussoirs: *voussoirs,
+        span_angle: *span_angle,
+        pointed: *pointed,
+        abutments: *abutments,
+    })?
+    .into()),
     /// A stack of rectangular drums, the bottom one's base centred at `base`.
     Column([f64; 3], terse: false) {
         base: [f64; 2],
         drums: usize,
         drum_height: f64,
         width: f64,
-    }
+    } => Ok(g::column(*base, *drums, *drum_height, *width)?.into()),
     /// A polyhedron (3D scenes): its corners and its faces, each face the
     /// indices of its corners counter-clockwise seen from outside the block.
     /// The surface must be closed, with every edge shared by two faces, and
@@ -264,7 +300,7 @@ block_specs! {
     Polyhedron([f64; 6], terse: true) {
         vertices: Vec<[f64; 3]>,
         faces: Vec<Vec<usize>>,
-    }
+    } => Ok(whole((vertices.clone(), faces.clone()))),
     /// A rectangular box (3D scenes): its centre, its edge lengths along its
     /// own axes, and the rotation taking those axes to the global ones as a
     /// rotation vector in degrees (the axis times the angle: `(0.0, 30.0,
@@ -276,7 +312,7 @@ block_specs! {
         size: [f64; 3],
         #[serde(default)]
         rotation: [f64; 3],
-    }
+    } => Ok(whole(g::cuboid(*center, *size, *rotation)?)),
     /// A vertical prism (3D scenes): a polygon in the xy plane (in either
     /// order; it is made counter-clockwise seen from above) from z = `z0` up
     /// to z = `z1`. Corners 0..n are the outline at z0, n..2n the outline at
@@ -285,7 +321,7 @@ block_specs! {
         outline: Vec<[f64; 2]>,
         z0: f64,
         z1: f64,
-    }
+    } => Ok(whole(g::prism(outline, *z0, *z1)?)),
     /// Courses of bricks from `origin` (the bottom-left corner) upward,
     /// each spanning exactly `length`; bricks numbered course by course,
     /// left to right.
@@ -297,7 +333,7 @@ block_specs! {
         brick_height: f64,
         #[serde(default)]
         bond: Bond,
-    }
+    } => Ok(g::wall(*origin, *length, *courses, *brick_length, *brick_height, *bond)?.into()),
     /// A 2D region cut into blocks by joint sets (Shi's DC step): blocks
     /// are the closed faces of the joint traces and the region's boundary,
     /// numbered in the order the cutter finds them (the same for the same
@@ -316,7 +352,7 @@ block_specs! {
         /// default none.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         fixed_below: Option<f64>,
-    }
+    } => g::jointed::cut_2d(region, sets, *min_block_area, *fixed_below),
     /// A convex 3D region cut into convex blocks by persistent joint sets.
     JointedDomain3D([f64; 6], terse: false) {
         /// `Box(min: (x, y, z), max: (x, y, z))` or `Hull([corners])`, m.
@@ -331,15 +367,17 @@ block_specs! {
         /// default none.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         fixed_below: Option<f64>,
-    }
+    } => g::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below),
 }
 
-fn is_false(b: &bool) -> bool {
-    !*b
+/// Whether a value is left out of the written text: at its default.
+fn is_default<T: Default + PartialEq>(value: &T) -> bool {
+    *value == T::default()
 }
 
-fn is_zero(v: &[f64; 6]) -> bool {
-    v.iter().all(|x| *x == 0.0)
+/// One block of the corners and faces given.
+fn whole<P>((vertices, faces): (Vec<P>, Vec<Vec<usize>>)) -> Generated<P> {
+    vec![g::Piece::new(None, vertices, faces)].into()
 }
 
 fn default_span_angle() -> f64 {
@@ -385,16 +423,6 @@ impl BlockSpec {
         }
     }
 
-    /// The dimension of scene the entry belongs in: 2 or 3.
-    pub fn dimension(&self) -> u32 {
-        // Three numbers of state in 2D, six in 3D.
-        if self.velocity().len() == 6 {
-            3
-        } else {
-            2
-        }
-    }
-
     /// Whether the entry stands for several blocks.
     pub fn is_generator(&self) -> bool {
         matches!(
@@ -405,104 +433,6 @@ impl BlockSpec {
                 | BlockSpec::JointedDomain { .. }
                 | BlockSpec::JointedDomain3D { .. }
         )
-    }
-
-    /// What a 2D entry makes (nothing for a 3D one), or why its values make
-    /// nothing: each generator checks its own.
-    pub(crate) fn generate_2d(&self) -> Result<Generated<[f64; 2]>, Failure> {
-        use crate::generators as g;
-        Ok(match self {
-            BlockSpec::Polygon { vertices, .. } => {
-                vec![g::Piece::new(None, vertices.clone(), vec![])].into()
-            }
-            BlockSpec::Rectangle {
-                center,
-                width,
-                height,
-                angle,
-                ..
-            } => g::rectangle(*center, *width, *height, *angle)?.into(),
-            &BlockSpec::Arch {
-                center,
-                radius,
-                thickness,
-                voussoirs,
-                span_angle,
-                pointed,
-                abutments,
-                ..
-            } => g::arch(&g::ArchShape {
-                center,
-                radius,
-                thickness,
-                voussoirs,
-                span_angle,
-                pointed,
-                abutments,
-            })?
-            .into(),
-            BlockSpec::Column {
-                base,
-                drums,
-                drum_height,
-                width,
-                ..
-            } => g::column(*base, *drums, *drum_height, *width)?.into(),
-            BlockSpec::Wall {
-                origin,
-                length,
-                courses,
-                brick_length,
-                brick_height,
-                bond,
-                ..
-            } => g::wall(
-                *origin,
-                *length,
-                *courses,
-                *brick_length,
-                *brick_height,
-                *bond,
-            )?
-            .into(),
-            BlockSpec::JointedDomain {
-                region,
-                sets,
-                min_block_area,
-                fixed_below,
-                ..
-            } => g::jointed::cut_2d(region, sets, *min_block_area, *fixed_below)?,
-            _ => Vec::new().into(),
-        })
-    }
-
-    /// What a 3D entry makes (nothing for a 2D one), or why its values make
-    /// nothing.
-    pub(crate) fn generate_3d(&self) -> Result<Generated<[f64; 3]>, Failure> {
-        use crate::generators as g;
-        let whole = |(v, f)| vec![g::Piece::new(None, v, f)].into();
-        Ok(match self {
-            BlockSpec::Polyhedron {
-                vertices, faces, ..
-            } => whole((vertices.clone(), faces.clone())),
-            BlockSpec::Box {
-                center,
-                size,
-                rotation,
-                ..
-            } => whole(g::cuboid(*center, *size, *rotation)?),
-            BlockSpec::Prism {
-                outline, z0, z1, ..
-            } => whole(g::prism(outline, *z0, *z1)?),
-            BlockSpec::JointedDomain3D {
-                region,
-                sets,
-                min_block_volume,
-                fixed_below,
-                ..
-            } => g::jointed::cut_3d(region, sets, *min_block_volume, *fixed_below)?,
-            _ => Vec::new().into(),
-        })
     }
 
     /// The entry's pieces as blocks numbered `entry`, with its initial state
@@ -566,7 +496,7 @@ pub enum MotionSpec {
     /// [`dda_core::Record::baseline_corrected`]).
     Record {
         path: String,
-        #[serde(default = "default_quantity")]
+        #[serde(default)]
         quantity: Quantity,
         #[serde(default = "default_scale")]
         scale: f64,
@@ -575,10 +505,6 @@ pub enum MotionSpec {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         baseline_correction: Option<bool>,
     },
-}
-
-fn default_quantity() -> Quantity {
-    Quantity::Acceleration
 }
 
 fn default_scale() -> f64 {
@@ -802,10 +728,14 @@ impl Scene {
     /// Index of the block's material, if it names one that exists (or the
     /// only material when it names none).
     pub fn material_index(&self, block: &BlockSpec) -> Option<usize> {
-        match block.material() {
+        self.material_named(block.material())
+    }
+
+    /// Index of the material `name`, or of the only one for `None`.
+    fn material_named(&self, name: Option<&str>) -> Option<usize> {
+        match name {
             Some(name) => self.materials.iter().position(|(n, _)| n == name),
-            None if self.materials.len() == 1 => Some(0),
-            None => None,
+            None => (self.materials.len() == 1).then_some(0),
         }
     }
 }

@@ -1,30 +1,23 @@
 //! Checks every value of a scene before anything is built, so errors point
-//! at the file instead of surfacing mid-run.
+//! at the file instead of surfacing mid-run. A value is checked by the type
+//! that owns it; the scene names its place and checks what only it knows:
+//! tuple counts against the dimension, names, block indices, overlaps.
 
 use std::sync::Arc;
 
+use dda_core::motion::Layout;
 use dda_core::{
-    loads, motion::Layout, settings, DdaError, FixedPoint, Force, GroundMotion, MeasuredPoint,
-    PointLoad, Quantity, Record,
+    settings, DdaError, FixedPoint, Force, GroundMotion, MeasuredPoint, PointLoad, Record,
 };
-use nalgebra::{Point, SVector};
+use nalgebra::SVector;
 
 use super::dimension::SceneElement;
 use super::locate::{locate_exact, place_of, Place};
-use super::{
-    BlockSpec, Coords, GroundMotionSpec, JointLaw, JointSet, Load, MotionSpec, Scene, SceneBlock,
-    SceneError,
-};
+use super::SceneError;
+use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, Load, MotionSpec, Scene, SceneBlock};
 use crate::generators::Failure;
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
-
-/// A scene's loads, fixed and measured points, checked, in `D` dimensions.
-pub(super) struct Points<const D: usize> {
-    pub loads: Vec<PointLoad<D>>,
-    pub fixed: Vec<FixedPoint<D>>,
-    pub measured: Vec<MeasuredPoint<D>>,
-}
 
 /// The blocks the ground motion drives, the motion, and a note on a
 /// record's baseline.
@@ -35,7 +28,9 @@ pub(super) type Ground<const D: usize> = (Vec<usize>, Arc<GroundMotion<D>>, Opti
 pub(super) struct Checked<P, Shape, const D: usize, const S: usize> {
     pub blocks: Vec<SceneBlock<P, S>>,
     pub shapes: Vec<Shape>,
-    pub points: Points<D>,
+    pub loads: Vec<PointLoad<D>>,
+    pub fixed: Vec<FixedPoint<D>>,
+    pub measured: Vec<MeasuredPoint<D>>,
     pub ground: Option<Ground<D>>,
 }
 
@@ -44,15 +39,6 @@ pub(super) fn dimension_message(dimension: u32) -> String {
     format!(
         "dimension must be 2 (polygons in the xy plane) or 3 (polyhedra, z up), got {dimension}"
     )
-}
-
-/// A magnitude in a note: 3.726, 0.012 or 3.1e-5.
-fn short(x: f64) -> String {
-    if x >= 1e-3 {
-        format!("{x:.3}")
-    } else {
-        format!("{x:.1e}")
-    }
 }
 
 impl Scene {
@@ -75,7 +61,7 @@ impl Scene {
         &self,
     ) -> Result<Checked<B::Corner, B::Shape, D, S>> {
         let root = Place::root();
-        self.check_analysis()?;
+        self.check_analysis::<D>()?;
         if let Some(interval) = self.output.interval {
             let hint = "use 0 to write every step, or leave it out for an automatic one";
             let check = settings::non_negative("", "the output interval", interval, hint);
@@ -90,14 +76,13 @@ impl Scene {
         }
         let (blocks, shapes) = self.check_blocks::<B, D, S>()?;
         self.check_joints(blocks.len())?;
-        let points = self.points::<D>(blocks.len())?;
-        self.check_measured_points::<B, D, S>(&points.measured, &shapes)?;
-        let ground = self.ground_motion(&blocks)?;
         Ok(Checked {
+            loads: self.loads(blocks.len())?,
+            fixed: self.fixed_points(blocks.len())?,
+            measured: self.measured_points::<B, D, S>(&shapes)?,
+            ground: self.ground_motion(&blocks)?,
             blocks,
             shapes,
-            points,
-            ground,
         })
     }
 
@@ -106,37 +91,9 @@ impl Scene {
         locate_exact(&self.source.text, place.segs()).is_some()
     }
 
-    /// Checks that `c` has one number per name (`names` like `["fx",
-    /// "fy"]`), saying what to write when the count is off; the values are
-    /// checked by the type they go into.
-    fn count(&self, at: &Place, what: &str, c: &Coords, names: &[String]) -> Result {
-        if c.len() == names.len() {
-            return Ok(());
-        }
-        let d = self.dimension;
-        let other = if d == 3 {
-            ""
-        } else {
-            " (or add dimension: 3 at the top for a 3D scene)"
-        };
-        Err(self.error(
-            at,
-            format!(
-                "{what} has {} numbers, but this is a {d}D scene: write ({}){other}",
-                c.len(),
-                names.join(", ")
-            ),
-        ))
-    }
-
-    /// Names like "fx", "fy"(, "fz") for this scene's dimension.
-    fn names(&self, prefix: &str) -> Vec<String> {
-        let axes = ["x", "y", "z"].into_iter().take(self.dimension as usize);
-        axes.map(|a| format!("{prefix}{a}")).collect()
-    }
-
-    /// `c` as a vector once it has one number per axis (names like "fx"
-    /// with `prefix` "f").
+    /// `c` as a vector once it has one number per axis (`prefix` names
+    /// them, like "f" for (fx, fy)); its values are checked by the type it
+    /// goes into.
     fn vector<const D: usize>(
         &self,
         at: &Place,
@@ -144,24 +101,20 @@ impl Scene {
         c: &Coords,
         prefix: &str,
     ) -> Result<SVector<f64, D>> {
-        self.count(at, what, c, &self.names(prefix))?;
-        Ok(SVector::from_fn(|k, _| c.get(k)))
-    }
-
-    /// `c` as a point once it has one number per axis.
-    fn point<const D: usize>(&self, at: &Place, what: &str, c: &Coords) -> Result<Point<f64, D>> {
-        self.vector(at, what, c, "").map(Point::from)
+        let numbers = c.numbers(D, what, false, prefix);
+        Ok(SVector::from_column_slice(
+            numbers.map_err(|m| self.error(at, m))?,
+        ))
     }
 
     pub(super) fn error(&self, place: &Place, message: impl Into<String>) -> SceneError {
         self.source.invalid(place, message)
     }
 
-    /// A check that names its own field: the error at that field of
-    /// `base` (at `base` itself when it names none, and any other error
-    /// there too, never dropped).
-    fn core_field(&self, base: &Place, check: std::result::Result<(), DdaError>) -> Result {
-        check.map_err(|e| match e {
+    /// A check's error at the field it names within `base` (at `base`
+    /// itself when it names none; any other error there too).
+    fn located(&self, base: &Place, e: DdaError) -> SceneError {
+        match e {
             DdaError::Setting { field, message } if !field.is_empty() => {
                 self.error(&base.field(field), message)
             }
@@ -172,36 +125,30 @@ impl Scene {
                 message,
             } => self.error(&base.field(field).index(index), message),
             e => self.error(base, e.to_string()),
-        })
+        }
     }
 
-    fn finite(&self, place: &Place, what: &str, v: f64) -> Result {
-        self.core_field(place, settings::finite("", what, v))
+    fn core_field(&self, base: &Place, check: std::result::Result<(), DdaError>) -> Result {
+        check.map_err(|e| self.located(base, e))
     }
 
-    fn positive(&self, place: &Place, what: &str, v: f64, hint: &str) -> Result {
-        self.core_field(place, settings::positive("", what, v, hint))
-    }
-
-    fn check_analysis(&self) -> Result {
+    fn check_analysis<const D: usize>(&self) -> Result {
         let a = &self.analysis;
         let at = |name: &str| Place::root().field("analysis").field(name);
-        self.positive(
-            &at("duration"),
-            "the duration",
-            a.duration,
-            "set analysis.duration to the simulated time in seconds (it is required)",
-        )?;
-        let auto = "give a value or leave it out for an automatic one";
+        let hint = "set analysis.duration to the simulated time in seconds (it is required)";
+        let duration = settings::positive("", "the duration", a.duration, hint);
+        self.core_field(&at("duration"), duration)?;
         if let Some(p) = a.fixed_penalty {
-            self.positive(&at("fixed_penalty"), "the fixed-point penalty", p, auto)?;
+            let auto = "give a value or leave it out for an automatic one";
+            let penalty = settings::positive("", "the fixed-point penalty", p, auto);
+            self.core_field(&at("fixed_penalty"), penalty)?;
         }
         if let Some(g) = &a.gravity {
-            self.count(&at("gravity"), "gravity", g, &self.names("g"))?;
-            let finite = |v: &f64| self.finite(&at("gravity"), "gravity", *v);
-            g.as_slice().iter().try_for_each(finite)?;
+            let g = self.vector::<D>(&at("gravity"), "gravity", g, "g")?;
+            let finite = |v: &f64| settings::finite("", "gravity", *v);
+            self.core_field(&at("gravity"), g.iter().try_for_each(finite))?;
         }
-        if self.dimension == 3 && self.written(&at("plane")) {
+        if D == 3 && self.written(&at("plane")) {
             return Err(self.error(
                 &at("plane"),
                 "plane (plane strain or plane stress) is for 2D scenes; a 3D scene has no plane: remove it",
@@ -211,8 +158,7 @@ impl Scene {
             self.core_field(&at("damping"), d.check())?;
         }
         // The driver checks its own settings; the scene names the place.
-        self.core_field(&Place::root().field("analysis"), self.settings().validate())?;
-        Ok(())
+        self.core_field(&Place::root().field("analysis"), self.settings().validate())
     }
 
     /// A law's values are checked by the law itself; the scene names the
@@ -222,8 +168,8 @@ impl Scene {
         self.core_field(at, law.check())?;
         if let JointLaw::Custom { params, .. } = law {
             for (key, value) in params {
-                let what = format!("the parameter {key:?}");
-                self.finite(&at.field("params").key(key), &what, *value)?;
+                let finite = settings::finite("", &format!("the parameter {key:?}"), *value);
+                self.core_field(&at.field("params").key(key), finite)?;
             }
         }
         Ok(())
@@ -231,39 +177,35 @@ impl Scene {
 
     fn check_joints(&self, n: usize) -> Result {
         self.check_law(&Place::root().field("default_joint"), &self.default_joint)?;
-        let mut pairs: Vec<(usize, usize)> = Vec::new();
-        let mut block_pairs: Vec<((usize, usize), usize)> = Vec::new();
+        // Each pair of materials or of blocks, with the set that gives it.
+        let (mut pairs, mut block_pairs) = (Vec::new(), Vec::new());
         for (k, joint) in self.joints.iter().enumerate() {
             let at = Place::root().field("joints").index(k);
             match (&joint.between, &joint.blocks) {
-                (Some(between), None) => {
+                (Some((a, b)), None) => {
                     let side = |k| at.field("between").index(k);
-                    let a = self.find_material(&side(0), &between.0)?;
-                    let b = self.find_material(&side(1), &between.1)?;
-                    let pair = (a.min(b), a.max(b));
-                    if let Some(first) = pairs.iter().position(|p| *p == pair) {
+                    let i = self.find_material(&side(0), Some(a))?;
+                    let j = self.find_material(&side(1), Some(b))?;
+                    let pair = (i.min(j), i.max(j));
+                    if let Some((_, first)) = pairs.iter().find(|(p, _)| *p == pair) {
                         return Err(self.error(
                             &at,
-                            format!(
-                                "the pair ({:?}, {:?}) already has a law in joints[{first}]; keep one of them",
-                                between.0, between.1
-                            ),
+                            format!("the pair ({a:?}, {b:?}) already has a law in joints[{first}]; keep one of them"),
                         ));
                     }
-                    pairs.push(pair);
+                    pairs.push((pair, k));
+                }
+                (None, Some(list)) if list.is_empty() => {
+                    return Err(self.error(
+                        &at.field("blocks"),
+                        "the joint set lists no block pairs; add pairs like (0, 1) or remove the entry",
+                    ));
                 }
                 (None, Some(list)) => {
-                    if list.is_empty() {
-                        return Err(self.error(
-                            &at.field("blocks"),
-                            "the joint set lists no block pairs; add pairs like (0, 1) or remove the entry",
-                        ));
-                    }
                     for (i, &[a, b]) in list.iter().enumerate() {
                         let at_pair = at.field("blocks").index(i);
-                        for block in [a, b] {
-                            self.check_block_index(&at_pair, block, n)?;
-                        }
+                        self.check_block_index(&at_pair, a, n)?;
+                        self.check_block_index(&at_pair, b, n)?;
                         if a == b {
                             return Err(self.error(
                                 &at_pair,
@@ -271,17 +213,14 @@ impl Scene {
                             ));
                         }
                         let key = (a.min(b), a.max(b));
-                        if let Some(&(_, first)) = block_pairs.iter().find(|(p, _)| *p == key) {
-                            let where_ = if first == k {
-                                "earlier in this set".to_string()
-                            } else {
-                                format!("in joints[{first}]")
+                        if let Some((_, first)) = block_pairs.iter().find(|(p, _)| *p == key) {
+                            let where_ = match *first == k {
+                                true => "earlier in this set".to_string(),
+                                false => format!("in joints[{first}]"),
                             };
                             return Err(self.error(
                                 &at_pair,
-                                format!(
-                                    "the block pair ({a}, {b}) is already listed {where_}; a pair belongs to one joint set only"
-                                ),
+                                format!("the block pair ({a}, {b}) is already listed {where_}; a pair belongs to one joint set only"),
                             ));
                         }
                         block_pairs.push((key, k));
@@ -305,31 +244,29 @@ impl Scene {
         Ok(())
     }
 
-    fn find_material(&self, at: &Place, name: &str) -> Result<usize> {
-        self.materials
-            .iter()
-            .position(|(n, _)| n == name)
-            .ok_or_else(|| {
-                self.error(
-                    at,
-                    format!(
-                        "unknown material {name:?}; the materials are {}",
-                        self.material_names()
-                    ),
-                )
-            })
-    }
-
-    fn material_names(&self) -> String {
-        if self.materials.is_empty() {
-            return "none: add one under materials".to_string();
-        }
-        let names: Vec<String> = self
-            .materials
-            .iter()
-            .map(|(n, _)| format!("{n:?}"))
-            .collect();
-        names.join(", ")
+    /// The index of the material `name` (at `at`), or of the scene's only
+    /// one when the entry at `at` names none.
+    fn find_material(&self, at: &Place, name: Option<&str>) -> Result<usize> {
+        self.material_named(name).ok_or_else(|| {
+            let names: Vec<String> = self
+                .materials
+                .iter()
+                .map(|(n, _)| format!("{n:?}"))
+                .collect();
+            let names = match names.is_empty() {
+                true => "none: add one under materials".to_string(),
+                false => names.join(", "),
+            };
+            self.error(
+                at,
+                match name {
+                    Some(name) => format!("unknown material {name:?}; the materials are {names}"),
+                    None => {
+                        format!("the block names no material; add material: with one of {names}")
+                    }
+                },
+            )
+        })
     }
 
     /// Checks every entry and the blocks it makes (each generator checks
@@ -356,10 +293,21 @@ impl Scene {
             if spec.dimension() != self.dimension {
                 return Err(self.error(&at, self.wrong_entry(spec)));
             }
-            self.check_block_material(&at, spec)?;
+            let material = spec.material().map_or(at.clone(), |_| at.field("material"));
+            self.find_material(&material, spec.material())?;
             let kind = self.kind_of(spec);
             self.core_field(&at, kind.check_state(spec.velocity(), spec.stress()))?;
-            self.check_sets(&at, spec.joint_sets())?;
+            // A jointed domain's sets: their origins' counts and their laws
+            // (each set checks its own values when the domain is cut).
+            for (s, set) in spec.joint_sets().iter().enumerate() {
+                let at = at.field("sets").index(s);
+                if !set.origin.is_empty() {
+                    self.vector::<D>(&at.field("origin"), "the origin", &set.origin, "")?;
+                }
+                if let Some(law) = &set.law {
+                    self.check_law(&at.field("law"), law)?;
+                }
+            }
             let written = matches!(
                 spec,
                 BlockSpec::Polygon { .. } | BlockSpec::Polyhedron { .. }
@@ -397,26 +345,6 @@ impl Scene {
         format!("{kind} is a 3D block, but this is a 2D scene ({d}); add dimension: 3 at the top for a 3D scene, or use Polygon or Rectangle")
     }
 
-    /// The entry names an existing material, or the scene has only one.
-    fn check_block_material(&self, at: &Place, block: &BlockSpec) -> Result {
-        match block.material() {
-            Some(name) => {
-                self.find_material(&at.field("material"), name)?;
-            }
-            None if self.materials.len() == 1 => {}
-            None => {
-                return Err(self.error(
-                    at,
-                    format!(
-                        "the block names no material; add material: with one of {}",
-                        self.material_names()
-                    ),
-                ))
-            }
-        }
-        Ok(())
-    }
-
     /// Why an entry makes no blocks, at the field to change.
     fn failure(&self, at: &Place, e: Failure) -> SceneError {
         let at = match e.set {
@@ -426,33 +354,9 @@ impl Scene {
         self.error(&e.field.map_or(at.clone(), |f| at.field(f)), e.message)
     }
 
-    /// What the scene checks of a jointed domain's sets: their origins
-    /// against its axes, and their laws at their place (each set checks
-    /// its own values when the domain is cut).
-    fn check_sets(&self, at: &Place, sets: &[JointSet]) -> Result {
-        for (k, set) in sets.iter().enumerate() {
-            let at = at.field("sets").index(k);
-            if !set.origin.is_empty() {
-                self.count(
-                    &at.field("origin"),
-                    "the origin",
-                    &set.origin,
-                    &self.names(""),
-                )?;
-            }
-            if let Some(law) = &set.law {
-                self.check_law(&at.field("law"), law)?;
-            }
-        }
-        Ok(())
-    }
-
-    /// The scene's loads, fixed and measured points in `D` dimensions: the
-    /// scene checks their blocks and their tuples' counts, the core their
-    /// values (`PointLoad::check`, `FixedPoint::check`,
-    /// `MeasuredPoint::check`).
-    pub(super) fn points<const D: usize>(&self, n: usize) -> Result<Points<D>> {
-        let root = Place::root();
+    /// The scene's loads: the scene checks their blocks and tuples'
+    /// counts, `PointLoad::check` their values.
+    fn loads<const D: usize>(&self, n: usize) -> Result<Vec<PointLoad<D>>> {
         let mut loads = Vec::new();
         for (k, load) in self.loads.iter().enumerate() {
             let Load::PointLoad {
@@ -461,16 +365,16 @@ impl Scene {
                 force,
                 history,
             } = load;
-            let at = root.field("loads").index(k);
+            let at = Place::root().field("loads").index(k);
             self.check_block_index(&at.field("block"), *block, n)?;
-            let point = self.point(&at.field("point"), "the load point", point)?;
+            let point = self.vector::<D>(&at.field("point"), "the load point", point, "")?;
             let force = match (force, history) {
                 (Some(f), None) => {
                     Force::Constant(self.vector(&at.field("force"), "the force", f, "f")?)
                 }
                 (None, Some(h)) => Force::History(self.history(&at.field("history"), h)?),
                 _ => {
-                    let f = self.names("f").join(", ");
+                    let f = ["fx", "fy", "fz"][..D].join(", ");
                     return Err(self.error(
                         &at,
                         format!("give either force: ({f}) or history: [(t, {f}), ...], not both or neither"),
@@ -479,18 +383,39 @@ impl Scene {
             };
             let load = PointLoad {
                 block: *block,
-                point,
+                point: point.into(),
                 force,
             };
             self.core_field(&at, load.check())?;
             loads.push(load);
         }
+        Ok(loads)
+    }
+
+    /// A load's history samples once each has one time and one force
+    /// component per axis.
+    fn history<const D: usize>(
+        &self,
+        at: &Place,
+        samples: &[Coords],
+    ) -> Result<Vec<(f64, SVector<f64, D>)>> {
+        let sample = |(i, s): (usize, &Coords)| {
+            let n = s.numbers(D, "the sample", true, "f");
+            let n = n.map_err(|m| self.error(&at.index(i), m))?;
+            Ok((n[0], SVector::from_column_slice(&n[1..])))
+        };
+        samples.iter().enumerate().map(sample).collect()
+    }
+
+    /// The scene's fixed points, checked by `FixedPoint::check` once their
+    /// blocks and counts are.
+    fn fixed_points<const D: usize>(&self, n: usize) -> Result<Vec<FixedPoint<D>>> {
         let mut fixed = Vec::new();
         for (k, fp) in self.fixed_points.iter().enumerate() {
-            let at = root.field("fixed_points").index(k);
+            let at = Place::root().field("fixed_points").index(k);
             self.check_block_index(&at.field("block"), fp.block, n)?;
-            let point = self.point(&at.field("point"), "the fixed point", &fp.point)?;
-            let mut held = FixedPoint::at(fp.block, point);
+            let point = self.vector::<D>(&at.field("point"), "the fixed point", &fp.point, "")?;
+            let mut held = FixedPoint::at(fp.block, point.into());
             if !fp.velocity.is_empty() {
                 held.velocity =
                     self.vector(&at.field("velocity"), "the velocity", &fp.velocity, "v")?;
@@ -500,52 +425,50 @@ impl Scene {
             }
             self.core_field(&at, held.check())?;
             // Checked: the axis has a direction.
-            held.axis = held.axis.and_then(|a| loads::direction(&a).ok());
+            held.axis = held.axis.and_then(|a| dda_core::loads::direction(&a).ok());
             fixed.push(held);
         }
-        let mut measured = Vec::new();
-        for (k, m) in self.measured_points.iter().enumerate() {
-            let at = root.field("measured_points").index(k);
-            self.check_block_index(&at.field("block"), m.block, n)?;
-            let point = self.point(&at.field("point"), "the measured point", &m.point)?;
-            let point = MeasuredPoint::at(m.block, point);
-            self.core_field(&at, point.check())?;
-            measured.push(point);
-        }
-        Ok(Points {
-            loads,
-            fixed,
-            measured,
-        })
+        Ok(fixed)
     }
 
-    /// Each measured point lies inside or on its block.
-    fn check_measured_points<B: SceneElement<D, S>, const D: usize, const S: usize>(
+    /// The scene's measured points, each inside or on its block.
+    fn measured_points<B: SceneElement<D, S>, const D: usize, const S: usize>(
         &self,
-        measured: &[MeasuredPoint<D>],
         shapes: &[B::Shape],
-    ) -> Result {
-        for (k, m) in measured.iter().enumerate() {
-            let off = B::outside(&shapes[m.block], &m.point);
-            if off == 0.0 {
-                continue;
+    ) -> Result<Vec<MeasuredPoint<D>>> {
+        let mut measured = Vec::new();
+        for (k, m) in self.measured_points.iter().enumerate() {
+            let at = Place::root().field("measured_points").index(k);
+            self.check_block_index(&at.field("block"), m.block, shapes.len())?;
+            let point = self.vector::<D>(&at.field("point"), "the measured point", &m.point, "")?;
+            let point = MeasuredPoint::at(m.block, point.into());
+            self.core_field(&at, point.check())?;
+            let off = B::outside(&shapes[m.block], &point.point);
+            if off != 0.0 {
+                let shown: Vec<String> = m.point.as_slice().iter().map(f64::to_string).collect();
+                let hint = match shapes
+                    .iter()
+                    .position(|s| B::outside(s, &point.point) == 0.0)
+                {
+                    Some(other) => format!("it lies in block {other}: give block: {other}, or"),
+                    None => "it lies in no block:".to_string(),
+                };
+                let off = match off {
+                    x if x >= 1e-3 => format!("{x:.3}"),
+                    x => format!("{x:.1e}"),
+                };
+                return Err(self.error(
+                    &at.field("point"),
+                    format!(
+                        "the measured point ({}) is {off} m outside block {}; {hint} move the point inside or onto the block",
+                        shown.join(", "),
+                        m.block
+                    ),
+                ));
             }
-            let shown: Vec<String> = m.point.iter().map(|x| x.to_string()).collect();
-            let hint = match shapes.iter().position(|s| B::outside(s, &m.point) == 0.0) {
-                Some(other) => format!("it lies in block {other}: give block: {other}, or"),
-                None => "it lies in no block:".to_string(),
-            };
-            return Err(self.error(
-                &Place::root().field("measured_points").index(k).field("point"),
-                format!(
-                    "the measured point ({}) is {} m outside block {}; {hint} move the point inside or onto the block",
-                    shown.join(", "),
-                    short(off),
-                    m.block
-                ),
-            ));
+            measured.push(point);
         }
-        Ok(())
+        Ok(measured)
     }
 
     fn check_block_index(&self, at: &Place, block: usize, n: usize) -> Result {
@@ -580,15 +503,14 @@ impl Scene {
             return Ok(None);
         };
         let root = Place::root().field("ground_motion");
-        let at = root.field("blocks");
         if driven.is_empty() {
             return Err(self.error(
-                &at,
+                &root.field("blocks"),
                 "the ground motion drives no blocks; list the fixed base blocks, like blocks: [0]",
             ));
         }
         for (i, &b) in driven.iter().enumerate() {
-            let at = at.index(i);
+            let at = root.field("blocks").index(i);
             self.check_block_index(&at, b, blocks.len())?;
             if driven[..i].contains(&b) {
                 return Err(self.error(
@@ -604,10 +526,9 @@ impl Scene {
                         "list fixed base blocks instead, like an arch's abutments".to_string(),
                     ),
                     None => (
-                        if entry == b {
-                            format!("block {b}")
-                        } else {
-                            format!("block {b} (blocks[{entry}])")
+                        match entry == b {
+                            true => format!("block {b}"),
+                            false => format!("block {b} (blocks[{entry}])"),
                         },
                         format!(
                             "add fixed: true to blocks[{entry}], or list the fixed base blocks"
@@ -647,80 +568,17 @@ impl Scene {
                 components,
                 baseline_correction,
             } => {
-                self.finite(&at.field("scale"), "the scale", *scale)?;
-                if *baseline_correction == Some(true) && *quantity != Quantity::Acceleration {
-                    return Err(self.error(
-                        &at.field("baseline_correction"),
-                        "baseline correction applies to acceleration records only; remove baseline_correction or give quantity: Acceleration",
-                    ));
-                }
                 let layout = Layout::new(components.as_deref(), D as u32)
                     .map_err(|m| self.error(&at.field("components"), m))?;
-                if path.trim().is_empty() {
-                    return Err(self.error(
-                        &at.field("path"),
-                        format!(
-                            "the record's path is empty; name a CSV file of rows {}",
-                            layout.row()
-                        ),
-                    ));
-                }
                 let file = self.resolve(path);
-                let record = Record::<D>::read(&file, &layout, *quantity, *scale).map_err(|m| {
-                    let place = if file.is_file() {
-                        at.clone()
-                    } else {
-                        at.field("path")
-                    };
-                    self.error(&place, m)
-                })?;
-                if *quantity == Quantity::Acceleration {
-                    let (u, v) = (record.end_displacement(), record.end_velocity());
-                    let drift = format!(
-                        "as recorded it ends {} m from where it started, moving at {} m/s",
-                        short(u.norm()),
-                        short(v.norm())
-                    );
-                    if *baseline_correction == Some(false) {
-                        note = Some(format!(
-                            "ground-motion record {path}: no baseline correction (baseline_correction: false); {drift}"
-                        ));
-                        GroundMotion::Record(record)
-                    } else {
-                        let fixed = record.baseline_corrected();
-                        note = Some(format!(
-                            "ground-motion record {path}: baseline corrected (a polynomial of degree {} fitted by least squares taken out of the acceleration, so the ground ends at rest where it started; baseline_correction: false turns this off); {drift}; corrected, {} m and {} m/s",
-                            dda_core::motion::BASELINE_DEGREE,
-                            short(fixed.end_displacement().norm()),
-                            short(fixed.end_velocity().norm()),
-                        ));
-                        GroundMotion::Record(fixed)
-                    }
-                } else {
-                    GroundMotion::Record(record)
-                }
+                let (record, baseline) =
+                    Record::load(&file, &layout, *quantity, *scale, *baseline_correction)
+                        .map_err(|e| self.located(&at, e))?;
+                note = baseline.map(|n| format!("ground-motion record {path}: {n}"));
+                GroundMotion::Record(record)
             }
         };
         self.core_field(&at, motion.check())?;
         Ok(Some((driven.clone(), Arc::new(motion), note)))
-    }
-
-    /// A load's history samples once each has one time and one force
-    /// component per axis.
-    fn history<const D: usize>(
-        &self,
-        at: &Place,
-        samples: &[Coords],
-    ) -> Result<Vec<(f64, SVector<f64, D>)>> {
-        let mut names = vec!["t".to_string()];
-        names.extend(self.names("f"));
-        samples
-            .iter()
-            .enumerate()
-            .map(|(i, s)| {
-                self.count(&at.index(i), "the sample", s, &names)?;
-                Ok((s.get(0), SVector::from_fn(|k, _| s.get(k + 1))))
-            })
-            .collect()
     }
 }

@@ -5,7 +5,9 @@ use std::path::Path;
 
 use nalgebra::SVector;
 
-use super::{Quantity, Record};
+use super::{Quantity, Record, BASELINE_DEGREE};
+use crate::settings::finite;
+use crate::DdaError;
 
 /// One line of a record, 1-based, and its sample (time, values as written).
 pub type Sample = (usize, f64, Vec<f64>);
@@ -190,6 +192,60 @@ impl<const D: usize> Record<D> {
             })
             .collect();
         Record::new(quantity, &samples).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// A record as a scene names it: [`Record::read`], an acceleration
+    /// record baseline corrected unless `correct` is `Some(false)`, and a
+    /// note on how far it drifts. The error names the field at fault
+    /// (`scale`, `baseline_correction`, `path`; none for the file's rows).
+    pub fn load(
+        path: &Path,
+        layout: &Layout,
+        quantity: Quantity,
+        scale: f64,
+        correct: Option<bool>,
+    ) -> Result<(Self, Option<String>), DdaError> {
+        let fault = |field, message| DdaError::Setting { field, message };
+        finite("scale", "the scale", scale)?;
+        if correct == Some(true) && quantity != Quantity::Acceleration {
+            return Err(fault("baseline_correction", "baseline correction applies to acceleration records only; remove baseline_correction or give quantity: Acceleration".into()));
+        }
+        if path.as_os_str().is_empty() || path.is_dir() {
+            let row = layout.row();
+            return Err(fault(
+                "path",
+                format!("the record's path names no file; name a CSV file of rows {row}"),
+            ));
+        }
+        let record = Record::read(path, layout, quantity, scale)
+            .map_err(|m| fault(if path.is_file() { "" } else { "path" }, m))?;
+        if quantity != Quantity::Acceleration {
+            return Ok((record, None));
+        }
+        let short = |x: f64| match x {
+            x if x >= 1e-3 => format!("{x:.3}"),
+            x => format!("{x:.1e}"),
+        };
+        let drift = format!(
+            "as recorded it ends {} m from where it started, moving at {} m/s",
+            short(record.end_displacement().norm()),
+            short(record.end_velocity().norm())
+        );
+        if correct == Some(false) {
+            return Ok((
+                record,
+                Some(format!(
+                    "no baseline correction (baseline_correction: false); {drift}"
+                )),
+            ));
+        }
+        let fixed = record.baseline_corrected();
+        let note = format!(
+            "baseline corrected (a polynomial of degree {BASELINE_DEGREE} fitted by least squares taken out of the acceleration, so the ground ends at rest where it started; baseline_correction: false turns this off); {drift}; corrected, {} m and {} m/s",
+            short(fixed.end_displacement().norm()),
+            short(fixed.end_velocity().norm()),
+        );
+        Ok((fixed, Some(note)))
     }
 }
 
