@@ -180,15 +180,19 @@ impl LinearSolver for SparseCholesky {
 mod tests {
     use super::*;
 
-    #[test]
-    fn solves_a_small_spd_system_and_reuses_the_analysis() {
-        // [4 1 0; 1 3 1; 0 1 2] lower triangle in CSC.
-        let pattern = CscPattern {
+    /// [4 1 0; 1 3 1; 0 1 2]'s lower triangle in CSC.
+    fn tridiagonal() -> CscPattern {
+        CscPattern {
             dim: 3,
             col_ptr: vec![0, 2, 4, 5],
             row_idx: vec![0, 1, 1, 2, 2],
             blocks: Vec::new(),
-        };
+        }
+    }
+
+    #[test]
+    fn solves_a_small_spd_system_and_reuses_the_analysis() {
+        let pattern = tridiagonal();
         let mut s = SparseCholesky::default();
         s.analyse(&pattern).unwrap();
         s.factorize(&[4.0, 1.0, 3.0, 1.0, 2.0]).unwrap();
@@ -208,14 +212,9 @@ mod tests {
 
     #[test]
     fn factorises_supernodally_where_faer_would_choose_simplicial() {
-        // The tridiagonal matrix above: one flop per factor entry, far
-        // below faer's own threshold for supernodes.
-        let pattern = CscPattern {
-            dim: 3,
-            col_ptr: vec![0, 2, 4, 5],
-            row_idx: vec![0, 1, 1, 2, 2],
-            blocks: Vec::new(),
-        };
+        // One flop per factor entry, far below faer's own threshold for
+        // supernodes.
+        let pattern = tridiagonal();
         let mut s = SparseCholesky::default();
         s.analyse(&pattern).unwrap();
         let symbolic = s.symbolic.as_ref().unwrap();
