@@ -14,7 +14,8 @@ use nalgebra::SVector;
 use super::dimension::SceneElement;
 use super::locate::{locate_exact, place_of, Place};
 use super::SceneError;
-use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, Load, MotionSpec, Scene, SceneBlock};
+use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, LawTable, Load, MotionSpec, Scene};
+use super::{SceneBlock, SetLaws};
 use crate::generators::Failure;
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
@@ -32,6 +33,7 @@ pub(super) struct Checked<P, Shape, const D: usize, const S: usize> {
     pub fixed: Vec<FixedPoint<D>>,
     pub measured: Vec<MeasuredPoint<D>>,
     pub ground: Option<Ground<D>>,
+    pub laws: LawTable,
 }
 
 /// Why a dimension is refused.
@@ -74,9 +76,10 @@ impl Scene {
                 .and_then(|()| B::elastic(m, self.analysis.plane).check());
             self.core_field(&root.field("materials").key(name), checked)?;
         }
-        let (blocks, shapes) = self.check_blocks::<B, D, S>()?;
+        let (blocks, shapes, set_laws) = self.check_blocks::<B, D, S>()?;
         self.check_joints(blocks.len())?;
         Ok(Checked {
+            laws: self.laws_of(set_laws),
             loads: self.loads(blocks.len())?,
             fixed: self.fixed_points(blocks.len())?,
             measured: self.measured_points::<B, D, S>(&shapes)?,
@@ -270,11 +273,12 @@ impl Scene {
     }
 
     /// Checks every entry and the blocks it makes (each generator checks
-    /// its own values); returns them and their shapes.
+    /// its own values); returns them, their shapes and the laws of the
+    /// joints their sets make.
     #[allow(clippy::type_complexity)]
     fn check_blocks<B: SceneElement<D, S>, const D: usize, const S: usize>(
         &self,
-    ) -> Result<(Vec<SceneBlock<B::Corner, S>>, Vec<B::Shape>)> {
+    ) -> Result<(Vec<SceneBlock<B::Corner, S>>, Vec<B::Shape>, SetLaws<'_>)> {
         let root = Place::root().field("blocks");
         if self.blocks.is_empty() {
             let like = if D == 3 {
@@ -287,7 +291,7 @@ impl Scene {
                 format!("the scene has no blocks; add at least one, like {like}"),
             ));
         }
-        let (mut blocks, mut shapes) = (Vec::new(), Vec::new());
+        let (mut blocks, mut shapes, mut set_laws) = (Vec::new(), Vec::new(), Vec::new());
         for (k, spec) in self.blocks.iter().enumerate() {
             let at = root.index(k);
             if spec.dimension() != self.dimension {
@@ -313,6 +317,7 @@ impl Scene {
                 BlockSpec::Polygon { .. } | BlockSpec::Polyhedron { .. }
             );
             let made = B::generate(spec).map_err(|e| self.failure(&at, e))?;
+            set_laws.extend(spec.set_laws(made.joints, blocks.len()));
             for block in spec.blocks_of(k, made.pieces) {
                 shapes.push(B::shape(self, &at, &block, written)?);
                 blocks.push(block);
@@ -328,7 +333,7 @@ impl Scene {
                 ),
             ));
         }
-        Ok((blocks, shapes))
+        Ok((blocks, shapes, set_laws))
     }
 
     /// Why an entry of the other dimension does not belong.
