@@ -616,12 +616,7 @@ impl Scene {
             dir,
         };
         if let Ok(d) = ron_options().from_str::<DimensionOnly>(text) {
-            if !(2..=3).contains(&d.dimension) {
-                return Err(source.invalid(
-                    &locate::Place::root().field("dimension"),
-                    validate::dimension_message(d.dimension),
-                ));
-            }
+            source.check_dimension(d.dimension)?;
         }
         let mut scene: Scene = ron_options()
             .from_str(text)

@@ -13,9 +13,9 @@ use nalgebra::SVector;
 
 use super::dimension::SceneElement;
 use super::locate::{locate_exact, place_of, Place};
-use super::SceneError;
 use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, LawTable, Load, MotionSpec, Scene};
 use super::{SceneBlock, SetLaws};
+use super::{SceneError, Source};
 use crate::generators::Failure;
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
@@ -36,20 +36,23 @@ pub(super) struct Checked<P, Shape, const D: usize, const S: usize> {
     pub laws: LawTable,
 }
 
-/// Why a dimension is refused.
-pub(super) fn dimension_message(dimension: u32) -> String {
-    format!(
-        "dimension must be 2 (polygons in the xy plane) or 3 (polyhedra, z up), got {dimension}"
-    )
+impl Source {
+    /// Refuses a dimension other than 2 and 3.
+    pub(super) fn check_dimension(&self, dimension: u32) -> Result {
+        if (2..=3).contains(&dimension) {
+            return Ok(());
+        }
+        Err(self.invalid(
+            &Place::root().field("dimension"),
+            format!("dimension must be 2 (polygons in the xy plane) or 3 (polyhedra, z up), got {dimension}"),
+        ))
+    }
 }
 
 impl Scene {
     /// Checks the whole scene; the first problem found is returned.
     pub fn validate(&self) -> Result {
-        if !(2..=3).contains(&self.dimension) {
-            let at = Place::root().field("dimension");
-            return Err(self.error(&at, dimension_message(self.dimension)));
-        }
+        self.source.check_dimension(self.dimension)?;
         if self.dimension == 3 {
             self.checked::<dda_3d::Block, 3, 6>().map(drop)
         } else {
