@@ -427,18 +427,6 @@ impl BlockSpec {
         }
     }
 
-    /// Whether the entry stands for several blocks.
-    pub fn is_generator(&self) -> bool {
-        matches!(
-            self,
-            BlockSpec::Arch { .. }
-                | BlockSpec::Column { .. }
-                | BlockSpec::Wall { .. }
-                | BlockSpec::JointedDomain { .. }
-                | BlockSpec::JointedDomain3D { .. }
-        )
-    }
-
     /// The laws the entry's sets give the `joints` it makes, as (block,
     /// block, set), its blocks numbered from `first`.
     fn set_laws(
