@@ -133,10 +133,6 @@ enum PlaneDef {
     Stress,
 }
 
-/// Settings a scene does not write: it gives `damping` (a ratio at a
-/// frequency) instead of the coefficient.
-const NOT_WRITTEN: [&str; 1] = ["mass_damping"];
-
 /// The field names a derived struct reads, as serde hands them to
 /// `deserialize_struct`.
 fn fields_of<'de, T: Deserialize<'de>>() -> &'static [&'static str] {
@@ -166,7 +162,9 @@ fn fields_of<'de, T: Deserialize<'de>>() -> &'static [&'static str] {
     fields
 }
 
-/// The scene's own fields, the settings it writes, and both.
+/// The scene's own fields, the settings it writes (not those it gives
+/// itself, nor `mass_damping`: it writes `damping`, a ratio at a
+/// frequency), and both.
 fn own() -> &'static [&'static str] {
     fields_of::<Analysis>()
 }
@@ -174,10 +172,11 @@ fn own() -> &'static [&'static str] {
 fn written_settings() -> &'static [&'static str] {
     static FIELDS: OnceLock<Vec<&'static str>> = OnceLock::new();
     FIELDS.get_or_init(|| {
+        let written = |f: &&str| !own().contains(f) && *f != "mass_damping";
         fields_of::<Settings>()
             .iter()
             .copied()
-            .filter(|f| !own().contains(f) && !NOT_WRITTEN.contains(f))
+            .filter(written)
             .collect()
     })
 }

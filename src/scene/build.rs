@@ -10,7 +10,7 @@ use nalgebra::SVector;
 
 use super::dimension::SceneElement;
 use super::locate::{place_of, Place};
-use super::{JointLaw, Scene, SceneError};
+use super::{JointLaw, Scene, SceneError, SetLaws};
 
 /// A scene ready to run: a 2D one by default ([`Driver2d`]), a 3D one as
 /// [`Model3`].
@@ -159,9 +159,8 @@ impl Scene {
         let contact = a.penalty.unwrap_or_else(|| system.automatic_penalty())
             * (system.block_size() / 2.0).powi(D as i32 - 1);
         system.fixed_penalty = a.fixed_penalty.unwrap_or(10.0 * contact);
-        let table = self.law_table();
-        system.joint_laws = table.materials.clone();
-        system.pair_laws = table.pairs.clone();
+        system.joint_laws = checked.laws.materials;
+        system.pair_laws = checked.laws.pairs;
         system.loads = checked.loads;
         system.fixed = checked.fixed;
         system.measured = checked.measured;
@@ -182,7 +181,7 @@ impl Scene {
             notes.extend(note);
         }
         let settings = self.settings();
-        let laws = self.contact_laws(&table, registry)?;
+        let laws = self.contact_laws(&checked.laws.laws, registry)?;
         let mut driver = Driver::new(system, laws, settings.clone())
             .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
         // The velocity (translation, then rotation) is a block's leading
@@ -217,15 +216,13 @@ impl Scene {
         }
     }
 
-    /// The contact laws of the table, built (`Custom` ones by `registry`).
+    /// The contact laws, built (`Custom` ones by `registry`).
     fn contact_laws(
         &self,
-        table: &LawTable,
+        laws: &[JointLaw],
         registry: &LawRegistry,
     ) -> Result<Vec<Box<dyn DynContactLaw>>, SceneError> {
-        table
-            .laws
-            .iter()
+        laws.iter()
             .map(|law| {
                 law.build(registry)
                     .map_err(|message| self.error(&self.law_place(law), message))
@@ -262,6 +259,16 @@ impl Scene {
     /// The distinct joint laws (the default first) and which joints use
     /// which.
     pub fn law_table(&self) -> LawTable {
+        let set_laws = match self.dimension {
+            3 => self.expanded::<dda_3d::Block, 3, 6>().1,
+            _ => self.expanded::<Block, 2, 3>().1,
+        };
+        self.laws_of(set_laws)
+    }
+
+    /// The law table with the laws a jointed domain's sets give its block
+    /// pairs.
+    pub(super) fn laws_of(&self, set_laws: SetLaws<'_>) -> LawTable {
         // Each distinct law once: its index, added when new.
         let index_of = |laws: &mut Vec<JointLaw>, law: &JointLaw| {
             laws.iter().position(|l| l == law).unwrap_or_else(|| {
@@ -272,26 +279,12 @@ impl Scene {
         let n = self.materials.len();
         let mut laws = vec![self.default_joint.clone()];
         let mut materials = vec![vec![0; n]; n];
-        let mut pairs = HashMap::new();
         // Joints made by a jointed domain's sets first; the scene's own
         // block pairs override them.
-        let mut offset = 0;
-        for spec in &self.blocks {
-            // How many blocks the entry makes and which set separates each
-            // pair of them (indices within the entry).
-            let made = if self.dimension == 3 {
-                spec.generate_3d().map(|g| (g.pieces.len(), g.joints))
-            } else {
-                spec.generate_2d().map(|g| (g.pieces.len(), g.joints))
-            };
-            let (count, joints) = made.unwrap_or_default();
-            for (a, b, set) in joints {
-                if let Some(law) = spec.joint_sets().get(set).and_then(|s| s.law.as_ref()) {
-                    pairs.insert((offset + a, offset + b), index_of(&mut laws, law));
-                }
-            }
-            offset += count;
-        }
+        let mut pairs: HashMap<_, _> = set_laws
+            .into_iter()
+            .map(|(pair, law)| (pair, index_of(&mut laws, law)))
+            .collect();
         for joint in &self.joints {
             let index = index_of(&mut laws, &joint.law);
             if let Some((a, b)) = &joint.between {

@@ -44,16 +44,6 @@ pub enum SceneError {
     },
 }
 
-impl SceneError {
-    /// Where the error is, when it is in the file.
-    pub fn location(&self) -> Option<&Location> {
-        match self {
-            SceneError::Read { .. } => None,
-            SceneError::Syntax { at, .. } | SceneError::Invalid { at, .. } => Some(at),
-        }
-    }
-}
-
 impl Source {
     pub(super) fn syntax(&self, e: &ron::error::SpannedError) -> SceneError {
         use ron::error::Error as E;

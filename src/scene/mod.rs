@@ -414,6 +414,10 @@ pub struct SceneBlock<P = [f64; 2], const K: usize = 3> {
 /// One block of a 3D scene.
 pub type SceneBlock3 = SceneBlock<[f64; 3], 6>;
 
+/// The laws a jointed domain's sets give its block pairs: (lower, higher)
+/// block and law.
+type SetLaws<'a> = Vec<((usize, usize), &'a JointLaw)>;
+
 impl BlockSpec {
     /// A jointed domain's joint sets; none for other entries.
     pub fn joint_sets(&self) -> &[JointSet] {
@@ -423,16 +427,17 @@ impl BlockSpec {
         }
     }
 
-    /// Whether the entry stands for several blocks.
-    pub fn is_generator(&self) -> bool {
-        matches!(
-            self,
-            BlockSpec::Arch { .. }
-                | BlockSpec::Column { .. }
-                | BlockSpec::Wall { .. }
-                | BlockSpec::JointedDomain { .. }
-                | BlockSpec::JointedDomain3D { .. }
-        )
+    /// The laws the entry's sets give the `joints` it makes, as (block,
+    /// block, set), its blocks numbered from `first`.
+    fn set_laws(
+        &self,
+        joints: Vec<(usize, usize, usize)>,
+        first: usize,
+    ) -> impl Iterator<Item = ((usize, usize), &JointLaw)> {
+        let law = move |(a, b, set): (usize, usize, usize)| {
+            Some(((first + a, first + b), self.joint_sets()[set].law.as_ref()?))
+        };
+        joints.into_iter().filter_map(law)
     }
 
     /// The entry's pieces as blocks numbered `entry`, with its initial state
@@ -599,12 +604,7 @@ impl Scene {
             dir,
         };
         if let Ok(d) = ron_options().from_str::<DimensionOnly>(text) {
-            if !(2..=3).contains(&d.dimension) {
-                return Err(source.invalid(
-                    &locate::Place::root().field("dimension"),
-                    validate::dimension_message(d.dimension),
-                ));
-            }
+            source.check_dimension(d.dimension)?;
         }
         let mut scene: Scene = ron_options()
             .from_str(text)
@@ -653,24 +653,28 @@ impl Scene {
     /// motion) and in the outputs count. 3D entries are left out, and so
     /// are entries whose values make no blocks (see [`Scene::validate`]).
     pub fn expanded_blocks(&self) -> Vec<SceneBlock> {
-        self.expanded::<dda_2d::Block, 2, 3>()
+        self.expanded::<dda_2d::Block, 2, 3>().0
     }
 
     /// The blocks of a 3D scene, as corners and faces. 2D entries are left
     /// out.
     pub fn expanded_blocks_3d(&self) -> Vec<SceneBlock3> {
-        self.expanded::<dda_3d::Block, 3, 6>()
+        self.expanded::<dda_3d::Block, 3, 6>().0
     }
 
+    /// The blocks with generators expanded, and the laws the sets of a
+    /// jointed domain give its block pairs.
     fn expanded<B: SceneElement<D, S>, const D: usize, const S: usize>(
         &self,
-    ) -> Vec<SceneBlock<B::Corner, S>> {
-        let entries = self.blocks.iter().enumerate();
-        entries
-            .flat_map(|(k, spec)| {
-                B::generate(spec).map_or(Vec::new(), |g| spec.blocks_of(k, g.pieces))
-            })
-            .collect()
+    ) -> (Vec<SceneBlock<B::Corner, S>>, SetLaws<'_>) {
+        let (mut blocks, mut set_laws) = (Vec::new(), Vec::new());
+        for (k, spec) in self.blocks.iter().enumerate() {
+            if let Ok(made) = B::generate(spec) {
+                set_laws.extend(spec.set_laws(made.joints, blocks.len()));
+                blocks.extend(spec.blocks_of(k, made.pieces));
+            }
+        }
+        (blocks, set_laws)
     }
 
     /// How many blocks the scene has, generators expanded.

@@ -13,8 +13,9 @@ use nalgebra::SVector;
 
 use super::dimension::SceneElement;
 use super::locate::{locate_exact, place_of, Place};
-use super::SceneError;
-use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, Load, MotionSpec, Scene, SceneBlock};
+use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, LawTable, Load, MotionSpec, Scene};
+use super::{SceneBlock, SetLaws};
+use super::{SceneError, Source};
 use crate::generators::Failure;
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
@@ -32,22 +33,26 @@ pub(super) struct Checked<P, Shape, const D: usize, const S: usize> {
     pub fixed: Vec<FixedPoint<D>>,
     pub measured: Vec<MeasuredPoint<D>>,
     pub ground: Option<Ground<D>>,
+    pub laws: LawTable,
 }
 
-/// Why a dimension is refused.
-pub(super) fn dimension_message(dimension: u32) -> String {
-    format!(
-        "dimension must be 2 (polygons in the xy plane) or 3 (polyhedra, z up), got {dimension}"
-    )
+impl Source {
+    /// Refuses a dimension other than 2 and 3.
+    pub(super) fn check_dimension(&self, dimension: u32) -> Result {
+        if (2..=3).contains(&dimension) {
+            return Ok(());
+        }
+        Err(self.invalid(
+            &Place::root().field("dimension"),
+            format!("dimension must be 2 (polygons in the xy plane) or 3 (polyhedra, z up), got {dimension}"),
+        ))
+    }
 }
 
 impl Scene {
     /// Checks the whole scene; the first problem found is returned.
     pub fn validate(&self) -> Result {
-        if !(2..=3).contains(&self.dimension) {
-            let at = Place::root().field("dimension");
-            return Err(self.error(&at, dimension_message(self.dimension)));
-        }
+        self.source.check_dimension(self.dimension)?;
         if self.dimension == 3 {
             self.checked::<dda_3d::Block, 3, 6>().map(drop)
         } else {
@@ -74,9 +79,10 @@ impl Scene {
                 .and_then(|()| B::elastic(m, self.analysis.plane).check());
             self.core_field(&root.field("materials").key(name), checked)?;
         }
-        let (blocks, shapes) = self.check_blocks::<B, D, S>()?;
+        let (blocks, shapes, set_laws) = self.check_blocks::<B, D, S>()?;
         self.check_joints(blocks.len())?;
         Ok(Checked {
+            laws: self.laws_of(set_laws),
             loads: self.loads(blocks.len())?,
             fixed: self.fixed_points(blocks.len())?,
             measured: self.measured_points::<B, D, S>(&shapes)?,
@@ -270,11 +276,12 @@ impl Scene {
     }
 
     /// Checks every entry and the blocks it makes (each generator checks
-    /// its own values); returns them and their shapes.
+    /// its own values); returns them, their shapes and the laws of the
+    /// joints their sets make.
     #[allow(clippy::type_complexity)]
     fn check_blocks<B: SceneElement<D, S>, const D: usize, const S: usize>(
         &self,
-    ) -> Result<(Vec<SceneBlock<B::Corner, S>>, Vec<B::Shape>)> {
+    ) -> Result<(Vec<SceneBlock<B::Corner, S>>, Vec<B::Shape>, SetLaws<'_>)> {
         let root = Place::root().field("blocks");
         if self.blocks.is_empty() {
             let like = if D == 3 {
@@ -287,7 +294,7 @@ impl Scene {
                 format!("the scene has no blocks; add at least one, like {like}"),
             ));
         }
-        let (mut blocks, mut shapes) = (Vec::new(), Vec::new());
+        let (mut blocks, mut shapes, mut set_laws) = (Vec::new(), Vec::new(), Vec::new());
         for (k, spec) in self.blocks.iter().enumerate() {
             let at = root.index(k);
             if spec.dimension() != self.dimension {
@@ -313,6 +320,7 @@ impl Scene {
                 BlockSpec::Polygon { .. } | BlockSpec::Polyhedron { .. }
             );
             let made = B::generate(spec).map_err(|e| self.failure(&at, e))?;
+            set_laws.extend(spec.set_laws(made.joints, blocks.len()));
             for block in spec.blocks_of(k, made.pieces) {
                 shapes.push(B::shape(self, &at, &block, written)?);
                 blocks.push(block);
@@ -328,7 +336,7 @@ impl Scene {
                 ),
             ));
         }
-        Ok((blocks, shapes))
+        Ok((blocks, shapes, set_laws))
     }
 
     /// Why an entry of the other dimension does not belong.
@@ -475,7 +483,8 @@ impl Scene {
         if block < n {
             return Ok(());
         }
-        let generated = if self.blocks.iter().any(BlockSpec::is_generator) {
+        // Some entry made several blocks.
+        let generated = if n != self.blocks.len() {
             " (generators counted block by block)"
         } else {
             ""
