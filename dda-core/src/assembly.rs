@@ -9,8 +9,6 @@
 //! contacts can close in the step, kept with hysteresis, so the solver's
 //! symbolic analysis is reused across passes and steps.
 
-use std::collections::HashMap;
-
 use crate::contacts::BlockVector;
 use crate::system::BlockMatrix;
 
@@ -33,7 +31,10 @@ pub struct BlockSparse<const N: usize> {
     pub lower: Vec<BlockMatrix<N>>,
     /// (row block, column block) of each entry of `lower`.
     pairs: Vec<(usize, usize)>,
-    index: HashMap<(usize, usize), usize>,
+    /// Where each column block's pairs start in `pairs` (sorted by column,
+    /// then row), and one past the last: a pair is found by bisecting its
+    /// column's few rows, with no hashing (a lookup per contact per step).
+    columns: Vec<usize>,
     /// The DOF each block keeps, and where they start in the global vector.
     dofs: Vec<usize>,
     offsets: Vec<usize>,
@@ -45,23 +46,21 @@ impl<const N: usize> BlockSparse<N> {
     /// distinct pair in `pairs`.
     pub fn new(dofs: Vec<usize>, pairs: impl IntoIterator<Item = (usize, usize)>) -> Self {
         assert!(dofs.iter().all(|&n| n <= N), "a block keeps at most N DOF");
-        let mut index = HashMap::new();
-        let mut list = Vec::new();
-        for (a, b) in pairs {
-            if a == b {
-                continue;
-            }
-            let key = (a.max(b), a.min(b));
-            index.entry(key).or_insert_with(|| {
-                list.push(key);
-                list.len() - 1
-            });
-        }
+        let mut pairs: Vec<(usize, usize)> = pairs
+            .into_iter()
+            .filter(|(a, b)| a != b)
+            .map(|(a, b)| (a.max(b), a.min(b)))
+            .collect();
         // Column-major order of blocks makes the CSC pattern easy to write.
-        let mut order: Vec<usize> = (0..list.len()).collect();
-        order.sort_by_key(|&i| (list[i].1, list[i].0));
-        let pairs: Vec<(usize, usize)> = order.iter().map(|&i| list[i]).collect();
-        let index = pairs.iter().enumerate().map(|(i, &p)| (p, i)).collect();
+        pairs.sort_unstable_by_key(|&(row, col)| (col, row));
+        pairs.dedup();
+        let mut columns = vec![0; dofs.len() + 1];
+        for &(_, col) in &pairs {
+            columns[col + 1] += 1;
+        }
+        for c in 0..dofs.len() {
+            columns[c + 1] += columns[c];
+        }
         let mut offsets = Vec::with_capacity(dofs.len() + 1);
         offsets.push(0);
         for n in &dofs {
@@ -71,7 +70,7 @@ impl<const N: usize> BlockSparse<N> {
             diagonal: vec![BlockMatrix::<N>::zeros(); dofs.len()],
             lower: vec![BlockMatrix::<N>::zeros(); pairs.len()],
             pairs,
-            index,
+            columns,
             dofs,
             offsets,
         }
@@ -130,10 +129,10 @@ impl<const N: usize> BlockSparse<N> {
         if row == col {
             self.diagonal[row] += m;
         } else if row > col {
-            let i = self.index[&(row, col)];
+            let i = self.slot(row, col).expect("the pattern holds the pair");
             self.lower[i] += m;
         } else {
-            let i = self.index[&(col, row)];
+            let i = self.slot(row, col).expect("the pattern holds the pair");
             self.lower[i] += m.transpose();
         }
     }
@@ -172,7 +171,12 @@ impl<const N: usize> BlockSparse<N> {
 
     /// Where block pair (a, b), a ≠ b, is stored, if the pattern holds it.
     pub fn slot(&self, a: usize, b: usize) -> Option<usize> {
-        self.index.get(&(a.max(b), a.min(b))).copied()
+        let (row, col) = (a.max(b), a.min(b));
+        let (start, end) = (*self.columns.get(col)?, *self.columns.get(col + 1)?);
+        let rows = &self.pairs[start..end];
+        rows.binary_search_by_key(&row, |p| p.0)
+            .ok()
+            .map(|i| start + i)
     }
 
     /// The off-diagonal pairs (row block > column block) of the pattern.
@@ -281,6 +285,23 @@ mod tests {
         a.add(0, 2, &m(1.0));
         a.add(2, 1, &m(2.0));
         a
+    }
+
+    /// Every pair is found in either order, once however often it was
+    /// given, in column-major order; a pair the pattern lacks, a diagonal
+    /// block and a block beyond the last are not.
+    #[test]
+    fn slots_find_the_pairs_the_pattern_holds() {
+        let pairs = [(4, 1), (1, 4), (2, 0), (3, 1), (4, 0), (1, 0), (3, 1)];
+        let a = BlockSparse::<3>::new(vec![3; 5], pairs);
+        assert_eq!(a.pairs(), &[(1, 0), (2, 0), (4, 0), (3, 1), (4, 1)]);
+        for (k, &(row, col)) in a.pairs().iter().enumerate() {
+            assert_eq!(a.slot(row, col), Some(k));
+            assert_eq!(a.slot(col, row), Some(k));
+        }
+        for (x, y) in [(2, 1), (4, 3), (3, 0), (2, 2), (5, 0), (0, 7)] {
+            assert_eq!(a.slot(x, y), None, "({x}, {y})");
+        }
     }
 
     #[test]
