@@ -78,7 +78,7 @@ pub enum RotationUpdate {
 /// centroid (translation and rotation first, the `S` strains last), meeting
 /// others through contacts with `T` tangential directions.
 pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize>:
-    Sized + Sync
+    Sized + Send + Sync
 {
     fn vertices(&self) -> &[Point<f64, D>];
     fn centroid(&self) -> Point<f64, D>;

@@ -57,8 +57,8 @@ impl BlockKind {
 /// A set of blocks with `N` DOF each and contacts with `T` tangential
 /// directions. Everything is evaluated about the geometry at the start of the
 /// step; nothing changes until [`BlockSystem::commit`], so a rejected step
-/// leaves no trace.
-pub trait BlockSystem<const N: usize, const T: usize>: Sync {
+/// leaves no trace. `Send`: a step runs on a thread of rayon's pool.
+pub trait BlockSystem<const N: usize, const T: usize>: Send + Sync {
     /// Number of blocks.
     fn block_count(&self) -> usize;
 
