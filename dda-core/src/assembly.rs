@@ -98,6 +98,18 @@ impl<const N: usize> BlockSparse<N> {
         }
     }
 
+    /// The global vector `x` cut into each block's kept DOF, block by
+    /// block (so blocks can be filled in parallel).
+    pub fn split_blocks<'a>(&self, mut x: &'a mut [f64]) -> Vec<&'a mut [f64]> {
+        let mut parts = Vec::with_capacity(self.dofs.len());
+        for &n in &self.dofs {
+            let (part, rest) = x.split_at_mut(n);
+            parts.push(part);
+            x = rest;
+        }
+        parts
+    }
+
     /// Block `i`'s N-vector from the global vector `x`, zero beyond the DOF
     /// it keeps.
     pub fn block(&self, x: &[f64], i: usize) -> BlockVector<N> {

@@ -25,6 +25,7 @@ use crate::system::{BlockMatrix, BlockSystem};
 use anderson::Anderson;
 use predict::RecentSteps;
 use terms::{ContactLoad, ContactTerms, Decision, Kept};
+use touching::Touching;
 
 mod anderson;
 mod checkpoint;
@@ -33,6 +34,7 @@ mod gmres;
 mod impact;
 mod predict;
 mod terms;
+mod touching;
 
 /// The automatic step's ceiling is sqrt(block size / g) over this: a block
 /// starting from rest moves 1/800 of its size in such a step.
@@ -104,6 +106,9 @@ const PAIRS_PER_TASK: usize = 64;
 
 /// Contacts an assembly task takes at least, for the same reason.
 const CONTACTS_PER_TASK: usize = 256;
+
+/// Blocks a residual-gathering task takes at least, for the same reason.
+const BLOCKS_PER_TASK: usize = 128;
 
 /// The largest share of the last residual that a Newton-Raphson move made
 /// with an earlier iterate's factor may leave for the factor to be kept: a
@@ -181,6 +186,10 @@ pub struct Driver<S, const N: usize, const T: usize> {
     /// Each contact's entrance in the current pass, side by side: a pass's
     /// iterations read them in order instead of through each contact.
     active: Vec<Entrance<N, T>>,
+    /// The contacts of each block in the current pass, in contact order:
+    /// a residual is gathered block by block, in parallel, adding each
+    /// block's contact forces in the order one thread would.
+    touching: Touching,
     /// Where each contact's block pair sits in the matrix pattern (`None`:
     /// not in it, so the contact must stay open).
     slots: Vec<Option<usize>>,
@@ -315,6 +324,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             analysed: false,
             contact_loads: Vec::new(),
             active: Vec::new(),
+            touching: Touching::default(),
             decisions: Vec::new(),
             kept: Vec::new(),
             slots: Vec::new(),
@@ -854,9 +864,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 .zip(&trial.entrances)
                 .map(|(c, &e)| c.entrances[e].clone()),
         );
+        self.touching
+            .fill(self.system.block_count(), &self.contacts);
         self.stats.times.assembly += copying.elapsed();
         let solved = self.solve_pass(dt, masses, trial);
         self.active.clear();
+        self.touching.clear();
         solved
     }
 
@@ -1199,13 +1212,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         residual.fill(0.0);
         let end = self.time + dt;
         let ratio = self.settings.velocity_ratio;
-        for (i, m) in masses.iter().enumerate() {
+        let alpha = self.settings.mass_damping;
+        let (system, velocity, struck_early) = (&self.system, &self.velocity, &self.struck_early);
+        let own_terms = |i: usize, m: &BlockMatrix<N>| {
             let d = block(&trial.d, i);
             let (mut k, mut r) = if implicit {
-                let v0 = self.velocity[i] * ratio + self.struck_early[i];
+                let v0 = velocity[i] * ratio + struck_early[i];
                 // Inertia of Newmark β = 1/2, γ = 1: a = 2(d − v0·dt)/dt²,
                 // and mass-proportional damping −αM·v with v = 2d/dt − v0.
-                let alpha = self.settings.mass_damping;
                 (
                     m * (2.0 / (dt * dt) + 2.0 * alpha / dt),
                     m * (v0 * (2.0 / dt + alpha) - d * (2.0 / (dt * dt) + 2.0 * alpha / dt)),
@@ -1213,11 +1227,32 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             } else {
                 (BlockMatrix::<N>::zeros(), BlockVector::<N>::zeros())
             };
-            self.system.block_terms(i, end, &d, &mut k, &mut r);
-            if tangent {
-                matrix.add(i, i, &k);
+            system.block_terms(i, end, &d, &mut k, &mut r);
+            (k, r)
+        };
+        // With the contacts of each block at hand (within a pass), a
+        // residual alone is gathered block by block on every core; each
+        // block's sum is made in the same order as below, so the two agree
+        // to the last bit.
+        let gather = !tangent && couplings.is_none() && self.touching.is_filled();
+        if gather {
+            matrix
+                .split_blocks(residual)
+                .into_par_iter()
+                .with_min_len(BLOCKS_PER_TASK)
+                .enumerate()
+                .for_each(|(i, part)| {
+                    let (_, r) = own_terms(i, &masses[i]);
+                    part.iter_mut().zip(r.iter()).for_each(|(x, r)| *x += r);
+                });
+        } else {
+            for (i, m) in masses.iter().enumerate() {
+                let (k, r) = own_terms(i, m);
+                if tangent {
+                    matrix.add(i, i, &k);
+                }
+                matrix.add_block(residual, i, &r);
             }
-            matrix.add_block(residual, i, &r);
         }
         for support in &self.supports {
             // A dashpot beside each fixed point's spring, as beside a
@@ -1239,6 +1274,27 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             .with_min_len(CONTACTS_PER_TASK)
             .map(|i| terms.load(i, trial, dt, moving, couple))
             .collect_into_vec(&mut loads);
+        if gather {
+            let (contacts, touching) = (&self.contacts, &self.touching);
+            matrix
+                .split_blocks(residual)
+                .into_par_iter()
+                .with_min_len(BLOCKS_PER_TASK)
+                .enumerate()
+                .for_each(|(x, part)| {
+                    for &i in touching.of(x) {
+                        if let Some(load) = &loads[i] {
+                            let side = usize::from(contacts[i].blocks[0] != x);
+                            let force = &load.force[side];
+                            part.iter_mut().zip(force.iter()).for_each(|(p, f)| *p += f);
+                        }
+                    }
+                });
+            self.contact_loads = loads;
+            self.matrix = matrix;
+            self.stats.times.assembly += started.elapsed();
+            return;
+        }
         for (i, load) in loads.iter().enumerate() {
             let Some(load) = load else {
                 continue;

@@ -1,0 +1,105 @@
+//! The contacts of each block, for gathering a residual block by block.
+//!
+//! Made once per open-close pass (the contact list stands through a pass),
+//! it lets every core sum its blocks' contact forces. Each block adds its
+//! contacts in contact order, as the one-thread loop over contacts does,
+//! so both give the same residual to the last bit.
+
+use crate::contacts::Contact;
+
+/// The contacts of each block, in contact order (a block-by-block index of
+/// the contact list, made for one pass).
+#[derive(Debug, Default)]
+pub(super) struct Touching {
+    /// Where each block's contacts start in `contacts`, and one past the
+    /// last block's end; empty while no pass is under way.
+    starts: Vec<usize>,
+    contacts: Vec<usize>,
+}
+
+impl Touching {
+    /// Indexes `contacts` among `blocks` blocks.
+    pub fn fill<const N: usize, const T: usize>(
+        &mut self,
+        blocks: usize,
+        contacts: &[Contact<N, T>],
+    ) {
+        self.starts.clear();
+        self.starts.resize(blocks + 1, 0);
+        for c in contacts {
+            for &b in &c.blocks {
+                self.starts[b + 1] += 1;
+            }
+        }
+        for b in 0..blocks {
+            self.starts[b + 1] += self.starts[b];
+        }
+        let mut next = self.starts.clone();
+        self.contacts.clear();
+        self.contacts.resize(self.starts[blocks], 0);
+        for (i, c) in contacts.iter().enumerate() {
+            for &b in &c.blocks {
+                self.contacts[next[b]] = i;
+                next[b] += 1;
+            }
+        }
+    }
+
+    /// Forgets the index (the pass is over).
+    pub fn clear(&mut self) {
+        self.starts.clear();
+        self.contacts.clear();
+    }
+
+    /// Whether a pass's contacts are indexed.
+    pub fn is_filled(&self) -> bool {
+        !self.starts.is_empty()
+    }
+
+    /// The contacts of `block`, in contact order.
+    pub fn of(&self, block: usize) -> &[usize] {
+        &self.contacts[self.starts[block]..self.starts[block + 1]]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contacts::{ContactKey, ContactRecord};
+
+    fn contact(a: usize, b: usize) -> Contact<3, 1> {
+        Contact {
+            key: ContactKey {
+                block_a: a as u32,
+                feature_a: 0,
+                block_b: b as u32,
+                feature_b: 0,
+            },
+            blocks: [a, b],
+            law: 0,
+            length: 1.0,
+            spring_length: 1.0,
+            entrances: Vec::new(),
+            record: ContactRecord::default(),
+        }
+    }
+
+    /// Each block lists exactly the contacts that touch it, in contact
+    /// order, whichever side it is on; a block without contacts lists
+    /// none; clearing empties the index.
+    #[test]
+    fn each_block_lists_its_contacts_in_order() {
+        let contacts = [(2, 0), (0, 1), (1, 2), (3, 0), (2, 1)].map(|(a, b)| contact(a, b));
+        let mut touching = Touching::default();
+        assert!(!touching.is_filled());
+        touching.fill(5, &contacts);
+        assert!(touching.is_filled());
+        assert_eq!(touching.of(0), &[0, 1, 3]);
+        assert_eq!(touching.of(1), &[1, 2, 4]);
+        assert_eq!(touching.of(2), &[0, 2, 4]);
+        assert_eq!(touching.of(3), &[3]);
+        assert!(touching.of(4).is_empty());
+        touching.clear();
+        assert!(!touching.is_filled());
+    }
+}
