@@ -695,11 +695,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             ..self.at_rest()
         };
         let masses: Vec<BlockMatrix<N>> = (0..nb).map(|i| self.system.mass(i)).collect();
-        self.inverse_masses = masses
-            .iter()
-            .enumerate()
-            .map(|(i, m)| self.matrix.kept_inverse(i, m))
-            .collect();
+        // Only the contacts' dashpots read the inverse masses here.
+        self.inverse_masses = if self.settings.contact_damping > 0.0 {
+            (masses.iter().enumerate())
+                .map(|(i, m)| self.matrix.kept_inverse(i, m))
+                .collect()
+        } else {
+            Vec::new()
+        };
         self.supports = if self.settings.contact_damping > 0.0 {
             self.system.supports(self.time, self.time + dt)
         } else {
@@ -1362,20 +1365,30 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// The deepest penetration of the closed contacts at the trial, and the
     /// deepest among those that started the step within the `limit`.
     fn penetration(&self, trial: &Trial<T>, limit: f64) -> (f64, f64, Option<ContactKey>) {
+        // Each closed contact's entrance and gap on any thread; the deepest
+        // is then found in contact order, as one thread would.
+        let gaps: Vec<Option<(f64, f64)>> = (self.contacts.par_iter().enumerate())
+            .with_min_len(CONTACTS_PER_TASK)
+            .map(|(i, c)| {
+                trial.states[i].is_closed().then(|| {
+                    let e = &c.entrances[trial.entrances[i]];
+                    let (da, db) = (block(&trial.d, c.blocks[0]), block(&trial.d, c.blocks[1]));
+                    (e.gap, e.gap_at(&da, &db))
+                })
+            })
+            .collect();
         let mut deepest: f64 = 0.0;
         let mut deepened: f64 = 0.0;
         let mut key = None;
-        for (i, c) in self.contacts.iter().enumerate() {
-            if !trial.states[i].is_closed() {
+        for (c, gaps) in self.contacts.iter().zip(&gaps) {
+            let Some((start, gap)) = *gaps else {
                 continue;
-            }
-            let e = &c.entrances[trial.entrances[i]];
-            let gap = e.gap_at(&block(&trial.d, c.blocks[0]), &block(&trial.d, c.blocks[1]));
+            };
             if -gap > deepest {
                 deepest = -gap;
                 key = Some(c.key);
             }
-            if -e.gap <= limit {
+            if -start <= limit {
                 deepened = deepened.max(-gap);
             }
         }
