@@ -4,6 +4,7 @@
 //! its geometry, T-matrix, integrals, narrow phase and end-of-step motion.
 
 use std::collections::HashMap;
+use std::sync::Mutex;
 
 use nalgebra::{Point, SMatrix, SVector};
 
@@ -162,6 +163,47 @@ pub struct BlockSet<B, const D: usize, const N: usize, const T: usize, const S: 
     pub rotation_update: RotationUpdate,
     /// Model length scale; `None` takes half the diagonal of the model's bounds.
     pub length_scale: Option<f64>,
+    /// The last broad phase, reused while the blocks stay near where it
+    /// found them.
+    near: Mutex<Option<NearPairs<D>>>,
+}
+
+/// How much wider than asked a broad phase searches, as a share of the
+/// range: later steps reuse its pairs until the blocks' bounds have moved
+/// by half the difference (a standing wall, for thousands of steps).
+const NEAR_SKIN: f64 = 0.25;
+
+/// Block pairs found by a broad phase, with the range it searched and the
+/// blocks' bounds then.
+#[derive(Debug)]
+struct NearPairs<const D: usize> {
+    bounds: Vec<(Point<f64, D>, Point<f64, D>)>,
+    range: f64,
+    pairs: Vec<(usize, usize)>,
+}
+
+impl<const D: usize> NearPairs<D> {
+    /// The pairs, if they hold every pair within `range` of blocks with
+    /// these bounds: each bound has moved by at most δ since the search,
+    /// so two blocks within `range` now were within `range` + 2δ then.
+    fn reach(
+        &self,
+        bounds: &[(Point<f64, D>, Point<f64, D>)],
+        range: f64,
+    ) -> Option<&[(usize, usize)]> {
+        if bounds.len() != self.bounds.len() {
+            return None;
+        }
+        let mut moved = 0.0_f64;
+        for ((lo, hi), (lo0, hi0)) in bounds.iter().zip(&self.bounds) {
+            for k in 0..D {
+                moved = moved
+                    .max((lo[k] - lo0[k]).abs())
+                    .max((hi[k] - hi0[k]).abs());
+            }
+        }
+        (range + 2.0 * moved <= self.range).then_some(&self.pairs[..])
+    }
 }
 
 impl<B, const D: usize, const N: usize, const T: usize, const S: usize> BlockSet<B, D, N, T, S>
@@ -184,6 +226,7 @@ where
             fixed_penalty: stiffest,
             rotation_update: RotationUpdate::Exact,
             length_scale: None,
+            near: Mutex::new(None),
         }
     }
 
@@ -296,7 +339,19 @@ where
     }
 
     fn near_pairs(&self, range: f64) -> Vec<(usize, usize)> {
-        B::near_pairs(&self.blocks, range)
+        let bounds: Vec<_> = self.blocks.iter().map(|b| b.bounds()).collect();
+        let mut near = self.near.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(pairs) = near.as_ref().and_then(|n| n.reach(&bounds, range)) {
+            return pairs.to_vec();
+        }
+        let wide = range * (1.0 + NEAR_SKIN);
+        let pairs = B::near_pairs(&self.blocks, wide);
+        *near = Some(NearPairs {
+            bounds,
+            range: wide,
+            pairs: pairs.clone(),
+        });
+        pairs
     }
 
     fn pair_contacts(&self, i: usize, j: usize, range: f64) -> Vec<Contact<N, T>> {
@@ -463,5 +518,34 @@ mod reach_tests {
         assert!(reach.meets(&Point2::new(-1.0, 0.5), &Point2::new(3.0, 0.5)));
         assert!(!reach.meets(&Point2::new(-1.0, 1.3), &Point2::new(3.0, 1.4)));
         assert!(Reach::<2>::everywhere().holds(&Point2::new(1e300, -1e300)));
+    }
+}
+
+#[cfg(test)]
+mod near_tests {
+    use super::NearPairs;
+    use nalgebra::Point2;
+
+    fn unit(x: f64, y: f64) -> (Point2<f64>, Point2<f64>) {
+        (Point2::new(x, y), Point2::new(x + 1.0, y + 1.0))
+    }
+
+    /// A search at range 0.125 holds the pairs of any range up to it, less
+    /// twice how far any block's bounds have moved since; beyond that, or
+    /// with another block count, it must be searched again.
+    #[test]
+    fn pairs_are_reused_while_the_blocks_stay_within_the_skin() {
+        let then = vec![unit(0.0, 0.0), unit(1.05, 0.0)];
+        let near = NearPairs {
+            bounds: then.clone(),
+            range: 0.125,
+            pairs: vec![(0, 1)],
+        };
+        assert_eq!(near.reach(&then, 0.125), Some(&[(0, 1)][..]));
+        assert_eq!(near.reach(&then, 0.15), None);
+        let moved = vec![unit(0.0, 0.0), unit(1.04, 0.005)];
+        assert!(near.reach(&moved, 0.1).is_some());
+        assert!(near.reach(&moved, 0.11).is_none());
+        assert!(near.reach(&then[..1], 0.1).is_none());
     }
 }

@@ -111,8 +111,9 @@ pub trait BlockSystem<const N: usize, const T: usize>: Send + Sync {
         r: &mut BlockVector<N>,
     );
 
-    /// Broad phase: pairs (i, j), i < j, of blocks whose bounds come within
-    /// `range` of each other, sorted.
+    /// Broad phase: pairs (i, j), i < j, sorted, that hold every pair of
+    /// blocks whose bounds come within `range` of each other (and may hold
+    /// more: the narrow phase keeps only contacts within `range`).
     fn near_pairs(&self, range: f64) -> Vec<(usize, usize)>;
 
     /// Narrow phase: the contact candidates between blocks `i` < `j` within
