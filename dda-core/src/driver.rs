@@ -937,6 +937,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut kept = false;
         let mut keeping = true;
         let mut rises = 0;
+        let mut moves = 0;
         for iteration in 0..=self.settings.newton_limit {
             couplings.clear();
             // The tangent is assembled where a new factor is sure to be
@@ -1016,7 +1017,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             kept = !refresh;
             let solving = Instant::now();
-            self.solver.solve(&mut residual);
+            // A pass's first move is solved exactly: where the equations
+            // are linear it is the answer. Later ones correct an iterate of
+            // a tangent that is itself approximate (explicit friction, a
+            // kept factor), so single precision costs them nothing.
+            if coupled || moves == 0 {
+                self.solver.solve(&mut residual);
+            } else {
+                self.solver.solve_correction(&mut residual);
+            }
+            moves += 1;
             if !couplings.is_empty() {
                 self.correct(&couplings, &mut residual);
             }

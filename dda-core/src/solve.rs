@@ -31,6 +31,14 @@ pub trait LinearSolver: Send {
     /// Solves in place with the last factorization.
     fn solve(&self, rhs: &mut [f64]);
 
+    /// Solves in place for a correction to an iterate whose tangent is
+    /// itself approximate (a later Newton-Raphson move of a pass): the
+    /// answer need only be as exact as that tangent, so a direct solver
+    /// may use a single-precision copy of its factor. Default: `solve`.
+    fn solve_correction(&self, rhs: &mut [f64]) {
+        self.solve(rhs);
+    }
+
     /// A new step begins: forget what earlier systems left behind (an
     /// iterative solver's start), so a step solves the same whether the
     /// run went on or was resumed from a checkpoint before it.
@@ -65,6 +73,13 @@ pub fn solver_for(solver: Solver) -> Box<dyn LinearSolver> {
     }
 }
 
+/// Factor entries from which a factor also keeps a single-precision copy
+/// for [`LinearSolver::solve_correction`]; default 2²⁰ (8 MB of `f64`).
+/// Past the caches a triangular solve is bound by the memory it reads, and
+/// half the bytes take little more than half the time; a smaller factor
+/// gains little, and its runs keep their answers to the last bit.
+pub const SINGLE_PRECISION_ENTRIES: usize = 1 << 20;
+
 /// Sparse Cholesky (LLᵀ) from faer with a fill-reducing ordering. The
 /// factor's storage and the workspaces are kept from one factorisation to
 /// the next, so the hot path allocates nothing.
@@ -73,9 +88,18 @@ pub struct SparseCholesky {
     symbolic: Option<SymbolicCholesky<usize>>,
     /// The values of L, in the symbolic analysis's layout.
     factor: Vec<f64>,
+    /// The same rounded to `f32`, for correction solves; empty below
+    /// `single_from` entries.
+    single: Vec<f32>,
+    /// Factor entries from which `single` is kept; default
+    /// [`SINGLE_PRECISION_ENTRIES`].
+    pub single_from: usize,
     factored: bool,
     /// Workspace of the factorisation and of the solves.
     scratch: RefCell<MemBuffer>,
+    /// A correction's right-hand side in single precision, and the
+    /// workspace of its solve.
+    single_scratch: RefCell<(Vec<f32>, MemBuffer)>,
     /// How many symbolic analyses were done (for statistics and tests).
     pub analyses: usize,
 }
@@ -86,8 +110,11 @@ impl Default for SparseCholesky {
             structure: None,
             symbolic: None,
             factor: Vec::new(),
+            single: Vec::new(),
+            single_from: SINGLE_PRECISION_ENTRIES,
             factored: false,
             scratch: RefCell::new(MemBuffer::new(StackReq::EMPTY)),
+            single_scratch: RefCell::new((Vec::new(), MemBuffer::new(StackReq::EMPTY))),
             analyses: 0,
         }
     }
@@ -123,6 +150,11 @@ impl LinearSolver for SparseCholesky {
             .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         self.scratch = RefCell::new(MemBuffer::new(need));
         self.factor = vec![0.0; symbolic.len_val()];
+        self.single = Vec::new();
+        if symbolic.len_val() >= self.single_from {
+            let need = symbolic.solve_in_place_scratch::<f32>(1, Par::Seq);
+            self.single_scratch = RefCell::new((vec![0.0; pattern.dim], MemBuffer::new(need)));
+        }
         self.symbolic = Some(symbolic);
         self.structure = Some(structure);
         self.factored = false;
@@ -158,6 +190,10 @@ impl LinearSolver for SparseCholesky {
                 Default::default(),
             )
             .map_err(|e| DdaError::Factorization(format!("{e:?}")))?;
+        if self.factor.len() >= self.single_from {
+            self.single.clear();
+            self.single.extend(self.factor.iter().map(|&v| v as f32));
+        }
         self.factored = true;
         Ok(())
     }
@@ -173,6 +209,33 @@ impl LinearSolver for SparseCholesky {
             Par::Seq,
             MemStack::new(&mut self.scratch.borrow_mut()),
         );
+    }
+
+    fn solve_correction(&self, rhs: &mut [f64]) {
+        if self.single.is_empty() {
+            return self.solve(rhs);
+        }
+        assert!(self.factored, "solve before factorize");
+        let symbolic = self.symbolic.as_ref().expect("analysed");
+        // Scaled to its largest entry, so no entry leaves f32's range.
+        let scale = rhs.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
+        if scale == 0.0 || !scale.is_finite() {
+            return self.solve(rhs);
+        }
+        let (single, stack) = &mut *self.single_scratch.borrow_mut();
+        for (s, r) in single.iter_mut().zip(rhs.iter()) {
+            *s = (r / scale) as f32;
+        }
+        let n = single.len();
+        LltRef::new(symbolic, &self.single).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(single, n, 1),
+            Par::Seq,
+            MemStack::new(stack),
+        );
+        for (r, s) in rhs.iter_mut().zip(single.iter()) {
+            *r = f64::from(*s) * scale;
+        }
     }
 }
 
@@ -208,6 +271,40 @@ mod tests {
             assert!((x - 0.5).abs() < 1e-14);
         }
         assert_eq!(s.analyses, 1);
+    }
+
+    #[test]
+    fn corrections_use_the_single_precision_copy_of_a_large_factor_only() {
+        let pattern = tridiagonal();
+        let values = [4.0, 1.0, 3.0, 1.0, 2.0];
+        let mut single = SparseCholesky {
+            single_from: 0,
+            ..Default::default()
+        };
+        let mut double = SparseCholesky::default();
+        for s in [&mut single, &mut double] {
+            s.analyse(&pattern).unwrap();
+            s.factorize(&values).unwrap();
+        }
+        // x = (1, 1, 1) at every scale, far beyond f32's range too: the
+        // right-hand side is scaled to its largest entry.
+        for scale in [1.0, 1e-300, 1e300] {
+            let b: Vec<f64> = [5.0, 5.0, 3.0].iter().map(|v| v * scale).collect();
+            let mut x = b.clone();
+            single.solve_correction(&mut x);
+            for x in &x {
+                let error = (x / scale - 1.0).abs();
+                assert!(error < 1e-6 && error > 0.0, "{error}");
+            }
+            // A small factor keeps no copy: its corrections are exact.
+            let (mut y, mut z) = (b.clone(), b.clone());
+            double.solve_correction(&mut y);
+            double.solve(&mut z);
+            assert_eq!(y, z);
+        }
+        let mut zero = vec![0.0; 3];
+        single.solve_correction(&mut zero);
+        assert_eq!(zero, [0.0; 3]);
     }
 
     #[test]
