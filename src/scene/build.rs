@@ -180,7 +180,7 @@ impl Scene {
             driven.for_each(|fp| fp.ground = Some(motion.clone()));
             notes.extend(note);
         }
-        let settings = self.settings();
+        let settings = self.analysis.settings();
         let laws = self.contact_laws(&checked.laws.laws, registry)?;
         let mut driver = Driver::new(system, laws, settings.clone())
             .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
@@ -203,17 +203,6 @@ impl Scene {
             settings,
             notes,
         })
-    }
-
-    /// The driver settings the analysis asks for: as written, with the
-    /// velocity ratio of the mode and the damping's coefficient.
-    pub(super) fn settings(&self) -> Settings {
-        let a = &self.analysis;
-        Settings {
-            velocity_ratio: a.velocity_ratio.unwrap_or(a.mode.velocity_ratio()),
-            mass_damping: a.damping.map_or(0.0, |d| d.mass_coefficient()),
-            ..a.settings.clone()
-        }
     }
 
     /// The contact laws, built (`Custom` ones by `registry`).

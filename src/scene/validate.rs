@@ -164,7 +164,7 @@ impl Scene {
             self.core_field(&at("damping"), d.check())?;
         }
         // The driver checks its own settings; the scene names the place.
-        self.core_field(&Place::root().field("analysis"), self.settings().validate())
+        self.core_field(&Place::root().field("analysis"), a.settings().validate())
     }
 
     /// A law's values are checked by the law itself; the scene names the
