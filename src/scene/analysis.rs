@@ -33,7 +33,7 @@ dda_core::with_settings! {
         #[serde(skip_serializing_if = "Option::is_none")]
         gravity: Option<Coords> = None,
         /// Plane strain (default) or plane stress: 2D scenes only.
-        #[serde(with = "PlaneDef", skip_serializing_if = "is_default")]
+        #[serde(skip_serializing_if = "is_default")]
         plane: Plane = Plane::Strain,
         /// `Exact` (default) turns blocks by the exact rotation, `Linear` by
         /// Shi's first-order update.
@@ -107,12 +107,4 @@ impl Mode {
             Mode::Static => 0.0,
         }
     }
-}
-
-/// The file names of [`Plane`] (serde's mirror of the 2D crate's enum).
-#[derive(Serialize, Deserialize)]
-#[serde(remote = "Plane")]
-enum PlaneDef {
-    Strain,
-    Stress,
 }
