@@ -80,10 +80,7 @@ impl Source {
     }
 
     pub(super) fn invalid(&self, place: &Place, message: impl Into<String>) -> SceneError {
-        let (line, column) = match locate(&self.text, place) {
-            Some((l, c)) => (Some(l), Some(c)),
-            None => (None, None),
-        };
+        let (line, column) = locate(&self.text, place).unzip();
         SceneError::Invalid {
             at: Location {
                 file: self.origin.clone(),

@@ -107,20 +107,20 @@ impl Scene {
         c: &Coords,
         prefix: &str,
     ) -> Result<SVector<f64, D>> {
-        let numbers = c.numbers(D, what, false, prefix);
-        Ok(SVector::from_column_slice(
-            numbers.map_err(|m| self.error(at, m))?,
-        ))
+        let numbers = c
+            .numbers(D, what, false, prefix)
+            .map_err(|m| self.error(at, m))?;
+        Ok(SVector::from_column_slice(numbers))
     }
 
     pub(super) fn error(&self, place: &Place, message: impl Into<String>) -> SceneError {
         self.source.invalid(place, message)
     }
 
-    /// A check's error at the field it names within `base` (at `base`
-    /// itself when it names none; any other error there too).
-    fn located(&self, base: &Place, e: DdaError) -> SceneError {
-        match e {
+    /// A check's value, or its error at the field it names within `base`
+    /// (at `base` itself when it names none; any other error there too).
+    fn core_field<T>(&self, base: &Place, check: std::result::Result<T, DdaError>) -> Result<T> {
+        check.map_err(|e| match e {
             DdaError::Setting { field, message } if !field.is_empty() => {
                 self.error(&base.field(field), message)
             }
@@ -131,11 +131,7 @@ impl Scene {
                 message,
             } => self.error(&base.field(field).index(index), message),
             e => self.error(base, e.to_string()),
-        }
-    }
-
-    fn core_field(&self, base: &Place, check: std::result::Result<(), DdaError>) -> Result {
-        check.map_err(|e| self.located(base, e))
+        })
     }
 
     fn check_analysis<const D: usize>(&self) -> Result {
@@ -580,9 +576,8 @@ impl Scene {
                 let layout = Layout::new(components.as_deref(), D as u32)
                     .map_err(|m| self.error(&at.field("components"), m))?;
                 let file = self.resolve(path);
-                let (record, baseline) =
-                    Record::load(&file, &layout, *quantity, *scale, *baseline_correction)
-                        .map_err(|e| self.located(&at, e))?;
+                let record = Record::load(&file, &layout, *quantity, *scale, *baseline_correction);
+                let (record, baseline) = self.core_field(&at, record)?;
                 note = baseline.map(|n| format!("ground-motion record {path}: {n}"));
                 GroundMotion::Record(record)
             }
