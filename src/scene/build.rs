@@ -277,7 +277,7 @@ impl Scene {
         for joint in &self.joints {
             let index = index_of(&mut laws, &joint.law);
             if let Some((a, b)) = &joint.between {
-                let find = |name: &str| self.materials.iter().position(|(m, _)| m == name);
+                let find = |name: &String| self.material_named(Some(name));
                 if let (Some(a), Some(b)) = (find(a), find(b)) {
                     materials[a][b] = index;
                     materials[b][a] = index;

@@ -3,6 +3,7 @@
 //! that owns it; the scene names its place and checks what only it knows:
 //! tuple counts against the dimension, names, block indices, overlaps.
 
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use dda_core::motion::Layout;
@@ -180,7 +181,7 @@ impl Scene {
     fn check_joints(&self, n: usize) -> Result {
         self.check_law(&Place::root().field("default_joint"), &self.default_joint)?;
         // Each pair of materials or of blocks, with the set that gives it.
-        let (mut pairs, mut block_pairs) = (Vec::new(), Vec::new());
+        let (mut pairs, mut block_pairs) = (HashMap::new(), HashMap::new());
         for (k, joint) in self.joints.iter().enumerate() {
             let at = Place::root().field("joints").index(k);
             match (&joint.between, &joint.blocks) {
@@ -189,13 +190,12 @@ impl Scene {
                     let i = self.find_material(&side(0), Some(a))?;
                     let j = self.find_material(&side(1), Some(b))?;
                     let pair = (i.min(j), i.max(j));
-                    if let Some((_, first)) = pairs.iter().find(|(p, _)| *p == pair) {
+                    if let Some(first) = pairs.insert(pair, k) {
                         return Err(self.error(
                             &at,
                             format!("the pair ({a:?}, {b:?}) already has a law in joints[{first}]; keep one of them"),
                         ));
                     }
-                    pairs.push((pair, k));
                 }
                 (None, Some(list)) if list.is_empty() => {
                     return Err(self.error(
@@ -215,8 +215,8 @@ impl Scene {
                             ));
                         }
                         let key = (a.min(b), a.max(b));
-                        if let Some((_, first)) = block_pairs.iter().find(|(p, _)| *p == key) {
-                            let where_ = match *first == k {
+                        if let Some(first) = block_pairs.insert(key, k) {
+                            let where_ = match first == k {
                                 true => "earlier in this set".to_string(),
                                 false => format!("in joints[{first}]"),
                             };
@@ -225,7 +225,6 @@ impl Scene {
                                 format!("the block pair ({a}, {b}) is already listed {where_}; a pair belongs to one joint set only"),
                             ));
                         }
-                        block_pairs.push((key, k));
                     }
                 }
                 (Some(_), Some(_)) => {
