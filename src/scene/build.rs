@@ -222,27 +222,17 @@ impl Scene {
     /// Where `law` is first written: the default joint or a joint set's law.
     fn law_place(&self, law: &JointLaw) -> Place {
         let root = Place::root();
-        if *law == self.default_joint {
-            return root.field("default_joint");
+        let joints = self.joints.iter().enumerate();
+        let joints = joints.map(|(k, j)| (root.field("joints").index(k), Some(&j.law)));
+        let sets = self.blocks.iter().enumerate().flat_map(|(k, spec)| {
+            let at = root.field("blocks").index(k).field("sets");
+            let sets = spec.joint_sets().iter().enumerate();
+            sets.map(move |(s, set)| (at.index(s), set.law.as_ref()))
+        });
+        match joints.chain(sets).find(|(_, l)| *l == Some(law)) {
+            Some((at, _)) if *law != self.default_joint => at.field("law"),
+            _ => root.field("default_joint"),
         }
-        if let Some(k) = self.joints.iter().position(|j| j.law == *law) {
-            return root.field("joints").index(k).field("law");
-        }
-        for (k, spec) in self.blocks.iter().enumerate() {
-            if let Some(s) = spec
-                .joint_sets()
-                .iter()
-                .position(|s| s.law.as_ref() == Some(law))
-            {
-                return root
-                    .field("blocks")
-                    .index(k)
-                    .field("sets")
-                    .index(s)
-                    .field("law");
-            }
-        }
-        root.field("default_joint")
     }
 
     /// The distinct joint laws (the default first) and which joints use
