@@ -215,7 +215,7 @@ fn a_deformable_wall_at_its_automatic_step_takes_one_pass_a_step() {
 #[test]
 fn a_wall_at_a_fine_contact_tolerance_solves_passes_with_many_sliding_contacts() {
     let mut scene = dda::bench::wall(20, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
-    scene.analysis.settings.contact_tolerance = 1e-8;
+    scene.analysis.contact_tolerance = 1e-8;
     let mut model = scene.build().unwrap();
     let driver = &mut model.driver;
     driver.advance_to(0.3).unwrap();

@@ -3,14 +3,15 @@
 use dda_core::ConstitutiveLaw;
 use nalgebra::{Matrix3, Vector3};
 
-/// Which plane idealisation the 2D block stands for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// Which plane idealisation the 2D block stands for (scene files name it
+/// `Strain` or `Stress`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum Plane {
-    /// Thin plate: σz = 0.
-    Stress,
     /// Long prism: εz = 0 (the usual choice for rock and masonry sections).
     #[default]
     Strain,
+    /// Thin plate: σz = 0.
+    Stress,
 }
 
 /// Linear elastic isotropic law in plane stress or plane strain, acting on

@@ -4,99 +4,149 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::DdaError;
 
-/// Settings of one analysis. Lengths are fractions of the model length scale
-/// w0 where noted (Shi's control ratios). Each field's line says its unit and
-/// default; a field left out of a serialised form takes its default.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Settings {
-    /// Velocity carry-over ratio k_dyn, in [0, 1]; default 1. 1 is fully
-    /// dynamic, 0 static (each step starts at rest), in between bleeds
-    /// kinetic energy.
-    pub velocity_ratio: f64,
-    /// Nominal time step, s; default `None`: automatic. Under gravity with
-    /// the implicit integrator the step then follows the motion, as long as
-    /// keeps every block's points moving less than 2.5e-4 of the median
-    /// block size a step, at most 1/20 of sqrt(block size / g) (a wall at
-    /// rest steps at that ceiling, a rocking column at about a millisecond);
-    /// without gravity, 0.2·sqrt(lightest block mass / penalty), which
-    /// resolves contact oscillations.
-    pub dt: Option<f64>,
-    /// Smallest time step as a fraction of the nominal one, the floor of
-    /// recursive cuts; default 1e-3.
-    pub min_dt_ratio: f64,
-    /// Open-close passes before the step is cut to a third; default 6.
-    pub open_close_limit: usize,
-    /// Largest step displacement of any boundary point, as a fraction of w0
-    /// (Shi's g2); default 0.01. In a model more than about 25 blocks wide
-    /// the bound is also at most a quarter of the median block size (or
-    /// twice the last step's motion, if larger). The contact search range
-    /// is 2.5 times the bound.
-    pub max_displacement_ratio: f64,
-    /// Deepest penetration allowed, as a fraction of w0 (2.5·g3 in Shi);
-    /// default 1e-3.
-    pub max_penetration_ratio: f64,
-    /// Normal contact stiffness per unit contact length (2D, per unit
-    /// thickness) or area (3D), N/m³; a contact's springs are this times the
-    /// length or area they stand for. Default `None`: twice the stiffest
-    /// block's Young's modulus over the median block size (stiff enough that
-    /// penetration under self-weight is a tiny fraction of the block size,
-    /// soft enough to keep the system well conditioned).
-    pub penalty: Option<f64>,
-    /// Multiply the penalty by 10 and redo the step when a step penetrates
-    /// too deep (Shi's remedy); default `false`: a global raise multiplies
-    /// the force of every existing overlap and can throw blocks apart, so
-    /// the step is cut to a third instead.
-    pub raise_penalty: bool,
-    /// Newton-Raphson iterations per open-close pass, at most; default 25.
-    pub newton_limit: usize,
-    /// Newton-Raphson stops when the residual falls below this fraction of
-    /// the step's first one, at its start (a later open-close pass's own
-    /// first where that is larger), default 1e-10 ...
-    pub residual_tolerance: f64,
-    /// ... or the increment below this fraction of w0 (default 1e-14).
-    pub increment_tolerance: f64,
-    /// Open-close distance tolerance, as a fraction of w0; default 1e-7.
-    pub contact_tolerance: f64,
-    /// Model length scale w0, m; default `None`: the system's.
-    pub length_scale: Option<f64>,
-    /// Mass-proportional viscous damping coefficient α, 1/s; default 0
-    /// (off). A force −αM·v on every block; a damping ratio ξ at angular
-    /// frequency ω is α = 2ξω.
-    pub mass_damping: f64,
-    /// Contact damping as a share of critical; default 0 (off), 1 is
-    /// critical. A dashpot beside each closed contact's normal spring, and
-    /// beside its shear spring while locked, of coefficient 2ζ·sqrt(k·m)
-    /// with k the spring and m the contact's effective mass along it. At 1
-    /// an impact ends without rebound of the striking point (Housner's
-    /// inelastic impact, which a rocking rigid block assumes) and a block
-    /// released onto its contacts settles without bouncing, so a block near
-    /// its friction limit does not slide off during the first bounces;
-    /// 0 gives Shi's undamped springs, whose rebound depends on the step.
-    pub contact_damping: f64,
-    /// Coefficient of restitution e of impacts, in [0, 1]; default `None`
-    /// (off: the springs and dashpots alone decide a rebound, which then
-    /// follows dt and the penalty). With a value, a contact that closes in
-    /// a step strikes: before the step is solved, an impulse on the two
-    /// blocks turns its approach speed u into a rebound of e·u (and stops
-    /// its slip if it closes locked), as rigid-body impacts do. 0 is
-    /// Housner's inelastic impact; implicit integrator only.
-    pub restitution: Option<f64>,
-    /// How each step is integrated in time; default `Implicit` (Shi's
-    /// Newmark steps with open-close iterations). `Explicit` is central
-    /// differences on the same blocks and contact laws, with steps below
-    /// the critical one.
-    pub integrator: Integrator,
-    /// Local (non-viscous) damping of the explicit integrator, as in
-    /// 3DEC/UDEC: each DOF's unbalanced force is reduced by this share of
-    /// its size, against the DOF's velocity; in [0, 1), default 0 (off).
-    /// 0.8 relaxes a model to rest (a static solution); dynamic runs keep 0.
-    /// The implicit integrator takes none.
-    pub local_damping: f64,
-    /// How the step's linear systems are solved; default `Direct` (sparse
-    /// Cholesky). `Iterative` is preconditioned conjugate gradients with a
-    /// tolerance and an iteration cap (`docs/solvers.md`).
-    pub solver: Solver,
+/// Declares a struct of the fields given (each with its default), then the
+/// driver's settings: those of [`Settings`] but `velocity_ratio` and
+/// `mass_damping`, each with its doc and default. With `Default`, and
+/// `settings_with`, the [`Settings`] of its values. One flat struct, so a
+/// serde derive on it refuses unknown fields (`flatten` cannot): a scene's
+/// `analysis` section is one.
+#[macro_export]
+macro_rules! with_settings {
+    ($(#[$meta:meta])* pub struct $name:ident { $($own:tt)* }) => {
+        $crate::with_settings! { @declare $(#[$meta])* $name { $($own)* }
+            /// Nominal time step, s; default `None`: automatic. Under gravity
+            /// with the implicit integrator the step then follows the motion,
+            /// as long as keeps every block's points moving less than 2.5e-4 of
+            /// the median block size a step, at most 1/20 of sqrt(block size /
+            /// g) (a wall at rest steps at that ceiling, a rocking column at
+            /// about a millisecond); without gravity, 0.2·sqrt(lightest block
+            /// mass / penalty), which resolves contact oscillations.
+            dt: Option<f64> = None,
+            /// Smallest time step as a fraction of the nominal one, the floor
+            /// of recursive cuts; default 1e-3.
+            min_dt_ratio: f64 = 1e-3,
+            /// Open-close passes before the step is cut to a third; default 6.
+            open_close_limit: usize = 6,
+            /// Largest step displacement of any boundary point, as a fraction
+            /// of w0 (Shi's g2); default 0.01. In a model more than about 25
+            /// blocks wide the bound is also at most a quarter of the median
+            /// block size (or twice the last step's motion, if larger). The
+            /// contact search range is 2.5 times the bound.
+            max_displacement_ratio: f64 = 0.01,
+            /// Deepest penetration allowed, as a fraction of w0 (2.5·g3 in
+            /// Shi); default 1e-3.
+            max_penetration_ratio: f64 = 1e-3,
+            /// Normal contact stiffness per unit contact length (2D, per unit
+            /// thickness) or area (3D), N/m³; a contact's springs are this
+            /// times the length or area they stand for. Default `None`: twice
+            /// the stiffest block's Young's modulus over the median block size
+            /// (stiff enough that penetration under self-weight is a tiny
+            /// fraction of the block size, soft enough to keep the system well
+            /// conditioned).
+            penalty: Option<f64> = None,
+            /// Multiply the penalty by 10 and redo the step when a step
+            /// penetrates too deep (Shi's remedy); default `false`: a global
+            /// raise multiplies the force of every existing overlap and can
+            /// throw blocks apart, so the step is cut to a third instead.
+            raise_penalty: bool = false,
+            /// Newton-Raphson iterations per open-close pass, at most; default
+            /// 25.
+            newton_limit: usize = 25,
+            /// Newton-Raphson stops when the residual falls below this fraction
+            /// of the step's first one, at its start (a later open-close pass's
+            /// own first where that is larger), default 1e-10 ...
+            residual_tolerance: f64 = 1e-10,
+            /// ... or the increment below this fraction of w0 (default 1e-14).
+            increment_tolerance: f64 = 1e-14,
+            /// Open-close distance tolerance, as a fraction of w0; default
+            /// 1e-7.
+            contact_tolerance: f64 = 1e-7,
+            /// Model length scale w0, m; default `None`: the system's.
+            length_scale: Option<f64> = None,
+            /// Contact damping as a share of critical; default 0 (off), 1 is
+            /// critical. A dashpot beside each closed contact's normal spring,
+            /// and beside its shear spring while locked, of coefficient
+            /// 2ζ·sqrt(k·m) with k the spring and m the contact's effective
+            /// mass along it. At 1 an impact ends without rebound of the
+            /// striking point (Housner's inelastic impact, which a rocking
+            /// rigid block assumes) and a block released onto its contacts
+            /// settles without bouncing, so a block near its friction limit
+            /// does not slide off during the first bounces; 0 gives Shi's
+            /// undamped springs, whose rebound depends on the step.
+            contact_damping: f64 = 0.0,
+            /// Coefficient of restitution e of impacts, in [0, 1]; default
+            /// `None` (off: the springs and dashpots alone decide a rebound,
+            /// which then follows dt and the penalty). With a value, a contact
+            /// that closes in a step strikes: before the step is solved, an
+            /// impulse on the two blocks turns its approach speed u into a
+            /// rebound of e·u (and stops its slip if it closes locked), as
+            /// rigid-body impacts do. 0 is Housner's inelastic impact; implicit
+            /// integrator only.
+            restitution: Option<f64> = None,
+            /// How each step is integrated in time; default `Implicit` (Shi's
+            /// Newmark steps with open-close iterations). `Explicit` is central
+            /// differences on the same blocks and contact laws, with steps
+            /// below the critical one.
+            integrator: $crate::Integrator = $crate::Integrator::Implicit,
+            /// Local (non-viscous) damping of the explicit integrator, as in
+            /// 3DEC/UDEC: each DOF's unbalanced force is reduced by this share
+            /// of its size, against the DOF's velocity; in [0, 1), default 0
+            /// (off). 0.8 relaxes a model to rest (a static solution); dynamic
+            /// runs keep 0. The implicit integrator takes none.
+            local_damping: f64 = 0.0,
+            /// How the step's linear systems are solved; default `Direct`
+            /// (sparse Cholesky). `Iterative` is preconditioned conjugate
+            /// gradients with a tolerance and an iteration cap
+            /// (`docs/solvers.md`).
+            solver: $crate::Solver = $crate::Solver::Direct,
+        }
+    };
+    (@declare $(#[$meta:meta])* $name:ident {
+        $($(#[$own_doc:meta])* $own:ident: $own_ty:ty = $own_default:expr,)*
+    } $($(#[$doc:meta])* $field:ident: $ty:ty = $default:expr,)*) => {
+        $(#[$meta])*
+        pub struct $name {
+            $($(#[$own_doc])* pub $own: $own_ty,)*
+            $($(#[$doc])* pub $field: $ty,)*
+        }
+
+        impl Default for $name {
+            fn default() -> Self {
+                Self { $($own: $own_default,)* $($field: $default,)* }
+            }
+        }
+
+        impl $name {
+            /// The driver's settings: these, with the velocity ratio and the
+            /// mass damping given.
+            pub fn settings_with(&self, velocity_ratio: f64, mass_damping: f64) -> $crate::Settings {
+                $crate::Settings {
+                    velocity_ratio,
+                    mass_damping,
+                    $($field: self.$field.clone(),)*
+                }
+            }
+        }
+    };
+}
+
+with_settings! {
+    /// Settings of one analysis. Lengths are fractions of the model length
+    /// scale w0 where noted (Shi's control ratios). Each field's line says its
+    /// unit and default; a field left out of a serialised form takes its
+    /// default.
+    #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+    #[serde(default, deny_unknown_fields)]
+    pub struct Settings {
+        /// Velocity carry-over ratio k_dyn, in [0, 1]; default 1. 1 is fully
+        /// dynamic, 0 static (each step starts at rest), in between bleeds
+        /// kinetic energy.
+        velocity_ratio: f64 = 1.0,
+        /// Mass-proportional viscous damping coefficient α, 1/s; default 0
+        /// (off). A force −αM·v on every block; a damping ratio ξ at angular
+        /// frequency ω is α = 2ξω.
+        mass_damping: f64 = 0.0,
+    }
 }
 
 /// The linear solver of the implicit step.
@@ -154,32 +204,6 @@ pub enum Integrator {
     /// driver bounds from the penalty springs and the block masses at every
     /// step and enforces.
     Explicit,
-}
-
-impl Default for Settings {
-    fn default() -> Self {
-        Self {
-            velocity_ratio: 1.0,
-            dt: None,
-            min_dt_ratio: 1e-3,
-            open_close_limit: 6,
-            max_displacement_ratio: 0.01,
-            max_penetration_ratio: 1e-3,
-            penalty: None,
-            raise_penalty: false,
-            newton_limit: 25,
-            residual_tolerance: 1e-10,
-            increment_tolerance: 1e-14,
-            contact_tolerance: 1e-7,
-            length_scale: None,
-            mass_damping: 0.0,
-            contact_damping: 0.0,
-            restitution: None,
-            integrator: Integrator::Implicit,
-            local_damping: 0.0,
-            solver: Solver::Direct,
-        }
-    }
 }
 
 impl Settings {

@@ -180,7 +180,7 @@ impl Scene {
             driven.for_each(|fp| fp.ground = Some(motion.clone()));
             notes.extend(note);
         }
-        let settings = self.settings();
+        let settings = self.analysis.settings();
         let laws = self.contact_laws(&checked.laws.laws, registry)?;
         let mut driver = Driver::new(system, laws, settings.clone())
             .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
@@ -205,17 +205,6 @@ impl Scene {
         })
     }
 
-    /// The driver settings the analysis asks for: as written, with the
-    /// velocity ratio of the mode and the damping's coefficient.
-    pub(super) fn settings(&self) -> Settings {
-        let a = &self.analysis;
-        Settings {
-            velocity_ratio: a.velocity_ratio.unwrap_or(a.mode.velocity_ratio()),
-            mass_damping: a.damping.map_or(0.0, |d| d.mass_coefficient()),
-            ..a.settings.clone()
-        }
-    }
-
     /// The contact laws, built (`Custom` ones by `registry`).
     fn contact_laws(
         &self,
@@ -233,27 +222,17 @@ impl Scene {
     /// Where `law` is first written: the default joint or a joint set's law.
     fn law_place(&self, law: &JointLaw) -> Place {
         let root = Place::root();
-        if *law == self.default_joint {
-            return root.field("default_joint");
+        let joints = self.joints.iter().enumerate();
+        let joints = joints.map(|(k, j)| (root.field("joints").index(k), Some(&j.law)));
+        let sets = self.blocks.iter().enumerate().flat_map(|(k, spec)| {
+            let at = root.field("blocks").index(k).field("sets");
+            let sets = spec.joint_sets().iter().enumerate();
+            sets.map(move |(s, set)| (at.index(s), set.law.as_ref()))
+        });
+        match joints.chain(sets).find(|(_, l)| *l == Some(law)) {
+            Some((at, _)) if *law != self.default_joint => at.field("law"),
+            _ => root.field("default_joint"),
         }
-        if let Some(k) = self.joints.iter().position(|j| j.law == *law) {
-            return root.field("joints").index(k).field("law");
-        }
-        for (k, spec) in self.blocks.iter().enumerate() {
-            if let Some(s) = spec
-                .joint_sets()
-                .iter()
-                .position(|s| s.law.as_ref() == Some(law))
-            {
-                return root
-                    .field("blocks")
-                    .index(k)
-                    .field("sets")
-                    .index(s)
-                    .field("law");
-            }
-        }
-        root.field("default_joint")
     }
 
     /// The distinct joint laws (the default first) and which joints use
@@ -288,7 +267,7 @@ impl Scene {
         for joint in &self.joints {
             let index = index_of(&mut laws, &joint.law);
             if let Some((a, b)) = &joint.between {
-                let find = |name: &str| self.materials.iter().position(|(m, _)| m == name);
+                let find = |name: &String| self.material_named(Some(name));
                 if let (Some(a), Some(b)) = (find(a), find(b)) {
                     materials[a][b] = index;
                     materials[b][a] = index;

@@ -5,24 +5,21 @@ use std::fmt;
 use super::locate::{locate, Place};
 use super::Source;
 
-/// A position in a scene file; line and column are 1-based.
+/// A place in a scene file: the file, and the line and column (1-based)
+/// where they can be found.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Location {
     pub file: String,
-    pub line: Option<usize>,
-    pub column: Option<usize>,
+    pub line_column: Option<(usize, usize)>,
 }
 
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.file)?;
-        if let Some(line) = self.line {
-            write!(f, ":{line}")?;
-            if let Some(col) = self.column {
-                write!(f, ":{col}")?;
-            }
+        match self.line_column {
+            Some((line, column)) => write!(f, ":{line}:{column}"),
+            None => Ok(()),
         }
-        Ok(())
     }
 }
 
@@ -72,23 +69,17 @@ impl Source {
         SceneError::Syntax {
             at: Location {
                 file: self.origin.clone(),
-                line: Some(e.span.start.line),
-                column: Some(e.span.start.col),
+                line_column: Some((e.span.start.line, e.span.start.col)),
             },
             message,
         }
     }
 
     pub(super) fn invalid(&self, place: &Place, message: impl Into<String>) -> SceneError {
-        let (line, column) = match locate(&self.text, place) {
-            Some((l, c)) => (Some(l), Some(c)),
-            None => (None, None),
-        };
         SceneError::Invalid {
             at: Location {
                 file: self.origin.clone(),
-                line,
-                column,
+                line_column: locate(&self.text, place),
             },
             place: place.to_string(),
             message: message.into(),

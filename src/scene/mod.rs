@@ -43,7 +43,7 @@ pub struct Scene {
     /// 2 (the default) or 3.
     #[serde(default = "default_dimension")]
     pub dimension: u32,
-    #[serde(default, with = "analysis")]
+    #[serde(default)]
     pub analysis: Analysis,
     #[serde(default)]
     pub output: Output,
@@ -609,7 +609,6 @@ impl Scene {
         let mut scene: Scene = ron_options()
             .from_str(text)
             .map_err(|e| source.syntax(&e))?;
-        scene.analysis.settings = analysis::settings_of(text).map_err(|e| source.syntax(&e))?;
         scene.source = source;
         scene.validate()?;
         Ok(scene)

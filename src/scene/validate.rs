@@ -3,6 +3,7 @@
 //! that owns it; the scene names its place and checks what only it knows:
 //! tuple counts against the dimension, names, block indices, overlaps.
 
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use dda_core::motion::Layout;
@@ -107,20 +108,20 @@ impl Scene {
         c: &Coords,
         prefix: &str,
     ) -> Result<SVector<f64, D>> {
-        let numbers = c.numbers(D, what, false, prefix);
-        Ok(SVector::from_column_slice(
-            numbers.map_err(|m| self.error(at, m))?,
-        ))
+        let numbers = c
+            .numbers(D, what, false, prefix)
+            .map_err(|m| self.error(at, m))?;
+        Ok(SVector::from_column_slice(numbers))
     }
 
     pub(super) fn error(&self, place: &Place, message: impl Into<String>) -> SceneError {
         self.source.invalid(place, message)
     }
 
-    /// A check's error at the field it names within `base` (at `base`
-    /// itself when it names none; any other error there too).
-    fn located(&self, base: &Place, e: DdaError) -> SceneError {
-        match e {
+    /// A check's value, or its error at the field it names within `base`
+    /// (at `base` itself when it names none; any other error there too).
+    fn core_field<T>(&self, base: &Place, check: std::result::Result<T, DdaError>) -> Result<T> {
+        check.map_err(|e| match e {
             DdaError::Setting { field, message } if !field.is_empty() => {
                 self.error(&base.field(field), message)
             }
@@ -131,11 +132,7 @@ impl Scene {
                 message,
             } => self.error(&base.field(field).index(index), message),
             e => self.error(base, e.to_string()),
-        }
-    }
-
-    fn core_field(&self, base: &Place, check: std::result::Result<(), DdaError>) -> Result {
-        check.map_err(|e| self.located(base, e))
+        })
     }
 
     fn check_analysis<const D: usize>(&self) -> Result {
@@ -164,7 +161,7 @@ impl Scene {
             self.core_field(&at("damping"), d.check())?;
         }
         // The driver checks its own settings; the scene names the place.
-        self.core_field(&Place::root().field("analysis"), self.settings().validate())
+        self.core_field(&Place::root().field("analysis"), a.settings().validate())
     }
 
     /// A law's values are checked by the law itself; the scene names the
@@ -184,7 +181,7 @@ impl Scene {
     fn check_joints(&self, n: usize) -> Result {
         self.check_law(&Place::root().field("default_joint"), &self.default_joint)?;
         // Each pair of materials or of blocks, with the set that gives it.
-        let (mut pairs, mut block_pairs) = (Vec::new(), Vec::new());
+        let (mut pairs, mut block_pairs) = (HashMap::new(), HashMap::new());
         for (k, joint) in self.joints.iter().enumerate() {
             let at = Place::root().field("joints").index(k);
             match (&joint.between, &joint.blocks) {
@@ -193,13 +190,12 @@ impl Scene {
                     let i = self.find_material(&side(0), Some(a))?;
                     let j = self.find_material(&side(1), Some(b))?;
                     let pair = (i.min(j), i.max(j));
-                    if let Some((_, first)) = pairs.iter().find(|(p, _)| *p == pair) {
+                    if let Some(first) = pairs.insert(pair, k) {
                         return Err(self.error(
                             &at,
                             format!("the pair ({a:?}, {b:?}) already has a law in joints[{first}]; keep one of them"),
                         ));
                     }
-                    pairs.push((pair, k));
                 }
                 (None, Some(list)) if list.is_empty() => {
                     return Err(self.error(
@@ -219,8 +215,8 @@ impl Scene {
                             ));
                         }
                         let key = (a.min(b), a.max(b));
-                        if let Some((_, first)) = block_pairs.iter().find(|(p, _)| *p == key) {
-                            let where_ = match *first == k {
+                        if let Some(first) = block_pairs.insert(key, k) {
+                            let where_ = match first == k {
                                 true => "earlier in this set".to_string(),
                                 false => format!("in joints[{first}]"),
                             };
@@ -229,7 +225,6 @@ impl Scene {
                                 format!("the block pair ({a}, {b}) is already listed {where_}; a pair belongs to one joint set only"),
                             ));
                         }
-                        block_pairs.push((key, k));
                     }
                 }
                 (Some(_), Some(_)) => {
@@ -580,9 +575,8 @@ impl Scene {
                 let layout = Layout::new(components.as_deref(), D as u32)
                     .map_err(|m| self.error(&at.field("components"), m))?;
                 let file = self.resolve(path);
-                let (record, baseline) =
-                    Record::load(&file, &layout, *quantity, *scale, *baseline_correction)
-                        .map_err(|e| self.located(&at, e))?;
+                let record = Record::load(&file, &layout, *quantity, *scale, *baseline_correction);
+                let (record, baseline) = self.core_field(&at, record)?;
                 note = baseline.map(|n| format!("ground-motion record {path}: {n}"));
                 GroundMotion::Record(record)
             }
