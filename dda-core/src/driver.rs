@@ -659,9 +659,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     fn find_slots(&mut self) {
         self.slots.clear();
         let matrix = &self.matrix;
-        self.slots.extend(
-            self.contacts
-                .iter()
+        self.slots.par_extend(
+            (self.contacts.par_iter())
+                .with_min_len(CONTACTS_PER_TASK)
                 .map(|c| matrix.slot(c.blocks[0], c.blocks[1])),
         );
     }
@@ -864,10 +864,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // thousand blocks, that pointer chase was a third of an assembly).
         let copying = Instant::now();
         self.active.clear();
-        self.active.extend(
-            self.contacts
-                .iter()
+        self.active.par_extend(
+            (self.contacts.par_iter())
                 .zip(&trial.entrances)
+                .with_min_len(CONTACTS_PER_TASK)
                 .map(|(c, &e)| c.entrances[e].clone()),
         );
         self.touching

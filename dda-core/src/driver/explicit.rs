@@ -19,8 +19,9 @@
 //! rank-one spring), so it never underestimates ω_max.
 
 use nalgebra::DMatrix;
+use rayon::prelude::*;
 
-use super::{widest_entrance, Driver, Motion, Trial};
+use super::{widest_entrance, Driver, Motion, Trial, CONTACTS_PER_TASK};
 use crate::contact::ContactState;
 use crate::error::DdaError;
 use crate::settings::Integrator;
@@ -184,7 +185,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let tolerance = self.settings.contact_tolerance * self.length_scale;
         Trial {
             states: self.contacts.iter().map(|c| c.record.state).collect(),
-            entrances: (self.contacts.iter())
+            entrances: (self.contacts.par_iter())
+                .with_min_len(CONTACTS_PER_TASK)
                 .map(|c| widest_entrance(c, &d, c.record.entrance, tolerance))
                 .collect(),
             directions: (self.contacts.iter())
