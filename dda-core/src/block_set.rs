@@ -7,6 +7,7 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 
 use nalgebra::{Point, SMatrix, SVector};
+use rayon::prelude::*;
 
 use crate::constitutive::ConstitutiveLaw;
 use crate::contacts::{BlockVector, Contact};
@@ -140,6 +141,10 @@ pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize
     ) -> Vec<Contact<N, T>>;
 }
 
+/// Blocks a commit task takes at least: fewer would cost more in
+/// scheduling than they save.
+const COMMITS_PER_TASK: usize = 128;
+
 /// Blocks of one dimension with what acts on them: the [`BlockSystem`] the
 /// driver runs.
 pub struct BlockSet<B, const D: usize, const N: usize, const T: usize, const S: usize> {
@@ -251,9 +256,24 @@ where
         block: &B,
         d: &SVector<f64, N>,
     ) -> (SVector<f64, S>, SMatrix<f64, S, S>) {
-        let increment = d.fixed_rows::<S>(N - S).into_owned();
-        self.materials[block.material()].stress(block.stress(), &increment)
+        stress_after(&self.materials, block, d)
     }
+}
+
+/// [`BlockSet::stress_after`] with the materials alone borrowed.
+fn stress_after<
+    B: Element<D, N, T, S>,
+    const D: usize,
+    const N: usize,
+    const T: usize,
+    const S: usize,
+>(
+    materials: &[Box<dyn ConstitutiveLaw<S>>],
+    block: &B,
+    d: &SVector<f64, N>,
+) -> (SVector<f64, S>, SMatrix<f64, S, S>) {
+    let increment = d.fixed_rows::<S>(N - S).into_owned();
+    materials[block.material()].stress(block.stress(), &increment)
 }
 
 impl<B, const D: usize, const N: usize, const T: usize, const S: usize> BlockSystem<N, T>
@@ -477,15 +497,17 @@ where
         for (block, point) in carried(&mut self.fixed, &mut self.loads, &mut self.measured) {
             *point = self.blocks[block].move_point(point, &d[block], update);
         }
-        let stresses: Vec<SVector<f64, S>> = self
-            .blocks
-            .iter()
+        // Each block moves by its own displacement alone: on every core
+        // (a pool thread's work, as the driver's step runs there).
+        let materials = &self.materials;
+        self.blocks
+            .par_iter_mut()
+            .with_min_len(COMMITS_PER_TASK)
             .zip(d)
-            .map(|(b, di)| self.stress_after(b, di).0)
-            .collect();
-        for ((block, di), stress) in self.blocks.iter_mut().zip(d).zip(stresses) {
-            block.commit(di, stress, update);
-        }
+            .for_each(|(block, di)| {
+                let stress = stress_after(materials, block, di).0;
+                block.commit(di, stress, update);
+            });
     }
 }
 
