@@ -785,9 +785,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let Some(foreseen) = self.recent.foresee(dt) else {
             return;
         };
+        let deciding = Instant::now();
         let at_rest = std::mem::replace(&mut trial.d, foreseen);
         let decisions = self.decisions_at(trial, dt, &trial.d);
         trial.d = at_rest;
+        self.stats.times.open_close += deciding.elapsed();
         let closings = self.settings.restitution.is_none();
         for (i, decision) in decisions.iter().enumerate() {
             let closed = decision.state.is_closed();

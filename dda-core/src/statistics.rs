@@ -128,7 +128,7 @@ pub struct PhaseTimes {
     pub numeric: Duration,
     /// Forward and back substitutions.
     pub solve: Duration,
-    /// Each pass's open-close decisions.
+    /// Each pass's open-close decisions, and the step's foreseen states.
     pub open_close: Duration,
     /// Committing the accepted step (laws, records, blocks).
     pub commit: Duration,
