@@ -155,8 +155,6 @@ macro_rules! block_specs {
     (@made 3, 3, $make:expr) => { $make };
     (@made 6, 6, $make:expr) => { $make };
     (@made $k:tt, $made:tt, $make:expr) => { Ok(Vec::new().into()) };
-    (@dimension 3) => { 2 };
-    (@dimension 6) => { 3 };
     ($($(#[$doc:meta])* $name:ident([f64; $k:tt], terse: $terse:tt) {
         $($(#[$attr:meta])* $field:ident: $ty:ty,)*
     } => $make:expr,)*) => {
@@ -216,11 +214,6 @@ macro_rules! block_specs {
             /// The entry's name in the file, like "Rectangle".
             pub fn kind(&self) -> &'static str {
                 match self { $(BlockSpec::$name { .. } => stringify!($name),)* }
-            }
-
-            /// The dimension of scene the entry belongs in: 2 or 3.
-            pub fn dimension(&self) -> u32 {
-                match self { $(BlockSpec::$name { .. } => block_specs!(@dimension $k),)* }
             }
 
             /// What a 2D entry makes (nothing for a 3D one).

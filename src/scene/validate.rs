@@ -292,7 +292,8 @@ impl Scene {
         let (mut blocks, mut shapes, mut set_laws) = (Vec::new(), Vec::new(), Vec::new());
         for (k, spec) in self.blocks.iter().enumerate() {
             let at = root.index(k);
-            if spec.dimension() != self.dimension {
+            // An entry of the other dimension has its state's length.
+            if spec.velocity().len() != S {
                 return Err(self.error(&at, self.wrong_entry(spec)));
             }
             let material = spec.material().map_or(at.clone(), |_| at.field("material"));
