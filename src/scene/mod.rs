@@ -34,7 +34,7 @@ pub use crate::values::{Coords, JointLaw};
 pub use analysis::{Analysis, Damping, Mode};
 pub use build::{AnyModel, LawTable, Model, Model3};
 use dimension::SceneElement;
-pub use error::{Location, SceneError};
+pub use error::SceneError;
 
 /// One experiment. Field order and names are the file format.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
