@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use dda_2d::{Block, Driver2d};
 use dda_3d::Driver3d;
 use dda_contact::LawRegistry;
-use dda_core::{BlockSet, BlockSystem, Driver, DynContactLaw, Element, Settings};
+use dda_core::{BlockSet, BlockSystem, Driver, Element, Settings};
 use nalgebra::SVector;
 
 use super::dimension::SceneElement;
@@ -181,8 +181,12 @@ impl Scene {
             notes.extend(note);
         }
         let settings = self.analysis.settings();
-        let laws = self.contact_laws(&checked.laws.laws, registry)?;
-        let mut driver = Driver::new(system, laws, settings.clone())
+        // The contact laws, `Custom` ones built by the registry.
+        let laws = checked.laws.laws.iter().map(|law| {
+            law.build(registry)
+                .map_err(|message| self.error(&self.law_place(law), message))
+        });
+        let mut driver = Driver::new(system, laws.collect::<Result<_, _>>()?, settings.clone())
             .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
         // The velocity (translation, then rotation) is a block's leading
         // DOFs; its strain rates start at zero.
@@ -203,20 +207,6 @@ impl Scene {
             settings,
             notes,
         })
-    }
-
-    /// The contact laws, built (`Custom` ones by `registry`).
-    fn contact_laws(
-        &self,
-        laws: &[JointLaw],
-        registry: &LawRegistry,
-    ) -> Result<Vec<Box<dyn DynContactLaw>>, SceneError> {
-        laws.iter()
-            .map(|law| {
-                law.build(registry)
-                    .map_err(|message| self.error(&self.law_place(law), message))
-            })
-            .collect()
     }
 
     /// Where `law` is first written: the default joint or a joint set's law.
