@@ -142,7 +142,7 @@ impl Scene {
         let mut blocks = Vec::with_capacity(checked.blocks.len());
         for (spec, shape) in checked.blocks.iter().zip(checked.shapes) {
             let entry = &self.blocks[spec.entry];
-            let material = self.material_index(entry).expect("checked");
+            let material = self.material_index(entry.material()).expect("checked");
             let density = self.materials[material].1.density;
             let block = B::block(shape, material, density, self.kind_of(entry), spec.stress);
             let at = place_of(spec.entry, spec.part.as_deref());
@@ -257,7 +257,7 @@ impl Scene {
         for joint in &self.joints {
             let index = index_of(&mut laws, &joint.law);
             if let Some((a, b)) = &joint.between {
-                let find = |name: &String| self.material_named(Some(name));
+                let find = |name: &String| self.material_index(Some(name));
                 if let (Some(a), Some(b)) = (find(a), find(b)) {
                     materials[a][b] = index;
                     materials[b][a] = index;

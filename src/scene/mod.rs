@@ -716,19 +716,14 @@ impl Scene {
     /// A block entry's kind: its own, or else its material's.
     pub fn kind_of(&self, block: &BlockSpec) -> BlockKind {
         block.block_kind().unwrap_or_else(|| {
-            self.material_index(block)
+            self.material_index(block.material())
                 .map_or(BlockKind::Deformable, |m| self.materials[m].1.kind)
         })
     }
 
-    /// Index of the block's material, if it names one that exists (or the
-    /// only material when it names none).
-    pub fn material_index(&self, block: &BlockSpec) -> Option<usize> {
-        self.material_named(block.material())
-    }
-
-    /// Index of the material `name`, or of the only one for `None`.
-    fn material_named(&self, name: Option<&str>) -> Option<usize> {
+    /// Index of the material `name`, if there is one (or of the only
+    /// material for `None`, as for a block that names none).
+    pub fn material_index(&self, name: Option<&str>) -> Option<usize> {
         match name {
             Some(name) => self.materials.iter().position(|(n, _)| n == name),
             None => (self.materials.len() == 1).then_some(0),

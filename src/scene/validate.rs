@@ -248,7 +248,7 @@ impl Scene {
     /// The index of the material `name` (at `at`), or of the scene's only
     /// one when the entry at `at` names none.
     fn find_material(&self, at: &Place, name: Option<&str>) -> Result<usize> {
-        self.material_named(name).ok_or_else(|| {
+        self.material_index(name).ok_or_else(|| {
             let names: Vec<String> = self
                 .materials
                 .iter()
