@@ -17,7 +17,6 @@ use super::locate::{locate_exact, place_of, Place};
 use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, LawTable, Load, MotionSpec, Scene};
 use super::{SceneBlock, SetLaws};
 use super::{SceneError, Source};
-use crate::generators::Failure;
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
 
@@ -315,7 +314,11 @@ impl Scene {
                 spec,
                 BlockSpec::Polygon { .. } | BlockSpec::Polyhedron { .. }
             );
-            let made = B::generate(spec).map_err(|e| self.failure(&at, e))?;
+            // Why the entry makes no blocks, at the field to change.
+            let made = B::generate(spec).map_err(|e| {
+                let at = e.set.map_or(at.clone(), |k| at.field("sets").index(k));
+                self.error(&e.field.map_or(at.clone(), |f| at.field(f)), e.message)
+            })?;
             set_laws.extend(spec.set_laws(made.joints, blocks.len()));
             for block in spec.blocks_of(k, made.pieces) {
                 shapes.push(B::shape(self, &at, &block, written)?);
@@ -347,15 +350,6 @@ impl Scene {
             "dimension: 2, the default"
         };
         format!("{kind} is a 3D block, but this is a 2D scene ({d}); add dimension: 3 at the top for a 3D scene, or use Polygon or Rectangle")
-    }
-
-    /// Why an entry makes no blocks, at the field to change.
-    fn failure(&self, at: &Place, e: Failure) -> SceneError {
-        let at = match e.set {
-            Some(k) => at.field("sets").index(k),
-            None => at.clone(),
-        };
-        self.error(&e.field.map_or(at.clone(), |f| at.field(f)), e.message)
     }
 
     /// The scene's loads: the scene checks their blocks and tuples'
