@@ -370,7 +370,15 @@ impl Scene {
                 (Some(f), None) => {
                     Force::Constant(self.vector(&at.field("force"), "the force", f, "f")?)
                 }
-                (None, Some(h)) => Force::History(self.history(&at.field("history"), h)?),
+                (None, Some(h)) => {
+                    // Each sample: one time and one force component per axis.
+                    let sample = |(i, s): (usize, &Coords)| {
+                        let n = s.numbers(D, "the sample", true, "f");
+                        let n = n.map_err(|m| self.error(&at.field("history").index(i), m))?;
+                        Ok((n[0], SVector::from_column_slice(&n[1..])))
+                    };
+                    Force::History(h.iter().enumerate().map(sample).collect::<Result<_>>()?)
+                }
                 _ => {
                     let f = ["fx", "fy", "fz"][..D].join(", ");
                     return Err(self.error(
@@ -388,21 +396,6 @@ impl Scene {
             loads.push(load);
         }
         Ok(loads)
-    }
-
-    /// A load's history samples once each has one time and one force
-    /// component per axis.
-    fn history<const D: usize>(
-        &self,
-        at: &Place,
-        samples: &[Coords],
-    ) -> Result<Vec<(f64, SVector<f64, D>)>> {
-        let sample = |(i, s): (usize, &Coords)| {
-            let n = s.numbers(D, "the sample", true, "f");
-            let n = n.map_err(|m| self.error(&at.index(i), m))?;
-            Ok((n[0], SVector::from_column_slice(&n[1..])))
-        };
-        samples.iter().enumerate().map(sample).collect()
     }
 
     /// The scene's fixed points, checked by `FixedPoint::check` once their
