@@ -14,8 +14,8 @@ use nalgebra::SVector;
 
 use super::dimension::SceneElement;
 use super::locate::{locate_exact, place_of, Place};
-use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, LawTable, Load, MotionSpec, Scene};
-use super::{SceneBlock, SetLaws};
+use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, LawTable, Load, Material, MotionSpec};
+use super::{Scene, SceneBlock, SetLaws};
 use super::{SceneError, Source};
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
@@ -248,24 +248,17 @@ impl Scene {
     /// one when the entry at `at` names none.
     fn find_material(&self, at: &Place, name: Option<&str>) -> Result<usize> {
         self.material_index(name).ok_or_else(|| {
-            let names: Vec<String> = self
-                .materials
-                .iter()
-                .map(|(n, _)| format!("{n:?}"))
-                .collect();
+            let quoted = |(n, _): &(String, Material)| format!("{n:?}");
+            let names: Vec<String> = self.materials.iter().map(quoted).collect();
             let names = match names.is_empty() {
                 true => "none: add one under materials".to_string(),
                 false => names.join(", "),
             };
-            self.error(
-                at,
-                match name {
-                    Some(name) => format!("unknown material {name:?}; the materials are {names}"),
-                    None => {
-                        format!("the block names no material; add material: with one of {names}")
-                    }
-                },
-            )
+            let message = match name {
+                Some(name) => format!("unknown material {name:?}; the materials are {names}"),
+                None => format!("the block names no material; add material: with one of {names}"),
+            };
+            self.error(at, message)
         })
     }
 
