@@ -93,7 +93,7 @@ impl Scene {
     }
 
     /// Whether the text the scene was read from writes a value at `place`.
-    fn written(&self, place: &Place) -> bool {
+    pub(super) fn written(&self, place: &Place) -> bool {
         locate_exact(&self.source.text, place.segs()).is_some()
     }
 
@@ -303,10 +303,6 @@ impl Scene {
                     self.check_law(&at.field("law"), law)?;
                 }
             }
-            let written = matches!(
-                spec,
-                BlockSpec::Polygon { .. } | BlockSpec::Polyhedron { .. }
-            );
             // Why the entry makes no blocks, at the field to change.
             let made = B::generate(spec).map_err(|e| {
                 let at = e.set.map_or(at.clone(), |k| at.field("sets").index(k));
@@ -314,7 +310,7 @@ impl Scene {
             })?;
             set_laws.extend(spec.set_laws(made.joints, blocks.len()));
             for block in spec.blocks_of(k, made.pieces) {
-                shapes.push(B::shape(self, &at, &block, written)?);
+                shapes.push(B::shape(self, &at, &block)?);
                 blocks.push(block);
             }
         }
