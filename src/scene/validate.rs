@@ -426,10 +426,8 @@ impl Scene {
             let off = B::outside(&shapes[m.block], &point.point);
             if off != 0.0 {
                 let shown: Vec<String> = m.point.as_slice().iter().map(f64::to_string).collect();
-                let hint = match shapes
-                    .iter()
-                    .position(|s| B::outside(s, &point.point) == 0.0)
-                {
+                let inside = |s: &B::Shape| B::outside(s, &point.point) == 0.0;
+                let hint = match shapes.iter().position(inside) {
                     Some(other) => format!("it lies in block {other}: give block: {other}, or"),
                     None => "it lies in no block:".to_string(),
                 };
