@@ -459,12 +459,10 @@ impl Scene {
         } else {
             ""
         };
+        let last = n - 1;
         Err(self.error(
             at,
-            format!(
-                "there is no block {block}: the scene has {n} blocks{generated}, numbered from 0 to {}",
-                n - 1
-            ),
+            format!("there is no block {block}: the scene has {n} blocks{generated}, numbered from 0 to {last}"),
         ))
     }
 
