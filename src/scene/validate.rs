@@ -497,20 +497,16 @@ impl Scene {
             }
             let (block, entry) = (&blocks[b], blocks[b].entry);
             if !block.fixed {
-                let (name, fix) = match &block.part {
-                    Some(part) => (
-                        format!("block {b} (blocks[{entry}], {part})"),
-                        "list fixed base blocks instead, like an arch's abutments".to_string(),
-                    ),
-                    None => (
-                        match entry == b {
-                            true => format!("block {b}"),
-                            false => format!("block {b} (blocks[{entry}])"),
-                        },
-                        format!(
-                            "add fixed: true to blocks[{entry}], or list the fixed base blocks"
-                        ),
-                    ),
+                let name = match (&block.part, entry == b) {
+                    (Some(part), _) => format!("block {b} (blocks[{entry}], {part})"),
+                    (None, true) => format!("block {b}"),
+                    (None, false) => format!("block {b} (blocks[{entry}])"),
+                };
+                let fix = match block.part {
+                    Some(_) => "list fixed base blocks instead, like an arch's abutments".into(),
+                    None => {
+                        format!("add fixed: true to blocks[{entry}], or list the fixed base blocks")
+                    }
                 };
                 return Err(self.error(
                     &at,
