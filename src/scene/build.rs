@@ -86,10 +86,9 @@ impl Scene {
 
     /// [`Scene::build_any`] with `Custom` joint laws built through `registry`.
     pub fn build_any_with(&self, registry: &LawRegistry) -> Result<AnyModel, SceneError> {
-        if self.dimension == 3 {
-            self.build_3d_with(registry).map(AnyModel::Space)
-        } else {
-            self.build_with(registry).map(AnyModel::Plane)
+        match self.dimension {
+            3 => self.build_3d_with(registry).map(AnyModel::Space),
+            _ => self.build_with(registry).map(AnyModel::Plane),
         }
     }
 

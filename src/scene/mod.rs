@@ -671,10 +671,9 @@ impl Scene {
 
     /// How many blocks the scene has, generators expanded.
     pub fn block_count(&self) -> usize {
-        if self.dimension == 3 {
-            self.expanded_blocks_3d().len()
-        } else {
-            self.expanded_blocks().len()
+        match self.dimension {
+            3 => self.expanded_blocks_3d().len(),
+            _ => self.expanded_blocks().len(),
         }
     }
 

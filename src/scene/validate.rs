@@ -53,10 +53,9 @@ impl Scene {
     /// Checks the whole scene; the first problem found is returned.
     pub fn validate(&self) -> Result {
         self.source.check_dimension(self.dimension)?;
-        if self.dimension == 3 {
-            self.checked::<dda_3d::Block, 3, 6>().map(drop)
-        } else {
-            self.checked::<dda_2d::Block, 2, 3>().map(drop)
+        match self.dimension {
+            3 => self.checked::<dda_3d::Block, 3, 6>().map(drop),
+            _ => self.checked::<dda_2d::Block, 2, 3>().map(drop),
         }
     }
 
