@@ -3,6 +3,8 @@
 //! defaults, by [`dda_core::with_settings!`]), all in one struct, so its
 //! derive refuses unknown fields and names every field it reads.
 
+use std::f64::consts::TAU;
+
 use dda_core::settings::{non_negative, positive};
 use dda_core::{DdaError, Settings};
 use serde::{Deserialize, Serialize};
@@ -57,8 +59,11 @@ impl Analysis {
     /// The driver settings the analysis asks for: as written, with the
     /// velocity ratio of the mode and the damping's coefficient.
     pub fn settings(&self) -> Settings {
-        let velocity_ratio = self.velocity_ratio.unwrap_or(self.mode.velocity_ratio());
-        let mass_damping = self.damping.map_or(0.0, |d| d.mass_coefficient());
+        let carried = if self.mode == Mode::Static { 0.0 } else { 1.0 };
+        let velocity_ratio = self.velocity_ratio.unwrap_or(carried);
+        let mass_damping = self
+            .damping
+            .map_or(0.0, |d| 2.0 * d.ratio * TAU * d.frequency);
         self.settings_with(velocity_ratio, mass_damping)
     }
 }
@@ -85,11 +90,6 @@ impl Damping {
             "give the frequency (Hz) at which the ratio holds, like the structure's first mode";
         positive("frequency", "the damping frequency", self.frequency, hint)
     }
-
-    /// The coefficient α in 1/s.
-    pub fn mass_coefficient(&self) -> f64 {
-        2.0 * self.ratio * std::f64::consts::TAU * self.frequency
-    }
 }
 
 /// Dynamic carries the velocity from step to step; static starts each step at rest.
@@ -98,13 +98,4 @@ pub enum Mode {
     #[default]
     Dynamic,
     Static,
-}
-
-impl Mode {
-    pub fn velocity_ratio(self) -> f64 {
-        match self {
-            Mode::Dynamic => 1.0,
-            Mode::Static => 0.0,
-        }
-    }
 }

@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use dda_2d::{Block, Driver2d};
 use dda_3d::Driver3d;
 use dda_contact::LawRegistry;
-use dda_core::{BlockSet, BlockSystem, Driver, DynContactLaw, Element, Settings};
+use dda_core::{BlockSet, BlockSystem, Driver, Element, Settings};
 use nalgebra::SVector;
 
 use super::dimension::SceneElement;
@@ -86,10 +86,9 @@ impl Scene {
 
     /// [`Scene::build_any`] with `Custom` joint laws built through `registry`.
     pub fn build_any_with(&self, registry: &LawRegistry) -> Result<AnyModel, SceneError> {
-        if self.dimension == 3 {
-            self.build_3d_with(registry).map(AnyModel::Space)
-        } else {
-            self.build_with(registry).map(AnyModel::Plane)
+        match self.dimension {
+            3 => self.build_3d_with(registry).map(AnyModel::Space),
+            _ => self.build_with(registry).map(AnyModel::Plane),
         }
     }
 
@@ -142,7 +141,7 @@ impl Scene {
         let mut blocks = Vec::with_capacity(checked.blocks.len());
         for (spec, shape) in checked.blocks.iter().zip(checked.shapes) {
             let entry = &self.blocks[spec.entry];
-            let material = self.material_index(entry).expect("checked");
+            let material = self.material_index(entry.material()).expect("checked");
             let density = self.materials[material].1.density;
             let block = B::block(shape, material, density, self.kind_of(entry), spec.stress);
             let at = place_of(spec.entry, spec.part.as_deref());
@@ -181,8 +180,12 @@ impl Scene {
             notes.extend(note);
         }
         let settings = self.analysis.settings();
-        let laws = self.contact_laws(&checked.laws.laws, registry)?;
-        let mut driver = Driver::new(system, laws, settings.clone())
+        // The contact laws, `Custom` ones built by the registry.
+        let laws = checked.laws.laws.iter().map(|law| {
+            law.build(registry)
+                .map_err(|message| self.error(&self.law_place(law), message))
+        });
+        let mut driver = Driver::new(system, laws.collect::<Result<_, _>>()?, settings.clone())
             .map_err(|e| self.error(&Place::root().field("analysis"), e.to_string()))?;
         // The velocity (translation, then rotation) is a block's leading
         // DOFs; its strain rates start at zero.
@@ -203,20 +206,6 @@ impl Scene {
             settings,
             notes,
         })
-    }
-
-    /// The contact laws, built (`Custom` ones by `registry`).
-    fn contact_laws(
-        &self,
-        laws: &[JointLaw],
-        registry: &LawRegistry,
-    ) -> Result<Vec<Box<dyn DynContactLaw>>, SceneError> {
-        laws.iter()
-            .map(|law| {
-                law.build(registry)
-                    .map_err(|message| self.error(&self.law_place(law), message))
-            })
-            .collect()
     }
 
     /// Where `law` is first written: the default joint or a joint set's law.
@@ -267,7 +256,7 @@ impl Scene {
         for joint in &self.joints {
             let index = index_of(&mut laws, &joint.law);
             if let Some((a, b)) = &joint.between {
-                let find = |name: &String| self.material_named(Some(name));
+                let find = |name: &String| self.material_index(Some(name));
                 if let (Some(a), Some(b)) = (find(a), find(b)) {
                     materials[a][b] = index;
                     materials[b][a] = index;

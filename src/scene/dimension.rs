@@ -26,12 +26,11 @@ pub(super) trait SceneElement<const D: usize, const S: usize>: Sized {
     fn generate(spec: &BlockSpec) -> Result<Generated<Self::Corner>, Failure>;
 
     /// The block's checked shape; the error names the corner or face at
-    /// fault within `at` (its entry), and a corner where it is `written`.
+    /// fault within `at` (its entry), and a corner where the text writes it.
     fn shape(
         scene: &Scene,
         at: &Place,
         block: &SceneBlock<Self::Corner, S>,
-        written: bool,
     ) -> Result<Self::Shape, SceneError>;
 
     fn first_overlap(shapes: &[Self::Shape]) -> Option<(usize, usize)>;
@@ -61,16 +60,11 @@ impl SceneElement<2, 3> for dda_2d::Block {
         spec.generate_2d()
     }
 
-    fn shape(
-        scene: &Scene,
-        at: &Place,
-        block: &SceneBlock,
-        written: bool,
-    ) -> Result<Self::Shape, SceneError> {
+    fn shape(scene: &Scene, at: &Place, block: &SceneBlock) -> Result<Self::Shape, SceneError> {
         let points: Vec<Point2<f64>> = block.vertices.iter().map(|&v| v.into()).collect();
         polygon::validate(&points).map_err(|e| {
             let place = match e {
-                PolygonError::NotFinite { index, .. } if written => {
+                PolygonError::NotFinite { index, .. } if scene.written(&at.field("vertices")) => {
                     at.field("vertices").index(index)
                 }
                 _ => place_of(block.entry, block.part.as_deref()),
@@ -130,15 +124,15 @@ impl SceneElement<3, 6> for dda_3d::Block {
         scene: &Scene,
         at: &Place,
         block: &SceneBlock<[f64; 3], 6>,
-        written: bool,
     ) -> Result<Polyhedron, SceneError> {
         let points: Vec<Point3<f64>> = block.vertices.iter().map(|&v| v.into()).collect();
         polyhedra::validate_outward(&points, &block.faces).map_err(|e| {
+            let vertices = at.field("vertices");
             let place = match (e.place(), &e) {
-                (_, PolyhedronError::NotFinite { vertex, .. }) if written => {
-                    at.field("vertices").index(*vertex)
+                (_, PolyhedronError::NotFinite { vertex, .. }) if scene.written(&vertices) => {
+                    vertices.index(*vertex)
                 }
-                (Fault::Vertices, _) => at.field("vertices"),
+                (Fault::Vertices, _) => vertices,
                 (Fault::Faces, _) => at.field("faces"),
                 (Fault::Vertex(v), _) => at.pointing_at("vertices", v),
                 (Fault::Face(f), _) => at.pointing_at("faces", f),

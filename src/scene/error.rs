@@ -1,27 +1,7 @@
 //! Scene errors: one readable line naming the file, the place and the fix.
 
-use std::fmt;
-
 use super::locate::{locate, Place};
 use super::Source;
-
-/// A place in a scene file: the file, and the line and column (1-based)
-/// where they can be found.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Location {
-    pub file: String,
-    pub line_column: Option<(usize, usize)>,
-}
-
-impl fmt::Display for Location {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.file)?;
-        match self.line_column {
-            Some((line, column)) => write!(f, ":{line}:{column}"),
-            None => Ok(()),
-        }
-    }
-}
 
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
@@ -29,13 +9,15 @@ pub enum SceneError {
     // `to_string()` alone says why.
     #[error("{file}: cannot read the scene file: {error}")]
     Read { file: String, error: std::io::Error },
-    /// The text is not a scene (RON syntax, unknown or missing fields, wrong types).
+    /// The text is not a scene (RON syntax, unknown or missing fields,
+    /// wrong types); `at` is the file, line and column, like `a.ron:3:5`.
     #[error("{at}: {message}")]
-    Syntax { at: Location, message: String },
-    /// The scene parses but a value is wrong.
+    Syntax { at: String, message: String },
+    /// The scene parses but a value is wrong; `at` is the file, and the
+    /// line and column where they can be found.
     #[error("{at}: {place}: {message}")]
     Invalid {
-        at: Location,
+        at: String,
         place: String,
         message: String,
     },
@@ -67,20 +49,18 @@ impl Source {
             message = format!("{message}; {hint}");
         }
         SceneError::Syntax {
-            at: Location {
-                file: self.origin.clone(),
-                line_column: Some((e.span.start.line, e.span.start.col)),
-            },
+            at: format!("{}:{}", self.origin, e.span.start),
             message,
         }
     }
 
     pub(super) fn invalid(&self, place: &Place, message: impl Into<String>) -> SceneError {
+        let at = match locate(&self.text, place) {
+            Some((line, column)) => format!("{}:{line}:{column}", self.origin),
+            None => self.origin.clone(),
+        };
         SceneError::Invalid {
-            at: Location {
-                file: self.origin.clone(),
-                line_column: locate(&self.text, place),
-            },
+            at,
             place: place.to_string(),
             message: message.into(),
         }

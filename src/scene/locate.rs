@@ -108,7 +108,7 @@ pub fn locate_exact(text: &str, path: &[Seg]) -> Option<(usize, usize)> {
     let mut parser = ron::Deserializer::from_str_with_options(text, &super::ron_options()).ok()?;
     let stop = Walk(path).deserialize(&mut parser).err()?;
     let e = parser.span_error(stop);
-    // A field or key stops as it is read, so the span starts on its name;
+    // A field or key stops once it is read, so the span starts on its name;
     // an element stops before it is read, so the span ends at its start.
     let (start, end) = ((e.span.start.line, e.span.start.col), e.span.end);
     match e.code {
@@ -165,8 +165,10 @@ impl<'de> Visitor<'de> for Walk<'_> {
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
         if let Some((Seg::Field(name) | Seg::Key(name), rest)) = self.0.split_first() {
-            while let Some(found) = map.next_key_seed(Name(name, rest.is_empty()))? {
-                if found {
+            while let Some(key) = map.next_key::<String>()? {
+                if key == *name && rest.is_empty() {
+                    return Err(de::Error::custom(AT_NAME));
+                } else if key == *name {
                     return map.next_value_seed(Walk(rest));
                 }
                 map.next_value::<IgnoredAny>()?;
@@ -185,33 +187,6 @@ impl<'de> Visitor<'de> for Walk<'_> {
             seq.next_element_seed(Walk(rest))?;
         }
         Err(de::Error::custom("not written"))
-    }
-}
-
-/// A field's name or a map's key: whether it is the one sought (the walk
-/// stops there when it is the last step).
-struct Name<'a>(&'a str, bool);
-
-impl<'de> DeserializeSeed<'de> for Name<'_> {
-    type Value = bool;
-
-    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<bool, D::Error> {
-        d.deserialize_any(self)
-    }
-}
-
-impl Visitor<'_> for Name<'_> {
-    type Value = bool;
-
-    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        f.write_str("a name")
-    }
-
-    fn visit_str<E: de::Error>(self, v: &str) -> Result<bool, E> {
-        match (v == self.0, self.1) {
-            (true, true) => Err(E::custom(AT_NAME)),
-            (found, _) => Ok(found),
-        }
     }
 }
 

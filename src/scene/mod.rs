@@ -34,7 +34,7 @@ pub use crate::values::{Coords, JointLaw};
 pub use analysis::{Analysis, Damping, Mode};
 pub use build::{AnyModel, LawTable, Model, Model3};
 use dimension::SceneElement;
-pub use error::{Location, SceneError};
+pub use error::SceneError;
 
 /// One experiment. Field order and names are the file format.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -155,8 +155,6 @@ macro_rules! block_specs {
     (@made 3, 3, $make:expr) => { $make };
     (@made 6, 6, $make:expr) => { $make };
     (@made $k:tt, $made:tt, $make:expr) => { Ok(Vec::new().into()) };
-    (@dimension 3) => { 2 };
-    (@dimension 6) => { 3 };
     ($($(#[$doc:meta])* $name:ident([f64; $k:tt], terse: $terse:tt) {
         $($(#[$attr:meta])* $field:ident: $ty:ty,)*
     } => $make:expr,)*) => {
@@ -216,11 +214,6 @@ macro_rules! block_specs {
             /// The entry's name in the file, like "Rectangle".
             pub fn kind(&self) -> &'static str {
                 match self { $(BlockSpec::$name { .. } => stringify!($name),)* }
-            }
-
-            /// The dimension of scene the entry belongs in: 2 or 3.
-            pub fn dimension(&self) -> u32 {
-                match self { $(BlockSpec::$name { .. } => block_specs!(@dimension $k),)* }
             }
 
             /// What a 2D entry makes (nothing for a 3D one).
@@ -678,10 +671,9 @@ impl Scene {
 
     /// How many blocks the scene has, generators expanded.
     pub fn block_count(&self) -> usize {
-        if self.dimension == 3 {
-            self.expanded_blocks_3d().len()
-        } else {
-            self.expanded_blocks().len()
+        match self.dimension {
+            3 => self.expanded_blocks_3d().len(),
+            _ => self.expanded_blocks().len(),
         }
     }
 
@@ -723,19 +715,14 @@ impl Scene {
     /// A block entry's kind: its own, or else its material's.
     pub fn kind_of(&self, block: &BlockSpec) -> BlockKind {
         block.block_kind().unwrap_or_else(|| {
-            self.material_index(block)
+            self.material_index(block.material())
                 .map_or(BlockKind::Deformable, |m| self.materials[m].1.kind)
         })
     }
 
-    /// Index of the block's material, if it names one that exists (or the
-    /// only material when it names none).
-    pub fn material_index(&self, block: &BlockSpec) -> Option<usize> {
-        self.material_named(block.material())
-    }
-
-    /// Index of the material `name`, or of the only one for `None`.
-    fn material_named(&self, name: Option<&str>) -> Option<usize> {
+    /// Index of the material `name`, if there is one (or of the only
+    /// material for `None`, as for a block that names none).
+    pub fn material_index(&self, name: Option<&str>) -> Option<usize> {
         match name {
             Some(name) => self.materials.iter().position(|(n, _)| n == name),
             None => (self.materials.len() == 1).then_some(0),

@@ -14,10 +14,9 @@ use nalgebra::SVector;
 
 use super::dimension::SceneElement;
 use super::locate::{locate_exact, place_of, Place};
-use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, LawTable, Load, MotionSpec, Scene};
-use super::{SceneBlock, SetLaws};
+use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, LawTable, Load, Material, MotionSpec};
+use super::{Scene, SceneBlock, SetLaws};
 use super::{SceneError, Source};
-use crate::generators::Failure;
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
 
@@ -54,10 +53,9 @@ impl Scene {
     /// Checks the whole scene; the first problem found is returned.
     pub fn validate(&self) -> Result {
         self.source.check_dimension(self.dimension)?;
-        if self.dimension == 3 {
-            self.checked::<dda_3d::Block, 3, 6>().map(drop)
-        } else {
-            self.checked::<dda_2d::Block, 2, 3>().map(drop)
+        match self.dimension {
+            3 => self.checked::<dda_3d::Block, 3, 6>().map(drop),
+            _ => self.checked::<dda_2d::Block, 2, 3>().map(drop),
         }
     }
 
@@ -94,7 +92,7 @@ impl Scene {
     }
 
     /// Whether the text the scene was read from writes a value at `place`.
-    fn written(&self, place: &Place) -> bool {
+    pub(super) fn written(&self, place: &Place) -> bool {
         locate_exact(&self.source.text, place.segs()).is_some()
     }
 
@@ -248,25 +246,18 @@ impl Scene {
     /// The index of the material `name` (at `at`), or of the scene's only
     /// one when the entry at `at` names none.
     fn find_material(&self, at: &Place, name: Option<&str>) -> Result<usize> {
-        self.material_named(name).ok_or_else(|| {
-            let names: Vec<String> = self
-                .materials
-                .iter()
-                .map(|(n, _)| format!("{n:?}"))
-                .collect();
+        self.material_index(name).ok_or_else(|| {
+            let quoted = |(n, _): &(String, Material)| format!("{n:?}");
+            let names: Vec<String> = self.materials.iter().map(quoted).collect();
             let names = match names.is_empty() {
                 true => "none: add one under materials".to_string(),
                 false => names.join(", "),
             };
-            self.error(
-                at,
-                match name {
-                    Some(name) => format!("unknown material {name:?}; the materials are {names}"),
-                    None => {
-                        format!("the block names no material; add material: with one of {names}")
-                    }
-                },
-            )
+            let message = match name {
+                Some(name) => format!("unknown material {name:?}; the materials are {names}"),
+                None => format!("the block names no material; add material: with one of {names}"),
+            };
+            self.error(at, message)
         })
     }
 
@@ -292,7 +283,8 @@ impl Scene {
         let (mut blocks, mut shapes, mut set_laws) = (Vec::new(), Vec::new(), Vec::new());
         for (k, spec) in self.blocks.iter().enumerate() {
             let at = root.index(k);
-            if spec.dimension() != self.dimension {
+            // An entry of the other dimension has its state's length.
+            if spec.velocity().len() != S {
                 return Err(self.error(&at, self.wrong_entry(spec)));
             }
             let material = spec.material().map_or(at.clone(), |_| at.field("material"));
@@ -310,14 +302,14 @@ impl Scene {
                     self.check_law(&at.field("law"), law)?;
                 }
             }
-            let written = matches!(
-                spec,
-                BlockSpec::Polygon { .. } | BlockSpec::Polyhedron { .. }
-            );
-            let made = B::generate(spec).map_err(|e| self.failure(&at, e))?;
+            // Why the entry makes no blocks, at the field to change.
+            let made = B::generate(spec).map_err(|e| {
+                let at = e.set.map_or(at.clone(), |k| at.field("sets").index(k));
+                self.error(&e.field.map_or(at.clone(), |f| at.field(f)), e.message)
+            })?;
             set_laws.extend(spec.set_laws(made.joints, blocks.len()));
             for block in spec.blocks_of(k, made.pieces) {
-                shapes.push(B::shape(self, &at, &block, written)?);
+                shapes.push(B::shape(self, &at, &block)?);
                 blocks.push(block);
             }
         }
@@ -348,15 +340,6 @@ impl Scene {
         format!("{kind} is a 3D block, but this is a 2D scene ({d}); add dimension: 3 at the top for a 3D scene, or use Polygon or Rectangle")
     }
 
-    /// Why an entry makes no blocks, at the field to change.
-    fn failure(&self, at: &Place, e: Failure) -> SceneError {
-        let at = match e.set {
-            Some(k) => at.field("sets").index(k),
-            None => at.clone(),
-        };
-        self.error(&e.field.map_or(at.clone(), |f| at.field(f)), e.message)
-    }
-
     /// The scene's loads: the scene checks their blocks and tuples'
     /// counts, `PointLoad::check` their values.
     fn loads<const D: usize>(&self, n: usize) -> Result<Vec<PointLoad<D>>> {
@@ -375,7 +358,15 @@ impl Scene {
                 (Some(f), None) => {
                     Force::Constant(self.vector(&at.field("force"), "the force", f, "f")?)
                 }
-                (None, Some(h)) => Force::History(self.history(&at.field("history"), h)?),
+                (None, Some(h)) => {
+                    // Each sample: one time and one force component per axis.
+                    let sample = |(i, s): (usize, &Coords)| {
+                        let n = s.numbers(D, "the sample", true, "f");
+                        let n = n.map_err(|m| self.error(&at.field("history").index(i), m))?;
+                        Ok((n[0], SVector::from_column_slice(&n[1..])))
+                    };
+                    Force::History(h.iter().enumerate().map(sample).collect::<Result<_>>()?)
+                }
                 _ => {
                     let f = ["fx", "fy", "fz"][..D].join(", ");
                     return Err(self.error(
@@ -393,21 +384,6 @@ impl Scene {
             loads.push(load);
         }
         Ok(loads)
-    }
-
-    /// A load's history samples once each has one time and one force
-    /// component per axis.
-    fn history<const D: usize>(
-        &self,
-        at: &Place,
-        samples: &[Coords],
-    ) -> Result<Vec<(f64, SVector<f64, D>)>> {
-        let sample = |(i, s): (usize, &Coords)| {
-            let n = s.numbers(D, "the sample", true, "f");
-            let n = n.map_err(|m| self.error(&at.index(i), m))?;
-            Ok((n[0], SVector::from_column_slice(&n[1..])))
-        };
-        samples.iter().enumerate().map(sample).collect()
     }
 
     /// The scene's fixed points, checked by `FixedPoint::check` once their
@@ -449,10 +425,8 @@ impl Scene {
             let off = B::outside(&shapes[m.block], &point.point);
             if off != 0.0 {
                 let shown: Vec<String> = m.point.as_slice().iter().map(f64::to_string).collect();
-                let hint = match shapes
-                    .iter()
-                    .position(|s| B::outside(s, &point.point) == 0.0)
-                {
+                let inside = |s: &B::Shape| B::outside(s, &point.point) == 0.0;
+                let hint = match shapes.iter().position(inside) {
                     Some(other) => format!("it lies in block {other}: give block: {other}, or"),
                     None => "it lies in no block:".to_string(),
                 };
@@ -484,12 +458,10 @@ impl Scene {
         } else {
             ""
         };
+        let last = n - 1;
         Err(self.error(
             at,
-            format!(
-                "there is no block {block}: the scene has {n} blocks{generated}, numbered from 0 to {}",
-                n - 1
-            ),
+            format!("there is no block {block}: the scene has {n} blocks{generated}, numbered from 0 to {last}"),
         ))
     }
 
@@ -524,20 +496,16 @@ impl Scene {
             }
             let (block, entry) = (&blocks[b], blocks[b].entry);
             if !block.fixed {
-                let (name, fix) = match &block.part {
-                    Some(part) => (
-                        format!("block {b} (blocks[{entry}], {part})"),
-                        "list fixed base blocks instead, like an arch's abutments".to_string(),
-                    ),
-                    None => (
-                        match entry == b {
-                            true => format!("block {b}"),
-                            false => format!("block {b} (blocks[{entry}])"),
-                        },
-                        format!(
-                            "add fixed: true to blocks[{entry}], or list the fixed base blocks"
-                        ),
-                    ),
+                let name = match (&block.part, entry == b) {
+                    (Some(part), _) => format!("block {b} (blocks[{entry}], {part})"),
+                    (None, true) => format!("block {b}"),
+                    (None, false) => format!("block {b} (blocks[{entry}])"),
+                };
+                let fix = match block.part {
+                    Some(_) => "list fixed base blocks instead, like an arch's abutments".into(),
+                    None => {
+                        format!("add fixed: true to blocks[{entry}], or list the fixed base blocks")
+                    }
                 };
                 return Err(self.error(
                     &at,

@@ -422,7 +422,7 @@ fn density(scene: &Scene, k: usize) -> anyhow::Result<f64> {
     let m = scene
         .blocks
         .get(k)
-        .and_then(|b| scene.material_index(b))
+        .and_then(|b| scene.material_index(b.material()))
         .with_context(|| format!("block {k} has no material"))?;
     Ok(scene.materials[m].1.density)
 }
