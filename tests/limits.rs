@@ -28,6 +28,7 @@ use std::sync::Mutex;
 
 use dda::extrude::extrude;
 use dda::{AnyModel, Scene, Simulation};
+use dda_core::solve::SparseCholesky;
 use nalgebra::Vector3;
 
 mod common;
@@ -172,10 +173,19 @@ fn run<S: Simulation>(driver: &mut S, dip: Vector3<f64>) -> Outcome {
     }
 }
 
-fn outcome(case: Case, factor: f64, dt: f64, penalty: f64) -> Outcome {
+/// One run; with `single`, the factor keeps a single-precision copy for
+/// the later Newton-Raphson moves (only large ones do by default).
+fn outcome(case: Case, factor: f64, dt: f64, penalty: f64, single: bool) -> Outcome {
     let phi = (factor * case.critical_tan()).atan().to_degrees();
     let scene = scene(case, phi, dt, penalty);
+    let solver = || {
+        let mut solver = SparseCholesky::default();
+        solver.single_from = 0;
+        Box::new(solver)
+    };
     match scene.build_any().unwrap() {
+        AnyModel::Plane(m) if single => run(&mut m.driver.with_solver(solver()), case.dip()),
+        AnyModel::Space(m) if single => run(&mut m.driver.with_solver(solver()), case.dip()),
         AnyModel::Plane(mut m) => run(&mut m.driver, case.dip()),
         AnyModel::Space(mut m) => run(&mut m.driver, case.dip()),
     }
@@ -201,7 +211,7 @@ fn grid(cases: &[Case]) -> Vec<(Case, f64, f64, f64, Outcome)> {
                 let Some((case, factor, dt, p)) = queue.lock().unwrap().next() else {
                     break;
                 };
-                let o = outcome(case, factor, dt, p * AUTOMATIC_PENALTY);
+                let o = outcome(case, factor, dt, p * AUTOMATIC_PENALTY, false);
                 results.lock().unwrap().push((case, factor, dt, p, o));
             });
         }
@@ -288,6 +298,23 @@ fn assert_within_reach(results: &[(Case, f64, f64, f64, Outcome)]) {
 #[test]
 fn a_2d_block_holds_at_fs_1_01_and_slides_at_0_99_at_every_dt_and_penalty() {
     assert_within_reach(&grid(&[Case::Plane]));
+}
+
+/// Single-precision corrections (forced on these small factors) leave
+/// the block and the wedge holding at FS 1.01 and sliding at the Coulomb
+/// rate at 0.99, at the smallest and largest dt and penalty.
+#[test]
+fn single_precision_corrections_hold_and_slide_alike() {
+    let mut results = Vec::new();
+    for case in [Case::Plane, Case::Wedge] {
+        for factor in [1.01, 0.99] {
+            for (dt, p) in [(DTS[0], PENALTY_FACTORS[0]), (DTS[4], PENALTY_FACTORS[3])] {
+                let o = outcome(case, factor, dt, p * AUTOMATIC_PENALTY, true);
+                results.push((case, factor, dt, p, o));
+            }
+        }
+    }
+    assert_within_reach(&results);
 }
 
 #[test]
