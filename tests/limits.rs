@@ -301,12 +301,12 @@ fn a_2d_block_holds_at_fs_1_01_and_slides_at_0_99_at_every_dt_and_penalty() {
 }
 
 /// Single-precision corrections (forced on these small factors) leave
-/// the block and the wedge holding at FS 1.01 and sliding at the Coulomb
+/// the block, its extruded prism and the wedge holding at FS 1.01 and sliding at the Coulomb
 /// rate at 0.99, at the smallest and largest dt and penalty.
 #[test]
 fn single_precision_corrections_hold_and_slide_alike() {
     let mut results = Vec::new();
-    for case in [Case::Plane, Case::Wedge] {
+    for case in [Case::Plane, Case::Prism(1.0), Case::Wedge] {
         for factor in [1.01, 0.99] {
             for (dt, p) in [(DTS[0], PENALTY_FACTORS[0]), (DTS[4], PENALTY_FACTORS[3])] {
                 let o = outcome(case, factor, dt, p * AUTOMATIC_PENALTY, true);
