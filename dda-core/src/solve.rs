@@ -5,7 +5,8 @@ use std::cell::RefCell;
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    factorize_symbolic_cholesky, supernodal::SymbolicSupernodalCholesky, CholeskySymbolicParams,
+    LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
@@ -16,6 +17,7 @@ use crate::error::DdaError;
 use crate::settings::Solver;
 
 mod pcg;
+mod split;
 
 pub use pcg::ConjugateGradient;
 
@@ -80,6 +82,15 @@ pub fn solver_for(solver: Solver) -> Box<dyn LinearSolver> {
 /// gains little, and its runs keep their answers to the last bit.
 pub const SINGLE_PRECISION_ENTRIES: usize = 1 << 20;
 
+/// Factor entries from which the substitutions run on two cores (see
+/// `split`); default 2¹⁸. A 20 × 20 wall's factor, ten times smaller,
+/// solves no faster on two: the cores would wait on each other.
+pub const SPLIT_ENTRIES: usize = 1 << 18;
+
+/// A split solve is kept only if it reads at most this share of the
+/// factor one entry after another.
+const SPLIT_SHARE: f64 = 0.8;
+
 /// Sparse Cholesky (LLᵀ) from faer with a fill-reducing ordering. The
 /// factor's storage and the workspaces are kept from one factorisation to
 /// the next, so the hot path allocates nothing.
@@ -102,6 +113,15 @@ pub struct SparseCholesky {
     single_scratch: RefCell<(Vec<f32>, MemBuffer)>,
     /// How many symbolic analyses were done (for statistics and tests).
     pub analyses: usize,
+    /// Factor entries from which the substitutions are split between two
+    /// cores; default [`SPLIT_ENTRIES`].
+    pub split_from: usize,
+    /// The split of the analysed factor's tree, if it has one.
+    split: Option<split::Split>,
+    /// A split solve's unknowns in the factor's ordering, and its buffers.
+    split_work: RefCell<(Vec<f64>, split::Work<f64>)>,
+    /// The same for a correction's.
+    single_split_work: RefCell<split::Work<f32>>,
 }
 
 impl Default for SparseCholesky {
@@ -116,9 +136,33 @@ impl Default for SparseCholesky {
             scratch: RefCell::new(MemBuffer::new(StackReq::EMPTY)),
             single_scratch: RefCell::new((Vec::new(), MemBuffer::new(StackReq::EMPTY))),
             analyses: 0,
+            split_from: SPLIT_ENTRIES,
+            split: None,
+            split_work: RefCell::default(),
+            single_split_work: RefCell::default(),
         }
     }
 }
+
+impl SparseCholesky {
+    /// Where the substitutions run on two cores: the split, the tree it
+    /// splits, and the ordering's forward and inverse permutations.
+    fn split_parts(&self) -> Option<SplitParts<'_>> {
+        let symbolic = self.symbolic.as_ref()?;
+        let SymbolicCholeskyRaw::Supernodal(tree) = symbolic.raw() else {
+            return None;
+        };
+        let (forward, inverse) = symbolic.perm()?.arrays();
+        Some((self.split.as_ref()?, tree, forward, inverse))
+    }
+}
+
+type SplitParts<'a> = (
+    &'a split::Split,
+    &'a SymbolicSupernodalCholesky<usize>,
+    &'a [usize],
+    &'a [usize],
+);
 
 impl LinearSolver for SparseCholesky {
     fn analyse(&mut self, pattern: &CscPattern) -> Result<(), DdaError> {
@@ -155,6 +199,12 @@ impl LinearSolver for SparseCholesky {
             let need = symbolic.solve_in_place_scratch::<f32>(1, Par::Seq);
             self.single_scratch = RefCell::new((vec![0.0; pattern.dim], MemBuffer::new(need)));
         }
+        self.split = match symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(tree) if symbolic.len_val() >= self.split_from => {
+                split::Split::new(tree).filter(|s| s.share <= SPLIT_SHARE)
+            }
+            _ => None,
+        };
         self.symbolic = Some(symbolic);
         self.structure = Some(structure);
         self.factored = false;
@@ -201,6 +251,16 @@ impl LinearSolver for SparseCholesky {
     fn solve(&self, rhs: &mut [f64]) {
         assert!(self.factored, "solve before factorize");
         let symbolic = self.symbolic.as_ref().expect("analysed");
+        if let Some((split, tree, forward, inverse)) = self.split_parts() {
+            let (x, work) = &mut *self.split_work.borrow_mut();
+            x.clear();
+            x.extend(forward.iter().map(|&f| rhs[f]));
+            split.solve(tree, &self.factor, x, work);
+            for (r, &i) in rhs.iter_mut().zip(inverse) {
+                *r = x[i];
+            }
+            return;
+        }
         let n = rhs.len();
         let col = MatMut::from_column_major_slice_mut(rhs, n, 1);
         LltRef::new(symbolic, &self.factor).solve_in_place_with_conj(
@@ -223,6 +283,17 @@ impl LinearSolver for SparseCholesky {
             return self.solve(rhs);
         }
         let (single, stack) = &mut *self.single_scratch.borrow_mut();
+        if let Some((split, tree, forward, inverse)) = self.split_parts() {
+            for (s, &f) in single.iter_mut().zip(forward) {
+                *s = (rhs[f] / scale) as f32;
+            }
+            let work = &mut self.single_split_work.borrow_mut();
+            split.solve(tree, &self.single, single, work);
+            for (r, &i) in rhs.iter_mut().zip(inverse) {
+                *r = f64::from(single[i]) * scale;
+            }
+            return;
+        }
         for (s, r) in single.iter_mut().zip(rhs.iter()) {
             *s = (r / scale) as f32;
         }
@@ -332,5 +403,93 @@ mod tests {
         let mut s = SparseCholesky::default();
         s.analyse(&pattern).unwrap();
         assert!(s.factorize(&[1.0, 2.0, 1.0]).is_err());
+    }
+
+    /// A g × g grid of blocks of `b` unknowns, each coupled to its right
+    /// and upper neighbours, diagonally dominant: the lower triangle's
+    /// pattern and values.
+    fn grid(g: usize, b: usize) -> (CscPattern, Vec<f64>) {
+        let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
+        for block in 0..g * g {
+            for k in 0..b {
+                let column = block * b + k;
+                let mut rows: Vec<usize> = (column..(block + 1) * b).collect();
+                for next in [block + 1, block + g] {
+                    let beside = next == block + g || next % g != 0;
+                    if next < g * g && beside {
+                        rows.extend(next * b..(next + 1) * b);
+                    }
+                }
+                for r in rows {
+                    row_idx.push(r);
+                    let v = if r == column {
+                        5.0 * b as f64 + 1.0
+                    } else {
+                        ((r * 7919 + column * 104_729) as f64).sin()
+                    };
+                    values.push(v);
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        let blocks = (0..=g * g).map(|i| i * b).collect();
+        let dim = g * g * b;
+        (
+            CscPattern {
+                dim,
+                col_ptr,
+                row_idx,
+                blocks,
+            },
+            values,
+        )
+    }
+
+    #[test]
+    fn split_substitutions_agree_with_one_core_and_on_any_number_of_cores() {
+        let (pattern, values) = grid(40, 3);
+        let b: Vec<f64> = (0..pattern.dim).map(|i| (i as f64 * 0.37).cos()).collect();
+        // Solved with the split from `split_from` entries on, on `threads`
+        // cores, exactly or as a correction; with the split's share.
+        let solved = |split_from: usize, threads: usize, correction: bool| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut s = SparseCholesky {
+                    split_from,
+                    single_from: 0,
+                    ..Default::default()
+                };
+                s.analyse(&pattern).unwrap();
+                s.factorize(&values).unwrap();
+                let mut x = b.clone();
+                if correction {
+                    s.solve_correction(&mut x);
+                } else {
+                    s.solve(&mut x);
+                }
+                (x, s.split.map(|s| s.share))
+            })
+        };
+        let (expected, none) = solved(usize::MAX, 2, false);
+        assert_eq!(none, None);
+        let (exact, share) = solved(0, 2, false);
+        let share = share.expect("a grid's tree splits");
+        assert!(share < 0.7, "{share}");
+        let largest = expected.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        for (x, y) in exact.iter().zip(&expected) {
+            assert!((x - y).abs() <= 1e-13 * largest, "{x} against {y}");
+        }
+        assert_eq!(exact, solved(0, 1, false).0);
+        // Corrections: single precision, split or not.
+        let (correction, _) = solved(0, 2, true);
+        let (single, _) = solved(usize::MAX, 2, true);
+        for (x, (y, z)) in correction.iter().zip(expected.iter().zip(&single)) {
+            assert!((x - y).abs() <= 1e-5 * largest, "{x} against {y}");
+            assert!((x - z).abs() <= 1e-5 * largest, "{x} against {z}");
+        }
+        assert_eq!(correction, solved(0, 1, true).0);
     }
 }

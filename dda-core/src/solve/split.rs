@@ -1,0 +1,345 @@
+//! Forward and back substitution on two cores. The elimination tree of a
+//! supernodal factor splits into subtrees that share no unknown; each core
+//! takes a set of them, and the supernodes above them (the top) are solved
+//! on one core between the two sweeps. The split depends on the factor's
+//! structure alone and the cores' sums are added in a fixed order, so an
+//! answer does not depend on how many cores there are.
+
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
+use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSupernodalCholesky};
+use faer::traits::ComplexField;
+use faer::{Accum, MatMut, MatRef, Par};
+
+/// Subtrees opened into their children while looking for the best split.
+const OPENINGS: usize = 1024;
+
+/// The split stops opening subtrees once the heaviest holds less than
+/// this share of the factor.
+const SMALLEST_SHARE: f64 = 1.0 / 64.0;
+
+/// Scalars of a substitution: `f64` for exact solves, `f32` for
+/// corrections.
+pub(crate) trait Scalar:
+    ComplexField
+    + Copy
+    + Default
+    + Send
+    + Sync
+    + std::ops::AddAssign
+    + std::ops::SubAssign
+    + std::ops::Neg<Output = Self>
+{
+}
+impl Scalar for f64 {}
+impl Scalar for f32 {}
+
+/// Supernodes `first..=root`, whose unknowns are `begin..end`.
+#[derive(Debug, Clone, Copy)]
+struct Subtree {
+    first: usize,
+    root: usize,
+    begin: usize,
+    end: usize,
+}
+
+/// Which subtrees each core takes, and the supernodes above them.
+#[derive(Debug, Clone)]
+pub(crate) struct Split {
+    cores: [Vec<Subtree>; 2],
+    /// Supernodes in no subtree, children before parents.
+    top: Vec<usize>,
+    /// The most rows below a supernode's diagonal block.
+    widest: usize,
+    /// Factor entries read one after another (the top and the busier
+    /// core's), as a share of all: the split solve's time against one
+    /// core's.
+    pub share: f64,
+}
+
+impl Split {
+    /// The best split of the factor's supernodes, if the tree has the
+    /// layout faer gives it (every subtree's supernodes consecutive and
+    /// each parent after its children).
+    pub fn new(symbolic: &SymbolicSupernodalCholesky<usize>) -> Option<Self> {
+        let count = symbolic.n_supernodes();
+        let (begin, end) = (symbolic.supernode_begin(), symbolic.supernode_end());
+        let mut supernode_of = vec![0; symbolic.nrows()];
+        for s in 0..count {
+            supernode_of[begin[s]..end[s]].fill(s);
+        }
+        let rows = |s: usize| {
+            let at = symbolic.col_ptr_for_row_idx();
+            &symbolic.row_idx()[at[s]..at[s + 1]]
+        };
+        // Each subtree's entries, first supernode, size and children; the
+        // parent is the supernode of the first row below the diagonal.
+        let mut entries = vec![0; count];
+        let mut first: Vec<usize> = (0..count).collect();
+        let mut size = vec![1; count];
+        let mut children = vec![Vec::new(); count];
+        let mut roots = Vec::new();
+        let mut widest = 0;
+        for s in 0..count {
+            let width = end[s] - begin[s];
+            widest = widest.max(rows(s).len());
+            entries[s] += width * (width + rows(s).len());
+            match rows(s).first() {
+                None => roots.push(s),
+                Some(&r) => {
+                    let parent = supernode_of[r];
+                    if parent <= s {
+                        return None;
+                    }
+                    children[parent].push(s);
+                    entries[parent] += entries[s];
+                    size[parent] += size[s];
+                    first[parent] = first[parent].min(first[s]);
+                }
+            }
+        }
+        if (0..count).any(|s| s + 1 - first[s] != size[s]) {
+            return None;
+        }
+        let total: usize = roots.iter().map(|&s| entries[s]).sum();
+        // Open the heaviest subtree into its children, its root going to
+        // the top, and keep the split whose busier core and top read the
+        // fewest entries.
+        let balance = |subtrees: &[usize]| {
+            let mut sorted = subtrees.to_vec();
+            sorted.sort_by_key(|&s| (std::cmp::Reverse(entries[s]), s));
+            let mut cores: [Vec<usize>; 2] = Default::default();
+            let mut loads = [0; 2];
+            for s in sorted {
+                let lighter = usize::from(loads[1] < loads[0]);
+                loads[lighter] += entries[s];
+                cores[lighter].push(s);
+            }
+            (loads[0].max(loads[1]), cores)
+        };
+        let mut subtrees = roots;
+        let mut top = Vec::new();
+        let mut top_entries = 0;
+        let mut best = (usize::MAX, Vec::new(), Vec::new());
+        for _ in 0..OPENINGS {
+            let (busier, _) = balance(&subtrees);
+            if top_entries + busier < best.0 {
+                best = (top_entries + busier, subtrees.clone(), top.clone());
+            }
+            let Some(at) = (0..subtrees.len()).max_by_key(|&k| (entries[subtrees[k]], subtrees[k]))
+            else {
+                break;
+            };
+            let heaviest = subtrees.swap_remove(at);
+            if (entries[heaviest] as f64) < SMALLEST_SHARE * total as f64 {
+                break;
+            }
+            let below: usize = children[heaviest].iter().map(|&c| entries[c]).sum();
+            top_entries += entries[heaviest] - below;
+            top.push(heaviest);
+            subtrees.extend(&children[heaviest]);
+        }
+        let (read, subtrees, mut top) = best;
+        let (_, cores) = balance(&subtrees);
+        top.sort_unstable();
+        let subtree = |s: usize| Subtree {
+            first: first[s],
+            root: s,
+            begin: begin[first[s]],
+            end: end[s],
+        };
+        Some(Self {
+            cores: cores.map(|c| c.into_iter().map(subtree).collect()),
+            top,
+            widest,
+            share: read as f64 / total.max(1) as f64,
+        })
+    }
+
+    /// Solves L Lᵀ x = b in place, `x` in the factor's ordering.
+    pub fn solve<T: Scalar>(
+        &self,
+        symbolic: &SymbolicSupernodalCholesky<usize>,
+        values: &[T],
+        x: &mut [T],
+        work: &mut Work<T>,
+    ) {
+        let factor = SupernodalLltRef::new(symbolic, values);
+        let n = x.len();
+        for gathered in &mut work.gathered {
+            gathered.resize(n, T::default());
+        }
+        for below in &mut work.below {
+            below.resize(self.widest, T::default());
+        }
+        // Forward: each core its subtrees, gathering what they take from
+        // the top's unknowns; then the top.
+        let [p0, p1] = self.pieces(x);
+        let ([g0, g1], [b0, b1]) = (&mut work.gathered, &mut work.below);
+        rayon::join(
+            || forward_subtrees(factor, p0, g0, b0),
+            || forward_subtrees(factor, p1, g1, b1),
+        );
+        for &s in &self.top {
+            for r in begin_end(factor, s) {
+                x[r] -= g0[r];
+                x[r] -= g1[r];
+                g0[r] = T::default();
+                g1[r] = T::default();
+            }
+        }
+        for &s in &self.top {
+            forward_node(factor, s, x, 0, n, &mut [], b0);
+        }
+        // Back: the top, then each core its subtrees, reading the top's
+        // unknowns from a copy.
+        for &s in self.top.iter().rev() {
+            back_node(factor, s, x, 0, n, &[], b0);
+        }
+        work.top.clear();
+        work.top.extend_from_slice(x);
+        let top = &work.top;
+        let [p0, p1] = self.pieces(x);
+        let [b0, b1] = &mut work.below;
+        rayon::join(
+            || back_subtrees(factor, p0, top, b0),
+            || back_subtrees(factor, p1, top, b1),
+        );
+    }
+
+    /// `x` cut into each subtree's unknowns, by core.
+    fn pieces<'x, T>(&self, x: &'x mut [T]) -> [Vec<(Subtree, &'x mut [T])>; 2] {
+        let mut all: Vec<(usize, Subtree)> = (self.cores.iter().enumerate())
+            .flat_map(|(core, subtrees)| subtrees.iter().map(move |t| (core, *t)))
+            .collect();
+        all.sort_by_key(|(_, t)| t.begin);
+        let mut pieces: [Vec<_>; 2] = Default::default();
+        let (mut rest, mut at) = (x, 0);
+        for (core, t) in all {
+            let (_, tail) = rest.split_at_mut(t.begin - at);
+            let (piece, tail) = tail.split_at_mut(t.end - t.begin);
+            pieces[core].push((t, piece));
+            (rest, at) = (tail, t.end);
+        }
+        pieces
+    }
+}
+
+/// A split solve's buffers, kept from one solve to the next.
+#[derive(Debug, Default)]
+pub(crate) struct Work<T> {
+    /// Each core's updates of the top's unknowns (zero between solves).
+    gathered: [Vec<T>; 2],
+    /// Each core's product of a supernode's rows below its diagonal.
+    below: [Vec<T>; 2],
+    /// The unknowns once the top is solved, read by both cores.
+    top: Vec<T>,
+}
+
+fn begin_end<T>(factor: SupernodalLltRef<'_, usize, T>, s: usize) -> std::ops::Range<usize> {
+    let node = factor.supernode(s);
+    node.start()..node.start() + node.val().ncols()
+}
+
+fn forward_subtrees<T: Scalar>(
+    factor: SupernodalLltRef<'_, usize, T>,
+    pieces: Vec<(Subtree, &mut [T])>,
+    gathered: &mut [T],
+    below: &mut [T],
+) {
+    for (t, piece) in pieces {
+        for s in t.first..=t.root {
+            forward_node(factor, s, piece, t.begin, t.end, gathered, below);
+        }
+    }
+}
+
+fn back_subtrees<T: Scalar>(
+    factor: SupernodalLltRef<'_, usize, T>,
+    pieces: Vec<(Subtree, &mut [T])>,
+    top: &[T],
+    below: &mut [T],
+) {
+    for (t, piece) in pieces {
+        for s in (t.first..=t.root).rev() {
+            back_node(factor, s, piece, t.begin, t.end, top, below);
+        }
+    }
+}
+
+/// Supernode `s`'s forward substitution: its unknowns solved in `own`
+/// (unknowns `offset..end`), its products subtracted from the rows below
+/// within `own` and added to `gathered` beyond it.
+fn forward_node<T: Scalar>(
+    factor: SupernodalLltRef<'_, usize, T>,
+    s: usize,
+    own: &mut [T],
+    offset: usize,
+    end: usize,
+    gathered: &mut [T],
+    below: &mut [T],
+) {
+    let node = factor.supernode(s);
+    let width = node.val().ncols();
+    let at = node.start() - offset;
+    let (diagonal, lower) = node.val().split_at_row(width);
+    solve_lower_triangular_in_place(
+        diagonal,
+        MatMut::from_column_major_slice_mut(&mut own[at..at + width], width, 1),
+        Par::Seq,
+    );
+    let rows = node.pattern();
+    let below = &mut below[..rows.len()];
+    matmul(
+        MatMut::from_column_major_slice_mut(below, rows.len(), 1),
+        Accum::Replace,
+        lower,
+        MatRef::from_column_major_slice(&own[at..at + width], width, 1),
+        T::one_impl(),
+        Par::Seq,
+    );
+    for (&r, v) in rows.iter().zip(below.iter()) {
+        if r < end {
+            own[r - offset] -= *v;
+        } else {
+            gathered[r] += *v;
+        }
+    }
+}
+
+/// Supernode `s`'s back substitution, reading the rows below within `own`
+/// (unknowns `offset..end`) and from `top` beyond it.
+fn back_node<T: Scalar>(
+    factor: SupernodalLltRef<'_, usize, T>,
+    s: usize,
+    own: &mut [T],
+    offset: usize,
+    end: usize,
+    top: &[T],
+    below: &mut [T],
+) {
+    let node = factor.supernode(s);
+    let width = node.val().ncols();
+    let at = node.start() - offset;
+    let (diagonal, lower) = node.val().split_at_row(width);
+    let rows = node.pattern();
+    let below = &mut below[..rows.len()];
+    for (v, &r) in below.iter_mut().zip(rows) {
+        *v = if r < end { own[r - offset] } else { top[r] };
+    }
+    matmul(
+        MatMut::from_column_major_slice_mut(&mut own[at..at + width], width, 1),
+        Accum::Add,
+        lower.transpose(),
+        MatRef::from_column_major_slice(below, rows.len(), 1),
+        -T::one_impl(),
+        Par::Seq,
+    );
+    solve_upper_triangular_in_place(
+        diagonal.transpose(),
+        MatMut::from_column_major_slice_mut(&mut own[at..at + width], width, 1),
+        Par::Seq,
+    );
+}
