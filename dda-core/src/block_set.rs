@@ -141,9 +141,9 @@ pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize
     ) -> Vec<Contact<N, T>>;
 }
 
-/// Blocks a commit task takes at least: fewer would cost more in
-/// scheduling than they save.
-const COMMITS_PER_TASK: usize = 128;
+/// Blocks a task of a commit or of a sweep over the blocks takes at
+/// least: fewer would cost more in scheduling than they save.
+const BLOCKS_PER_TASK: usize = 128;
 
 /// Blocks of one dimension with what acts on them: the [`BlockSystem`] the
 /// driver runs.
@@ -404,15 +404,15 @@ where
     }
 
     fn max_displacement(&self, d: &[BlockVector<N>]) -> f64 {
-        self.blocks
-            .iter()
-            .zip(d)
-            .flat_map(|(b, di)| {
-                b.vertices()
-                    .iter()
-                    .map(move |v| (b.t_matrix(v) * di).norm())
+        // On every core: the largest of the same values in any order.
+        (self.blocks.par_iter().zip(d))
+            .with_min_len(BLOCKS_PER_TASK)
+            .map(|(b, di)| {
+                (b.vertices().iter())
+                    .map(|v| (b.t_matrix(v) * di).norm())
+                    .fold(0.0, f64::max)
             })
-            .fold(0.0, f64::max)
+            .reduce(|| 0.0, f64::max)
     }
 
     fn save_state(&self) -> Result<SystemState, DdaError> {
@@ -502,7 +502,7 @@ where
         let materials = &self.materials;
         self.blocks
             .par_iter_mut()
-            .with_min_len(COMMITS_PER_TASK)
+            .with_min_len(BLOCKS_PER_TASK)
             .zip(d)
             .for_each(|(block, di)| {
                 let stress = stress_after(materials, block, di).0;
