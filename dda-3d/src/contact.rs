@@ -184,23 +184,16 @@ fn pair_contacts_near(
             }
         }
     }
-    // Edge-edge crossings away from corners.
-    for (ea, edge_a) in sa.edges().iter().enumerate() {
-        if sa.edge_kind(ea) != EdgeKind::Convex
-            || !near_b.meets(
-                &sa.vertices()[edge_a.ends[0]],
-                &sa.vertices()[edge_a.ends[1]],
-            )
-        {
-            continue;
-        }
-        for (eb, edge_b) in sb.edges().iter().enumerate() {
-            if sb.edge_kind(eb) != EdgeKind::Convex
-                || !near_a.meets(
-                    &sb.vertices()[edge_b.ends[0]],
-                    &sb.vertices()[edge_b.ends[1]],
-                )
-            {
+    // Edge-edge crossings away from corners, between the convex edges of
+    // each block within the other's reach. Two edges whose bounds, each
+    // grown by the range, do not overlap are farther apart than the range.
+    let near_a_edges = convex_edges_within(sa, &near_b, range);
+    let near_b_edges = convex_edges_within(sb, &near_a, range);
+    for &(ea, bounds_a) in &near_a_edges {
+        let edge_a = &sa.edges()[ea];
+        for &(eb, bounds_b) in &near_b_edges {
+            let edge_b = &sb.edges()[eb];
+            if apart(&bounds_a, &bounds_b) {
                 continue;
             }
             if let Some(en) = edge_edge(a, ea, edge_a.ends, b, eb, edge_b.ends, range) {
@@ -271,6 +264,32 @@ fn contact(
 fn near_convex_end(s: &Polyhedron, ends: [usize; 2], p: &Point3<f64>, range: f64) -> bool {
     ends.iter()
         .any(|&k| s.is_convex_vertex(k) && (s.vertices()[k] - p).norm() < range)
+}
+
+/// Axis-aligned bounds (min, max).
+type Bounds = (Point3<f64>, Point3<f64>);
+
+/// The convex edges of `s` whose bounds meet `reach`, each with its bounds
+/// grown by `range` (min, max).
+fn convex_edges_within(s: &Polyhedron, reach: &Reach<3>, range: f64) -> Vec<(usize, Bounds)> {
+    (s.edges().iter().enumerate())
+        .filter_map(|(e, edge)| {
+            let [u, v] = edge.ends.map(|k| s.vertices()[k]);
+            (s.edge_kind(e) == EdgeKind::Convex && reach.meets(&u, &v))
+                .then(|| (e, grown_bounds(&u, &v, range)))
+        })
+        .collect()
+}
+
+/// The bounds of the segment from `u` to `v`, grown by `range`.
+fn grown_bounds(u: &Point3<f64>, v: &Point3<f64>, range: f64) -> Bounds {
+    let grow = Vector3::repeat(range);
+    (u.inf(v) - grow, u.sup(v) + grow)
+}
+
+/// Whether two bounds do not overlap.
+fn apart((lo_a, hi_a): &Bounds, (lo_b, hi_b): &Bounds) -> bool {
+    (0..3).any(|k| lo_a[k] > hi_b[k] || lo_b[k] > hi_a[k])
 }
 
 /// Convex vertex `p` of `x` can enter a plane with normal `n` (pointing
@@ -435,18 +454,19 @@ fn vertex_edge(x: &Block, p: usize, y: &Block, e: usize) -> Vec<Entrance<12, 2>>
 /// of `y` (see the module notes).
 fn vertex_over_face(x: &Polyhedron, p: usize, y: &Polyhedron, f: usize, range: f64) -> bool {
     let n = y.normal(f);
-    if !vertex_enters(x, p, &n) {
-        return false;
-    }
     let pv = x.vertices()[p];
-    let frame = y.face_frame(f);
     // Ahead of the face by less than the range, or behind it by less than
     // Shi's penetration distance (0.3 of the range): deeper behind a face's
     // plane the vertex is usually not inside the block at all (thin blocks).
-    let height = frame.height(&pv);
+    // First, as it rules out most faces: the face frame's height.
+    let height = n.dot(&(pv - y.vertices()[y.faces()[f][0]]));
     if height >= range || height <= -PENETRATION_SHARE * range {
         return false;
     }
+    if !vertex_enters(x, p, &n) {
+        return false;
+    }
+    let frame = y.face_frame(f);
     let face = &y.faces()[f];
     // Corners and edges nearby belong to the groups.
     if face
@@ -1039,5 +1059,38 @@ mod tests {
         // apart), so contacts are compared.
         let touching = touching.get();
         assert!(touching > 100, "{touching} of 1024 placements had contacts");
+    }
+
+    /// Two edges' bounds grown by the range, when apart, rule out a
+    /// crossing: whenever the closest points of two segments lie inside
+    /// both and within the range, the grown bounds overlap.
+    #[test]
+    fn edges_whose_grown_bounds_are_apart_make_no_crossing() {
+        use proptest::prelude::*;
+        let mut runner = proptest::test_runner::TestRunner::new_with_rng(
+            proptest::test_runner::Config::with_cases(4096),
+            proptest::test_runner::TestRng::deterministic_rng(
+                proptest::test_runner::RngAlgorithm::ChaCha,
+            ),
+        );
+        let point = || prop::array::uniform3(-1.0..1.0f64).prop_map(Point3::from);
+        let cases = (point(), point(), point(), point(), 0.001..0.5f64);
+        let crossings = std::cell::Cell::new(0);
+        runner
+            .run(&cases, |(p1, q1, p2, q2, range)| {
+                let Some((s, t)) = line_closest(&p1, &q1, &p2, &q2) else {
+                    return Ok(());
+                };
+                let (pa, pb) = (p1 + (q1 - p1) * s, p2 + (q2 - p2) * t);
+                let inside = s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0;
+                if inside && (pa - pb).norm() < range {
+                    crossings.set(crossings.get() + 1);
+                    let (a, b) = (grown_bounds(&p1, &q1, range), grown_bounds(&p2, &q2, range));
+                    prop_assert!(!apart(&a, &b));
+                }
+                Ok(())
+            })
+            .unwrap();
+        assert!(crossings.get() > 100, "{} crossings", crossings.get());
     }
 }
