@@ -10,7 +10,10 @@
 //!   each block's inertia and own terms and each closed contact's normal and
 //!   shear springs into the driver's block-sparse matrix (`BlockSparse`);
 //! * one numeric factorisation (sparse Cholesky) of that matrix, analysed
-//!   beforehand as the driver does once per pattern.
+//!   beforehand as the driver does once per pattern;
+//! * one forward and back substitution with that factor, split between two
+//!   cores (its default at this size) and on one, each on a task of rayon's
+//!   pool as in a step.
 //!
 //! `cargo bench --bench kernels` runs them; `-- --quick` gives a quick
 //! estimate (well under a minute), as CI runs them.
@@ -174,6 +177,23 @@ fn assembly_and_factorisation(c: &mut Criterion) {
         format!("numeric factorisation, {} unknowns", a.matrix.dim()),
         |b| b.iter(|| solver.factorize(black_box(&values)).unwrap()),
     );
+    solver.factorize(&values).unwrap();
+    let mut one_core = SparseCholesky::default();
+    one_core.split_from = usize::MAX;
+    one_core.analyse(&a.matrix.pattern()).unwrap();
+    one_core.factorize(&values).unwrap();
+    let rhs: Vec<f64> = (0..a.matrix.dim()).map(|i| (i as f64).sin()).collect();
+    for (cores, s) in [("two cores", solver), ("one core", one_core)] {
+        // Solved on a task of rayon's pool, as a step is.
+        let s = std::sync::Mutex::new(s);
+        group.bench_function(format!("solve on {cores}, {} unknowns", rhs.len()), |b| {
+            b.iter(|| {
+                let mut x = rhs.clone();
+                rayon::scope(|_| s.lock().unwrap().solve(&mut x));
+                black_box(x)
+            })
+        });
+    }
     group.finish();
 }
 
