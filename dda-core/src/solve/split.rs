@@ -190,13 +190,18 @@ impl Split {
                 g1[r] = T::default();
             }
         }
+        let mut all = Own {
+            values: x,
+            offset: 0,
+            end: n,
+        };
         for &s in &self.top {
-            forward_node(factor, s, x, 0, n, &mut [], b0);
+            forward_node(factor, s, &mut all, &mut [], b0);
         }
         // Back: the top, then each core its subtrees, reading the top's
         // unknowns from a copy.
         for &s in self.top.iter().rev() {
-            back_node(factor, s, x, 0, n, &[], b0);
+            back_node(factor, s, &mut all, &[], b0);
         }
         work.top.clear();
         work.top.extend_from_slice(x);
@@ -210,7 +215,7 @@ impl Split {
     }
 
     /// `x` cut into each subtree's unknowns, by core.
-    fn pieces<'x, T>(&self, x: &'x mut [T]) -> [Vec<(Subtree, &'x mut [T])>; 2] {
+    fn pieces<'x, T>(&self, x: &'x mut [T]) -> [Vec<(Subtree, Own<'x, T>)>; 2] {
         let mut all: Vec<(usize, Subtree)> = (self.cores.iter().enumerate())
             .flat_map(|(core, subtrees)| subtrees.iter().map(move |t| (core, *t)))
             .collect();
@@ -219,8 +224,13 @@ impl Split {
         let (mut rest, mut at) = (x, 0);
         for (core, t) in all {
             let (_, tail) = rest.split_at_mut(t.begin - at);
-            let (piece, tail) = tail.split_at_mut(t.end - t.begin);
-            pieces[core].push((t, piece));
+            let (values, tail) = tail.split_at_mut(t.end - t.begin);
+            let own = Own {
+                values,
+                offset: t.begin,
+                end: t.end,
+            };
+            pieces[core].push((t, own));
             (rest, at) = (tail, t.end);
         }
         pieces
@@ -245,64 +255,87 @@ fn begin_end<T>(factor: SupernodalLltRef<'_, usize, T>, s: usize) -> std::ops::R
 
 fn forward_subtrees<T: Scalar>(
     factor: SupernodalLltRef<'_, usize, T>,
-    pieces: Vec<(Subtree, &mut [T])>,
+    pieces: Vec<(Subtree, Own<'_, T>)>,
     gathered: &mut [T],
     below: &mut [T],
 ) {
-    for (t, piece) in pieces {
+    for (t, mut own) in pieces {
         for s in t.first..=t.root {
-            forward_node(factor, s, piece, t.begin, t.end, gathered, below);
+            forward_node(factor, s, &mut own, gathered, below);
         }
     }
 }
 
 fn back_subtrees<T: Scalar>(
     factor: SupernodalLltRef<'_, usize, T>,
-    pieces: Vec<(Subtree, &mut [T])>,
+    pieces: Vec<(Subtree, Own<'_, T>)>,
     top: &[T],
     below: &mut [T],
 ) {
-    for (t, piece) in pieces {
+    for (t, mut own) in pieces {
         for s in (t.first..=t.root).rev() {
-            back_node(factor, s, piece, t.begin, t.end, top, below);
+            back_node(factor, s, &mut own, top, below);
         }
     }
 }
 
-/// Supernode `s`'s forward substitution: its unknowns solved in `own`
-/// (unknowns `offset..end`), its products subtracted from the rows below
-/// within `own` and added to `gathered` beyond it.
-fn forward_node<T: Scalar>(
-    factor: SupernodalLltRef<'_, usize, T>,
-    s: usize,
-    own: &mut [T],
+/// Unknowns `offset..end`, which a sweep over a subtree (or the top, with
+/// all of them) writes.
+struct Own<'a, T> {
+    values: &'a mut [T],
     offset: usize,
     end: usize,
-    gathered: &mut [T],
-    below: &mut [T],
+}
+
+/// Supernode `s`: its diagonal block, the rows below it and their indices,
+/// and where its unknowns lie in `own`.
+fn supernode<'f, T>(
+    factor: SupernodalLltRef<'f, usize, T>,
+    s: usize,
+    own: &Own<'_, T>,
+) -> (
+    MatRef<'f, T>,
+    MatRef<'f, T>,
+    &'f [usize],
+    std::ops::Range<usize>,
 ) {
     let node = factor.supernode(s);
     let width = node.val().ncols();
-    let at = node.start() - offset;
+    let at = node.start() - own.offset;
     let (diagonal, lower) = node.val().split_at_row(width);
+    (diagonal, lower, node.pattern(), at..at + width)
+}
+
+/// Supernode `s`'s forward substitution: its unknowns solved, its products
+/// subtracted from the rows below within `own` and added to `gathered`
+/// beyond it.
+fn forward_node<T: Scalar>(
+    factor: SupernodalLltRef<'_, usize, T>,
+    s: usize,
+    own: &mut Own<'_, T>,
+    gathered: &mut [T],
+    below: &mut [T],
+) {
+    let (diagonal, lower, rows, at) = supernode(factor, s, own);
+    let width = at.len();
+    let x = &mut own.values[at];
     solve_lower_triangular_in_place(
         diagonal,
-        MatMut::from_column_major_slice_mut(&mut own[at..at + width], width, 1),
+        MatMut::from_column_major_slice_mut(x, width, 1),
         Par::Seq,
     );
-    let rows = node.pattern();
     let below = &mut below[..rows.len()];
     matmul(
         MatMut::from_column_major_slice_mut(below, rows.len(), 1),
         Accum::Replace,
         lower,
-        MatRef::from_column_major_slice(&own[at..at + width], width, 1),
+        MatRef::from_column_major_slice(x, width, 1),
         T::one_impl(),
         Par::Seq,
     );
     for (&r, v) in rows.iter().zip(below.iter()) {
-        if r < end {
-            own[r - offset] -= *v;
+        if r < own.end {
+            own.values[r - own.offset] -= *v;
         } else {
             gathered[r] += *v;
         }
@@ -310,27 +343,27 @@ fn forward_node<T: Scalar>(
 }
 
 /// Supernode `s`'s back substitution, reading the rows below within `own`
-/// (unknowns `offset..end`) and from `top` beyond it.
+/// and from `top` beyond it.
 fn back_node<T: Scalar>(
     factor: SupernodalLltRef<'_, usize, T>,
     s: usize,
-    own: &mut [T],
-    offset: usize,
-    end: usize,
+    own: &mut Own<'_, T>,
     top: &[T],
     below: &mut [T],
 ) {
-    let node = factor.supernode(s);
-    let width = node.val().ncols();
-    let at = node.start() - offset;
-    let (diagonal, lower) = node.val().split_at_row(width);
-    let rows = node.pattern();
+    let (diagonal, lower, rows, at) = supernode(factor, s, own);
+    let width = at.len();
     let below = &mut below[..rows.len()];
     for (v, &r) in below.iter_mut().zip(rows) {
-        *v = if r < end { own[r - offset] } else { top[r] };
+        *v = if r < own.end {
+            own.values[r - own.offset]
+        } else {
+            top[r]
+        };
     }
+    let x = &mut own.values[at];
     matmul(
-        MatMut::from_column_major_slice_mut(&mut own[at..at + width], width, 1),
+        MatMut::from_column_major_slice_mut(x, width, 1),
         Accum::Add,
         lower.transpose(),
         MatRef::from_column_major_slice(below, rows.len(), 1),
@@ -339,7 +372,7 @@ fn back_node<T: Scalar>(
     );
     solve_upper_triangular_in_place(
         diagonal.transpose(),
-        MatMut::from_column_major_slice_mut(&mut own[at..at + width], width, 1),
+        MatMut::from_column_major_slice_mut(x, width, 1),
         Par::Seq,
     );
 }
