@@ -51,6 +51,13 @@ pub trait LinearSolver: Send {
     fn take_counts(&self) -> SolveCounts {
         SolveCounts::default()
     }
+
+    /// Entries of the factor a factorisation makes, the measure of its cost
+    /// against a solve's; 0 where there is none to speak of (an iterative
+    /// solver's block inverses).
+    fn factor_entries(&self) -> usize {
+        0
+    }
 }
 
 /// Work of an iterative solver.
@@ -269,6 +276,10 @@ impl LinearSolver for SparseCholesky {
             Par::Seq,
             MemStack::new(&mut self.scratch.borrow_mut()),
         );
+    }
+
+    fn factor_entries(&self) -> usize {
+        self.factor.len()
     }
 
     fn solve_correction(&self, rhs: &mut [f64]) {
