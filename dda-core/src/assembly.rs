@@ -23,6 +23,29 @@ pub struct CscPattern {
     pub blocks: Vec<usize>,
 }
 
+/// Adds k·g·hᵀ over the first `rows` × `cols` entries of `m`, or its
+/// transpose: the one sum of [`BlockSparse::add_outer`], for a caller that
+/// holds the block itself.
+pub fn add_outer_into<const N: usize>(
+    m: &mut BlockMatrix<N>,
+    (rows, cols): (usize, usize),
+    g: &BlockVector<N>,
+    h: &BlockVector<N>,
+    k: f64,
+    transposed: bool,
+) {
+    for c in 0..cols {
+        for r in 0..rows {
+            let v = g[r] * h[c] * k;
+            if transposed {
+                m[(c, r)] += v;
+            } else {
+                m[(r, c)] += v;
+            }
+        }
+    }
+}
+
 /// The lower triangle of a symmetric block-sparse matrix.
 #[derive(Debug, Clone, Default)]
 pub struct BlockSparse<const N: usize> {
@@ -169,16 +192,13 @@ impl<const N: usize> BlockSparse<N> {
             std::cmp::Ordering::Less => (&mut self.lower[slot], true),
         };
         debug_assert!(row == col || self.pairs[slot] == (row.max(col), row.min(col)));
-        for c in 0..cols {
-            for r in 0..rows {
-                let v = g[r] * h[c] * k;
-                if transposed {
-                    m[(c, r)] += v;
-                } else {
-                    m[(r, c)] += v;
-                }
-            }
-        }
+        add_outer_into(m, (rows, cols), g, h, k, transposed);
+    }
+
+    /// The diagonal blocks, the off-diagonal ones and the DOF each block
+    /// keeps, to fill blocks on several threads at once.
+    pub fn blocks_mut(&mut self) -> (&mut [BlockMatrix<N>], &mut [BlockMatrix<N>], &[usize]) {
+        (&mut self.diagonal, &mut self.lower, &self.dofs)
     }
 
     /// Where block pair (a, b), a ≠ b, is stored, if the pattern holds it.

@@ -12,7 +12,7 @@ use std::time::Instant;
 use nalgebra::{DMatrix, DVector, SVector};
 use rayon::prelude::*;
 
-use crate::assembly::BlockSparse;
+use crate::assembly::{add_outer_into, BlockSparse};
 use crate::contact::{ContactState, DynContactLaw};
 use crate::contacts::{transfer_records, BlockVector, Contact, ContactKey, Entrance};
 use crate::error::DdaError;
@@ -206,6 +206,9 @@ pub struct Driver<S, const N: usize, const T: usize> {
     /// Where each contact's block pair sits in the matrix pattern (`None`:
     /// not in it, so the contact must stay open).
     slots: Vec<Option<usize>>,
+    /// Assemble contact by contact on one thread even within a pass (for
+    /// tests: the two ways agree to the last bit).
+    one_thread_assembly: bool,
     /// How near an open contact's blocks must be for their pair to enter
     /// the pattern: the reach of the last step's motion, at least
     /// `PATTERN_REACH_SHARE` of the median block size (m).
@@ -341,6 +344,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             decisions: Vec::new(),
             kept: Vec::new(),
             slots: Vec::new(),
+            one_thread_assembly: false,
             pattern_reach: PATTERN_REACH_SHARE * block_size,
             last_moved: 0.0,
             block_size,
@@ -393,6 +397,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     pub fn length_scale(&self) -> f64 {
         self.length_scale
+    }
+
+    /// Assembles contact by contact on one thread, as outside a pass,
+    /// instead of block by block on every core. The two agree to the last
+    /// bit; tests compare them.
+    #[doc(hidden)]
+    pub fn assemble_on_one_thread(&mut self, on: bool) {
+        self.one_thread_assembly = on;
     }
 
     pub fn statistics(&self) -> &Statistics {
@@ -1266,19 +1278,23 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             system.block_terms(i, end, &d, &mut k, &mut r);
             (k, r)
         };
-        // With the contacts of each block at hand (within a pass), a
-        // residual alone is gathered block by block on every core; each
-        // block's sum is made in the same order as below, so the two agree
-        // to the last bit.
-        let gather = !tangent && couplings.is_none() && self.touching.is_filled();
+        // With the contacts of each block at hand (within a pass), the
+        // residual and the matrix are gathered block by block (and the
+        // matrix's off-diagonal blocks pair by pair) on every core; each
+        // sum is made in the same order as below, so the two agree to the
+        // last bit.
+        let gather = couplings.is_none() && self.touching.is_filled() && !self.one_thread_assembly;
         if gather {
-            matrix
-                .split_blocks(residual)
-                .into_par_iter()
+            let parts = matrix.split_blocks(residual);
+            let (diagonal, _, _) = matrix.blocks_mut();
+            (diagonal.par_iter_mut().zip(parts))
                 .with_min_len(BLOCKS_PER_TASK)
                 .enumerate()
-                .for_each(|(i, part)| {
-                    let (_, r) = own_terms(i, &masses[i]);
+                .for_each(|(i, (diagonal, part))| {
+                    let (k, r) = own_terms(i, &masses[i]);
+                    if tangent {
+                        *diagonal += k;
+                    }
                     part.iter_mut().zip(r.iter()).for_each(|(x, r)| *x += r);
                 });
         } else {
@@ -1311,21 +1327,50 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             .map(|i| terms.load(i, trial, dt, moving, couple))
             .collect_into_vec(&mut loads);
         if gather {
-            let (contacts, touching) = (&self.contacts, &self.touching);
-            matrix
-                .split_blocks(residual)
-                .into_par_iter()
+            let (contacts, touching, active) = (&self.contacts, &self.touching, &self.active);
+            let entrance = |i: usize| match active.get(i) {
+                Some(entrance) => entrance,
+                None => &contacts[i].entrances[trial.entrances[i]],
+            };
+            let (pairs, of_pair) = if tangent {
+                contacts_by_slot(&loads, &self.slots, matrix.pairs().len())
+            } else {
+                (Vec::new(), Vec::new())
+            };
+            let parts = matrix.split_blocks(residual);
+            let (diagonal, lower, dofs) = matrix.blocks_mut();
+            (diagonal.par_iter_mut().zip(parts))
                 .with_min_len(BLOCKS_PER_TASK)
                 .enumerate()
-                .for_each(|(x, part)| {
+                .for_each(|(x, (diagonal, part))| {
                     for &i in touching.of(x) {
                         if let Some(load) = &loads[i] {
                             let side = usize::from(contacts[i].blocks[0] != x);
+                            if tangent {
+                                let n = dofs[x];
+                                spring_terms(load, entrance(i), |g, h, k| {
+                                    add_outer_into(diagonal, (n, n), &g[side], &h[side], k, false);
+                                });
+                            }
                             let force = &load.force[side];
                             part.iter_mut().zip(force.iter()).for_each(|(p, f)| *p += f);
                         }
                     }
                 });
+            if tangent {
+                (lower.par_iter_mut())
+                    .with_min_len(BLOCKS_PER_TASK)
+                    .enumerate()
+                    .for_each(|(s, block)| {
+                        for &i in &of_pair[pairs[s]..pairs[s + 1]] {
+                            let load = loads[i].as_ref().expect("listed with a load");
+                            let [a, b] = contacts[i].blocks;
+                            spring_terms(load, entrance(i), |g, h, k| {
+                                add_outer_into(block, (dofs[a], dofs[b]), &g[0], &h[1], k, a < b);
+                            });
+                        }
+                    });
+            }
             self.contact_loads = loads;
             self.matrix = matrix;
             self.stats.times.assembly += started.elapsed();
@@ -1344,21 +1389,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let [na, nb] = &entrance.normal;
             if tangent {
                 let slot = self.slots[i].expect("closed contacts are in the pattern");
-                add_spring(&mut matrix, slot, a, b, na, nb, load.normal_stiffness);
-                for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
-                    add_spring(&mut matrix, slot, a, b, ta, tb, load.shear_stiffness[k]);
-                }
-                if load.turning != 0.0 {
-                    let direction = &load.direction;
-                    for (k, gk) in entrance.tangents.iter().enumerate() {
-                        for (l, gl) in entrance.tangents.iter().enumerate() {
-                            let identity = if k == l { 1.0 } else { 0.0 };
-                            let projector = identity - direction[k] * direction[l];
-                            let (gk, gl) = ((&gk[0], &gk[1]), (&gl[0], &gl[1]));
-                            add_coupling(&mut matrix, slot, a, b, gk, gl, load.turning * projector);
-                        }
-                    }
-                }
+                spring_terms(load, entrance, |g, h, k| {
+                    add_coupling(&mut matrix, slot, a, b, (&g[0], &g[1]), (&h[0], &h[1]), k);
+                });
             }
             if let (Some(couplings), true) = (couplings.as_deref_mut(), load.slope != 0.0) {
                 let mut u = [BlockVector::<N>::zeros(), BlockVector::<N>::zeros()];
@@ -1555,16 +1588,59 @@ fn stored(force: f64, k: f64) -> f64 {
 }
 
 /// Adds the spring k·g·gᵀ, with g = (ga on block a, gb on block b).
-fn add_spring<const N: usize>(
-    matrix: &mut BlockSparse<N>,
-    slot: usize,
-    a: usize,
-    b: usize,
-    ga: &BlockVector<N>,
-    gb: &BlockVector<N>,
-    k: f64,
+/// The loaded contacts of each of `slots` off-diagonal blocks, in contact
+/// order: where each block's start in the list, and the list.
+fn contacts_by_slot<L>(
+    loads: &[Option<L>],
+    slots: &[Option<usize>],
+    count: usize,
+) -> (Vec<usize>, Vec<usize>) {
+    let loaded = || (0..loads.len()).filter(|&i| loads[i].is_some());
+    let slot = |i: usize| slots[i].expect("closed contacts are in the pattern");
+    let mut starts = vec![0; count + 1];
+    for i in loaded() {
+        starts[slot(i) + 1] += 1;
+    }
+    for s in 1..starts.len() {
+        starts[s] += starts[s - 1];
+    }
+    let mut at = starts.clone();
+    let mut list = vec![0; starts[count]];
+    for i in loaded() {
+        list[at[slot(i)]] = i;
+        at[slot(i)] += 1;
+    }
+    (starts, list)
+}
+
+/// A contact's springs as terms k·g·hᵀ over its two blocks' rows (g = [ga,
+/// gb]), in the order the matrix adds them: the normal spring, each shear
+/// spring, then the turning of a sliding contact's friction (3D). Terms of
+/// no stiffness are left out.
+fn spring_terms<const N: usize, const T: usize>(
+    load: &ContactLoad<N, T>,
+    entrance: &Entrance<N, T>,
+    mut term: impl FnMut(&[BlockVector<N>; 2], &[BlockVector<N>; 2], f64),
 ) {
-    add_coupling(matrix, slot, a, b, (ga, gb), (ga, gb), k);
+    let mut add = |g: &[BlockVector<N>; 2], h: &[BlockVector<N>; 2], k: f64| {
+        if k != 0.0 {
+            term(g, h, k);
+        }
+    };
+    add(&entrance.normal, &entrance.normal, load.normal_stiffness);
+    for (k, rows) in entrance.tangents.iter().enumerate() {
+        add(rows, rows, load.shear_stiffness[k]);
+    }
+    if load.turning != 0.0 {
+        let direction = &load.direction;
+        for (k, gk) in entrance.tangents.iter().enumerate() {
+            for (l, gl) in entrance.tangents.iter().enumerate() {
+                let identity = if k == l { 1.0 } else { 0.0 };
+                let projector = identity - direction[k] * direction[l];
+                add(gk, gl, load.turning * projector);
+            }
+        }
+    }
 }
 
 /// Adds k·g·hᵀ with g = (ga, gb) and h = (ha, hb); called for (g, h) and
