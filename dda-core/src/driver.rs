@@ -1002,7 +1002,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 first = trial.load_scale;
             }
             if norm < best.0 {
-                best = (norm, trial.d.clone());
+                best.0 = norm;
+                best.1.clone_from(&trial.d);
             }
             let converged = iteration > 0 && norm <= self.settings.residual_tolerance * first;
             rises = if !kept && norm > last { rises + 1 } else { 0 };

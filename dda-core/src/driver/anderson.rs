@@ -21,14 +21,26 @@ pub(crate) struct Anderson {
     steps: Vec<Vec<f64>>,
     /// The moves made from each of those iterates to the next.
     moves: Vec<Vec<f64>>,
+    /// The differences of successive steps, and vectors no longer used:
+    /// kept for their storage (a vector per unknown, several an iteration).
+    differences: Vec<Vec<f64>>,
+    spare: Vec<Vec<f64>>,
 }
 
 impl Anderson {
     /// Forgets the iterations so far (after a step that did not lower the
     /// residual).
     pub fn restart(&mut self) {
-        self.steps.clear();
-        self.moves.clear();
+        self.spare.append(&mut self.steps);
+        self.spare.append(&mut self.moves);
+    }
+
+    /// A copy of `x` in a kept vector.
+    fn copy(&mut self, x: &[f64]) -> Vec<f64> {
+        let mut v = self.spare.pop().unwrap_or_default();
+        v.clear();
+        v.extend_from_slice(x);
+        v
     }
 
     /// Turns the Newton step `f` at the current iterate into the move to the
@@ -37,26 +49,24 @@ impl Anderson {
     /// iterates. The first call (or the first after `restart`) leaves `f`
     /// as it is.
     pub fn mix(&mut self, f: &mut [f64]) {
-        let step = f.to_vec();
+        let step = self.copy(f);
         let m = self.moves.len().min(self.steps.len());
         if m > 0 {
             // The last m steps before this one, f_{k−m} … f_{k−1}; ΔF column
             // j is f_{k−m+j+1} − f_{k−m+j}, the last one ending at f itself.
             let first = self.steps.len() - m;
-            let df: Vec<Vec<f64>> = (0..m)
-                .map(|j| {
-                    let next = if j + 1 == m {
-                        &step
-                    } else {
-                        &self.steps[first + j + 1]
-                    };
-                    next.iter()
-                        .zip(&self.steps[first + j])
-                        .map(|(a, b)| a - b)
-                        .collect()
-                })
-                .collect();
-            if let Some(gamma) = fit(&df, &step) {
+            self.differences.resize_with(m, Vec::new);
+            for (j, df) in self.differences.iter_mut().enumerate() {
+                let next = if j + 1 == m {
+                    &step
+                } else {
+                    &self.steps[first + j + 1]
+                };
+                df.clear();
+                df.extend(next.iter().zip(&self.steps[first + j]).map(|(a, b)| a - b));
+            }
+            let df = &self.differences[..m];
+            if let Some(gamma) = fit(df, &step) {
                 let moves = &self.moves[self.moves.len() - m..];
                 for (j, g) in gamma.iter().enumerate() {
                     for ((f, dx), df) in f.iter_mut().zip(&moves[j]).zip(&df[j]) {
@@ -66,12 +76,15 @@ impl Anderson {
             }
         }
         self.steps.push(step);
-        self.moves.push(f.to_vec());
+        let mixed = self.copy(f);
+        self.moves.push(mixed);
         if self.moves.len() > DEPTH {
-            self.moves.remove(0);
+            let oldest = self.moves.remove(0);
+            self.spare.push(oldest);
         }
         if self.steps.len() > DEPTH {
-            self.steps.remove(0);
+            let oldest = self.steps.remove(0);
+            self.spare.push(oldest);
         }
     }
 }
