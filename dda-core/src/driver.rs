@@ -1588,9 +1588,9 @@ fn stored(force: f64, k: f64) -> f64 {
     }
 }
 
-/// Adds the spring k·g·gᵀ, with g = (ga on block a, gb on block b).
-/// The loaded contacts of each of `slots` off-diagonal blocks, in contact
-/// order: where each block's start in the list, and the list.
+/// The loaded contacts of each of `count` off-diagonal blocks (by their
+/// `slots`), in contact order: where each block's contacts start in the
+/// list, then the list.
 fn contacts_by_slot<L>(
     loads: &[Option<L>],
     slots: &[Option<usize>],
