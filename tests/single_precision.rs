@@ -75,9 +75,9 @@ fn a_settling_wall_takes_as_many_iterations_and_settles_alike() {
 
 /// Bonded joints make each pass's equations linear. A pass on a fresh
 /// factor is solved by its first move, which is exact; one that starts on
-/// the last step's factor (its matrix barely changed) needs a second, a
-/// correction. Single precision adds no move, and the wall is the same to
-/// round-off.
+/// the last step's factor (its matrix changed by at most 1e-3) needs one
+/// or two more, corrections. Single precision adds no move, and the wall
+/// is the same to round-off.
 #[test]
 fn a_bonded_wall_takes_no_more_moves() {
     let mut scene = wall(10, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
@@ -97,9 +97,10 @@ fn a_bonded_wall_takes_no_more_moves() {
         double.factorizations,
         single.newton_iterations
     );
-    // One move a pass, two where it starts on a kept factor (measured: 38
-    // moves in 20 passes, 3 factorisations).
-    assert!(double.newton_iterations <= 2 * double.open_close_iterations);
+    // One move a pass, two or three where it starts on a kept factor
+    // (measured: 42 moves in 20 passes, 2 factorisations; 38 moves and 3
+    // factorisations when only a matrix changed by at most 1e-4 kept it).
+    assert!(double.newton_iterations <= 3 * double.open_close_iterations);
     assert!(double.factorizations < double.steps);
     assert_eq!(single.newton_iterations, double.newton_iterations);
     // Measured 1.4e-15 m.

@@ -54,12 +54,33 @@ const AUTO_FLOOR: f64 = 1e-4;
 const SMW_COUPLINGS: usize = 64;
 
 /// A step's first pass starts on the last step's factor where its matrix
-/// changed by at most this share of its largest value (measured on the 40 ×
-/// 40 deformable wall at its automatic step, whose matrices change by
-/// 1e-10 at the median and 6e-3 at most: at 1e-6 a step factorised 92
-/// times in 112 steps, at 1e-4 45 times with 445 iterations instead of
-/// 435, and with no limit 44 times but 645 iterations).
-const FACTOR_DRIFT: f64 = 1e-4;
+/// changed by at most this share of its largest value. A rigid wall's
+/// matrix changes by a spring or two a step (1.5e-4 of its largest value
+/// on the 20 × 20 wall at its automatic step): a change of low rank, which
+/// the mixed moves on the old factor remove, where a new factor of the
+/// step's start served no better (at 1e-4 that wall factorised 95 times in
+/// its first simulated second, with 345 moves; at 1e-3, 8 times with 284).
+/// Where the old factor falls short, `STALE_FACTOR_MOVES` gives it up. A
+/// large factor has its own limit, `LARGE_FACTOR_DRIFT`.
+const FACTOR_DRIFT: f64 = 1e-3;
+
+/// A step's first pass that started on an earlier step's factor and needed
+/// more moves than this without a new one gives that factor up: the next
+/// step factorises afresh. A change spread over the whole matrix (a
+/// deformable wall's stresses as it settles) leaves the old factor a slow
+/// one: kept for every later step, it cost the 20 × 20 deformable wall
+/// 242 moves instead of 127 over its first 0.3 s.
+const STALE_FACTOR_MOVES: usize = 5;
+
+/// `FACTOR_DRIFT` for a factor of `LARGE_FACTOR_ENTRIES` or more, which
+/// costs eight to ten moves and is kept through slower ones: there a
+/// looser limit only kept slow factors longer (the 40 × 40 deformable
+/// wall's simulated second: 510 moves and 20 factorisations at 1e-4, 790
+/// and 24 at 1e-3), so such factors keep the limit they had, and are not
+/// given up after `STALE_FACTOR_MOVES` (the 10,051-block walls take seven
+/// moves a step on the last step's factor; giving it up after five made
+/// the rigid one's step 95 → 165 ms).
+const LARGE_FACTOR_DRIFT: f64 = 1e-4;
 
 /// ... and by more than this: a matrix that changed only by round-off (a
 /// free block's, turning) is factorised again, so its linear step is
@@ -963,13 +984,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             !coupled && trial.load_scale == 0.0 && self.analysed && self.factored.is_some();
         let mut kept = false;
         let mut keeping = true;
-        let give_way = if self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES {
-            KEPT_LARGE_FACTOR_CONTRACTION
+        let (give_way, stale) = if self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES {
+            (KEPT_LARGE_FACTOR_CONTRACTION, usize::MAX)
         } else {
-            KEPT_FACTOR_CONTRACTION
+            (KEPT_FACTOR_CONTRACTION, STALE_FACTOR_MOVES)
         };
         let mut rises = 0;
         let mut moves = 0;
+        // Whether the pass runs on an earlier step's factor (until it
+        // factorises anew).
+        let mut carried = false;
         for iteration in 0..=self.settings.newton_limit {
             couplings.clear();
             // The tangent is assembled where a new factor is sure to be
@@ -986,6 +1010,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             );
             if iteration == 0 && factored {
                 factored = self.factor_fits();
+                carried = factored;
             }
             if residual.iter().any(|v| !v.is_finite()) {
                 return Err(DdaError::NotFinite {
@@ -1010,6 +1035,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let diverging = !kept
                 && (norm > 1e3 * best.0 || (hand_over && rises >= RISES_BEFORE_WHOLE_TANGENT));
             if converged || diverging || iteration == self.settings.newton_limit {
+                if carried && moves > stale {
+                    self.factored = None;
+                }
                 if !converged {
                     trial.d = best.1;
                 }
@@ -1023,7 +1051,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // factor's move that raised the residual is undone: the next
             // move is Newton's from the best iterate.
             if kept && norm > give_way * last {
-                keeping = false;
+                // An earlier step's factor is replaced once, by this
+                // iterate's; the pass's own falls short only where the
+                // tangent changes from one iterate to the next.
+                if carried {
+                    factored = false;
+                } else {
+                    keeping = false;
+                }
                 if norm > last {
                     trial.d.clone_from(&best.1);
                     kept = false;
@@ -1046,6 +1081,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     self.assemble(dt, masses, trial, &mut residual, None, true);
                 }
                 self.factorize()?;
+                carried = false;
                 factored = true;
             }
             kept = !refresh;
@@ -1177,7 +1213,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// Whether the step may start on the last factor: its matrix changed
     /// (largest change against largest value) by more than round-off and
-    /// at most `FACTOR_DRIFT` from the one just assembled.
+    /// at most `FACTOR_DRIFT` (`LARGE_FACTOR_DRIFT` for a large factor)
+    /// from the one just assembled.
     fn factor_fits(&mut self) -> bool {
         self.matrix.values_into(&mut self.values);
         let Some(old) = &self.factored else {
@@ -1185,7 +1222,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         };
         let scale = old.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         let change = (old.iter().zip(&self.values)).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
-        change > FACTOR_ROUND_OFF * scale && change <= FACTOR_DRIFT * scale
+        let drift = if self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES {
+            LARGE_FACTOR_DRIFT
+        } else {
+            FACTOR_DRIFT
+        };
+        change > FACTOR_ROUND_OFF * scale && change <= drift * scale
     }
 
     /// Factorizes the assembled matrix unless its values are unchanged.
