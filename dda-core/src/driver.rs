@@ -984,10 +984,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             !coupled && trial.load_scale == 0.0 && self.analysed && self.factored.is_some();
         let mut kept = false;
         let mut keeping = true;
-        let (give_way, stale) = if self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES {
-            (KEPT_LARGE_FACTOR_CONTRACTION, usize::MAX)
+        let (give_way, stale, drift) = if self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES {
+            (
+                KEPT_LARGE_FACTOR_CONTRACTION,
+                usize::MAX,
+                LARGE_FACTOR_DRIFT,
+            )
         } else {
-            (KEPT_FACTOR_CONTRACTION, STALE_FACTOR_MOVES)
+            (KEPT_FACTOR_CONTRACTION, STALE_FACTOR_MOVES, FACTOR_DRIFT)
         };
         let mut rises = 0;
         let mut moves = 0;
@@ -1009,7 +1013,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 tangent,
             );
             if iteration == 0 && factored {
-                factored = self.factor_fits();
+                factored = self.factor_fits(drift);
                 carried = factored;
             }
             if residual.iter().any(|v| !v.is_finite()) {
@@ -1213,20 +1217,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// Whether the step may start on the last factor: its matrix changed
     /// (largest change against largest value) by more than round-off and
-    /// at most `FACTOR_DRIFT` (`LARGE_FACTOR_DRIFT` for a large factor)
-    /// from the one just assembled.
-    fn factor_fits(&mut self) -> bool {
+    /// at most `drift` (`FACTOR_DRIFT`, or `LARGE_FACTOR_DRIFT` for a large
+    /// factor) from the one just assembled.
+    fn factor_fits(&mut self, drift: f64) -> bool {
         self.matrix.values_into(&mut self.values);
         let Some(old) = &self.factored else {
             return false;
         };
         let scale = old.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         let change = (old.iter().zip(&self.values)).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
-        let drift = if self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES {
-            LARGE_FACTOR_DRIFT
-        } else {
-            FACTOR_DRIFT
-        };
         change > FACTOR_ROUND_OFF * scale && change <= drift * scale
     }
 
