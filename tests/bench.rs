@@ -19,7 +19,7 @@ fn bench_reports_medians_and_ratios_to_the_smallest_wall() {
     assert_eq!(rows[0].ratio_to_baseline, 1.0);
     assert!(rows
         .iter()
-        .all(|r| r.median_ms_per_step > 0.0 && r.passes_per_step >= 1.0));
+        .all(|r| r.median_ms_per_step > 0.0 && r.per_step.passes_per_step >= 1.0));
     // The base plus n courses; running bond adds a half brick to every other course.
     let expected = |n: usize| 1 + n * n + n / 2;
     assert_eq!(rows[0].blocks, expected(3));
@@ -281,6 +281,19 @@ fn a_wall_runs_for_simulated_time_with_automatic_dt() {
     assert!(r.steps >= 1);
     assert!((r.seconds_per_simulated_second - r.wall_s / r.reached).abs() < 1e-9);
     assert!(r.drift >= 0.0 && r.drift < 1e-3);
+    // Its work per step and where the time went, as for timed steps: every
+    // pass moves at least once, and the phases are parts of the step.
+    let work = &r.per_step;
+    assert!(work.passes_per_step >= 1.0, "{work:?}");
+    assert!(work.newton_per_step >= work.passes_per_step, "{work:?}");
+    assert_eq!(work.phase_ms_per_step.len(), 9, "{work:?}");
+    assert_eq!(work.phase_ms_per_step[3].0, "assembly");
+    let phases: f64 = work.phase_ms_per_step.iter().map(|(_, ms)| ms).sum();
+    assert!(
+        phases > 0.0 && phases <= r.ms_per_step,
+        "{phases} ms of phases in a {} ms step",
+        r.ms_per_step
+    );
 }
 
 /// With `--dt` each wall runs at each step given (the penalty automatic):
@@ -331,7 +344,10 @@ fn a_simulated_run_stops_at_its_wall_clock_cap() {
     );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains("s/sim s") && text.contains("stopped at the wall-clock cap, at t = "),
+        text.contains("s/sim s")
+            && text.contains("newton")
+            && text.contains("where the time goes")
+            && text.contains("stopped at the wall-clock cap, at t = "),
         "{text}"
     );
     assert!(String::from_utf8_lossy(&out.stderr).contains("wall-clock cap"));

@@ -63,18 +63,13 @@ pub struct BenchRow {
     pub ratio_to_baseline: f64,
     /// Wall-clock seconds per simulated second (median run).
     pub seconds_per_simulated_second: f64,
-    /// Per step of the median run: open-close passes, Newton-Raphson
-    /// iterations, numeric factorizations and symbolic analyses.
-    pub passes_per_step: f64,
-    pub newton_per_step: f64,
-    pub factorizations_per_step: f64,
-    pub analyses_per_step: f64,
+    /// The median run's work per step and where its time went.
+    #[serde(flatten)]
+    pub per_step: PerStep,
     /// Step cuts (open-close, displacement, penetration) and steps accepted
     /// unconverged, over the timed steps of the median run.
     pub cuts: usize,
     pub unconverged_steps: usize,
-    /// Milliseconds per step in each phase of the median run, in step order.
-    pub phase_ms_per_step: Vec<(String, f64)>,
     /// The largest centroid displacement of any brick since the wall was
     /// built, m.
     pub drift: f64,
@@ -84,6 +79,36 @@ pub struct BenchRow {
     /// solves that reached the cap, over the timed steps of the median run.
     pub iterations_per_solve: f64,
     pub solver_fallbacks: usize,
+}
+
+/// A run's work per step, and where its time went.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct PerStep {
+    /// Open-close passes, Newton-Raphson iterations, numeric
+    /// factorizations and symbolic analyses per step.
+    pub passes_per_step: f64,
+    pub newton_per_step: f64,
+    pub factorizations_per_step: f64,
+    pub analyses_per_step: f64,
+    /// Milliseconds per step in each phase, in step order.
+    pub phase_ms_per_step: Vec<(String, f64)>,
+}
+
+impl PerStep {
+    /// The counters and phase times of `stats` over its steps.
+    pub fn of(stats: &Statistics) -> Self {
+        let steps = stats.steps.max(1) as f64;
+        let per_step = |count: usize| count as f64 / steps;
+        Self {
+            passes_per_step: per_step(stats.open_close_iterations),
+            newton_per_step: per_step(stats.newton_iterations),
+            factorizations_per_step: per_step(stats.factorizations),
+            analyses_per_step: per_step(stats.symbolic_analyses),
+            phase_ms_per_step: (stats.times.phases().iter())
+                .map(|(name, t)| (name.to_string(), t.as_secs_f64() * 1e3 / steps))
+                .collect(),
+        }
+    }
 }
 
 impl BenchRow {
@@ -266,8 +291,6 @@ fn bench_one(
     runs.sort_by(|a, b| a.ms_per_step.total_cmp(&b.ms_per_step));
     let median = &runs[runs.len() / 2];
     let stats = &median.stats;
-    let steps = stats.steps.max(1) as f64;
-    let per_step = |count: usize| count as f64 / steps;
     Ok(BenchRow {
         courses: n,
         dimension,
@@ -278,18 +301,9 @@ fn bench_one(
         median_ms_per_step: median.ms_per_step,
         ratio_to_baseline: 1.0,
         seconds_per_simulated_second: median.seconds_per_simulated_second,
-        passes_per_step: per_step(stats.open_close_iterations),
-        newton_per_step: per_step(stats.newton_iterations),
-        factorizations_per_step: per_step(stats.factorizations),
-        analyses_per_step: per_step(stats.symbolic_analyses),
+        per_step: PerStep::of(stats),
         cuts: stats.open_close_cuts + stats.displacement_cuts + stats.penetration_cuts,
         unconverged_steps: stats.unconverged_steps,
-        phase_ms_per_step: stats
-            .times
-            .phases()
-            .iter()
-            .map(|(name, t)| (name.to_string(), t.as_secs_f64() * 1e3 / steps))
-            .collect(),
         drift: median.drift,
         peak_memory_mb: peak_memory_mb(),
         iterations_per_solve: stats.iterative_iterations as f64

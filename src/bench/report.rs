@@ -2,7 +2,8 @@
 
 use super::scaling::{series_name, Fit};
 use super::simulate::SimulateRow;
-use super::BenchRow;
+use super::{BenchRow, PerStep};
+use crate::scene::BlockKind;
 
 /// The step-timing table, then where each step's time goes.
 pub fn print_steps(rows: &[BenchRow], steps: usize, repeats: usize) {
@@ -26,35 +27,50 @@ pub fn print_steps(rows: &[BenchRow], steps: usize, repeats: usize) {
             r.median_ms_per_step,
             r.ratio_to_baseline,
             r.seconds_per_simulated_second,
-            r.passes_per_step,
-            r.newton_per_step,
-            r.factorizations_per_step,
+            r.per_step.passes_per_step,
+            r.per_step.newton_per_step,
+            r.per_step.factorizations_per_step,
             r.cuts,
             r.drift,
-            r.analyses_per_step,
+            r.per_step.analyses_per_step,
             r.peak_memory_mb,
         );
     }
-    println!("where the time goes, ms per step (median run):");
-    if let Some(first) = rows.first() {
-        let names: String = first
-            .phase_ms_per_step
-            .iter()
-            .map(|(name, _)| format!("{name:>13}"))
-            .collect();
-        println!("{:>4} {:>15} {names}", "n", "bricks");
+    let labelled: Vec<_> = (rows.iter())
+        .map(|r| (label(r.courses, r.dimension, r.kind, None), &r.per_step))
+        .collect();
+    print_phases(&labelled);
+}
+
+/// A row's wall, and its step where given: "  20   rigid 2D".
+fn label(courses: usize, dimension: u32, kind: BlockKind, dt: Option<f64>) -> String {
+    let wall = format!("{courses:>4} {:>15}", series_name(dimension, kind));
+    match dt {
+        Some(dt) => format!("{wall} {dt:>10.3e}"),
+        None => wall,
     }
-    for r in rows {
-        let cells: String = r
-            .phase_ms_per_step
-            .iter()
+}
+
+/// Where each labelled row's step time goes.
+fn print_phases(rows: &[(String, &PerStep)]) {
+    let Some((first, per_step)) = rows.first() else {
+        return;
+    };
+    println!("where the time goes, ms per step (median run):");
+    let names: String = (per_step.phase_ms_per_step.iter())
+        .map(|(name, _)| format!("{name:>13}"))
+        .collect();
+    let head = if first.len() > 20 {
+        format!("{:>4} {:>15} {:>10}", "n", "bricks", "dt s")
+    } else {
+        format!("{:>4} {:>15}", "n", "bricks")
+    };
+    println!("{head} {names}");
+    for (label, per_step) in rows {
+        let cells: String = (per_step.phase_ms_per_step.iter())
             .map(|(_, ms)| format!("{ms:>13.3}"))
             .collect();
-        println!(
-            "{:>4} {:>15} {cells}",
-            r.courses,
-            series_name(r.dimension, r.kind)
-        );
+        println!("{label} {cells}");
     }
 }
 
@@ -71,7 +87,7 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
         runs(repeats)
     );
     println!(
-        "{:>4} {:>15} {:>7} {:>10} {:>9} {:>9} {:>9} {:>10} {:>8} {:>9} {:>6} {:>11} {:>10} {:>7}",
+        "{:>4} {:>15} {:>7} {:>10} {:>9} {:>9} {:>9} {:>10} {:>8} {:>9} {:>7} {:>7} {:>7} {:>6} {:>11} {:>10} {:>7}",
         "n",
         "bricks",
         "blocks",
@@ -82,6 +98,9 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
         "s/sim s",
         "steps",
         "ms/step",
+        "passes",
+        "newton",
+        "factor.",
         "cuts",
         "unconverged",
         "drift m",
@@ -89,7 +108,7 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
     );
     for r in rows {
         println!(
-            "{:>4} {:>15} {:>7} {:>10.3e} {:>9.2e} {:>9.4} {:>9.2} {:>10.3} {:>8} {:>9.2} {:>6} {:>11} {:>10.3e} {:>7.0}",
+            "{:>4} {:>15} {:>7} {:>10.3e} {:>9.2e} {:>9.4} {:>9.2} {:>10.3} {:>8} {:>9.2} {:>7.2} {:>7.2} {:>7.2} {:>6} {:>11} {:>10.3e} {:>7.0}",
             r.courses,
             series_name(r.dimension, r.kind),
             r.blocks,
@@ -100,12 +119,22 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
             r.seconds_per_simulated_second,
             r.steps,
             r.ms_per_step,
+            r.per_step.passes_per_step,
+            r.per_step.newton_per_step,
+            r.per_step.factorizations_per_step,
             r.cuts,
             r.unconverged_steps,
             r.drift,
             r.peak_memory_mb,
         );
     }
+    let labelled: Vec<_> = (rows.iter())
+        .map(|r| {
+            let dt = r.dt_given.then_some(r.dt);
+            (label(r.courses, r.dimension, r.kind, dt), &r.per_step)
+        })
+        .collect();
+    print_phases(&labelled);
     for r in rows.iter().filter(|r| !r.completed) {
         println!(
             "the {n} × {n} {} wall stopped at the wall-clock cap, at t = {:.4} of {} s",

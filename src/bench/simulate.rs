@@ -9,7 +9,9 @@ use serde::Serialize;
 
 use dda_core::Solver;
 
-use super::{centroids, check_walls, drift, peak_memory_mb, scaling, wall, Stepping, Timed};
+use super::{
+    centroids, check_walls, drift, peak_memory_mb, scaling, wall, PerStep, Stepping, Timed,
+};
 use crate::scene::{AnyModel, BlockKind};
 
 /// What to run.
@@ -63,6 +65,9 @@ pub struct SimulateRow {
     pub ms_per_step: f64,
     pub cuts: usize,
     pub unconverged_steps: usize,
+    /// The run's work per step and where its time went.
+    #[serde(flatten)]
+    pub per_step: PerStep,
     /// The largest centroid displacement of any brick from where it was
     /// built, over every step of the run, m.
     pub drift: f64,
@@ -202,6 +207,7 @@ fn simulate_driver<D: Timed>(
         ms_per_step: wall_s * 1e3 / stats.steps.max(1) as f64,
         cuts: stats.open_close_cuts + stats.displacement_cuts + stats.penetration_cuts,
         unconverged_steps: stats.unconverged_steps,
+        per_step: PerStep::of(stats),
         drift: largest,
         peak_memory_mb: peak_memory_mb(),
     })
