@@ -39,7 +39,7 @@ pub fn print_steps(rows: &[BenchRow], steps: usize, repeats: usize) {
     let labelled: Vec<_> = (rows.iter())
         .map(|r| (label(r.courses, r.dimension, r.kind, None), &r.per_step))
         .collect();
-    print_phases(&labelled);
+    print_phases(&labelled, false);
 }
 
 /// A row's wall, and its step where given: "  20   rigid 2D".
@@ -51,20 +51,20 @@ fn label(courses: usize, dimension: u32, kind: BlockKind, dt: Option<f64>) -> St
     }
 }
 
-/// Where each labelled row's step time goes.
-fn print_phases(rows: &[(String, &PerStep)]) {
-    let Some((first, per_step)) = rows.first() else {
+/// Where each labelled row's step time goes; `dt_column`: the labels
+/// carry the step.
+fn print_phases(rows: &[(String, &PerStep)], dt_column: bool) {
+    let Some((_, per_step)) = rows.first() else {
         return;
     };
     println!("where the time goes, ms per step (median run):");
     let names: String = (per_step.phase_ms_per_step.iter())
         .map(|(name, _)| format!("{name:>13}"))
         .collect();
-    let head = if first.len() > 20 {
-        format!("{:>4} {:>15} {:>10}", "n", "bricks", "dt s")
-    } else {
-        format!("{:>4} {:>15}", "n", "bricks")
-    };
+    let mut head = format!("{:>4} {:>15}", "n", "bricks");
+    if dt_column {
+        head += &format!(" {:>10}", "dt s");
+    }
     println!("{head} {names}");
     for (label, per_step) in rows {
         let cells: String = (per_step.phase_ms_per_step.iter())
@@ -77,7 +77,8 @@ fn print_phases(rows: &[(String, &PerStep)]) {
 /// The simulated-time table.
 pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
     let seconds = rows.first().map_or(0.0, |r| r.seconds);
-    let stepping = if rows.iter().any(|r| r.dt_given) {
+    let given = rows.iter().any(|r| r.dt_given);
+    let stepping = if given {
         "the dt given and automatic penalty"
     } else {
         "automatic dt and penalty"
@@ -130,11 +131,11 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
     }
     let labelled: Vec<_> = (rows.iter())
         .map(|r| {
-            let dt = r.dt_given.then_some(r.dt);
+            let dt = given.then_some(r.dt);
             (label(r.courses, r.dimension, r.kind, dt), &r.per_step)
         })
         .collect();
-    print_phases(&labelled);
+    print_phases(&labelled, given);
     for r in rows.iter().filter(|r| !r.completed) {
         println!(
             "the {n} × {n} {} wall stopped at the wall-clock cap, at t = {:.4} of {} s",
