@@ -323,9 +323,8 @@ fn a_wall_runs_at_the_steps_given() {
 /// Doolin's ntdda ran the 10 × 10 wall of Shi's (deformable) blocks at
 /// dt 1 ms and blew up within 0.2 s, the wall drifting 0.155 m with no
 /// step cut and no warning. Here the same wall at the same step (the
-/// penalty automatic) stands for
-/// 0.3 s: every step converged, none cut, and no brick settles more than
-/// 0.1 mm (measured: 2.9e-5 m over 1 s).
+/// penalty automatic) stands for 0.3 s: every step converged, none cut,
+/// and no brick settles more than 0.1 mm (measured: 2.9e-5 m over 1 s).
 #[test]
 fn the_wall_that_blew_up_in_ntdda_stands_at_1_ms() {
     let options = SimulateOptions {
