@@ -10,23 +10,16 @@
 //! no step agreeing even at the smallest dt; the default of twenty passes
 //! carries both through without a cut. (About 40 s in a release build.)
 
-use dda::Scene;
+use dda::bench::{wall, Stepping};
+use dda::scene::BlockKind;
 
 #[test]
 fn a_damped_wall_rebounds_without_a_cut() {
-    let text = r#"Scene(
-    analysis: (duration: 0.083, contact_damping: 1.0, gravity: (0.0, -9.81)),
-    materials: { "brick": (density: 1800.0, young: 5e9, poisson: 0.2) },
-    default_joint: Coulomb(friction_angle: 35.0),
-    blocks: [
-        Rectangle(center: (17.5, -0.5), width: 37.0, height: 1.0, fixed: true),
-        Wall(origin: (0.0, 0.0), length: 35.0, courses: 70, brick_length: 0.5, brick_height: 0.25, bond: Running),
-    ],
-)"#;
-    let mut model = Scene::from_str(text, "wall_70x70.ron")
-        .unwrap()
-        .build()
-        .unwrap();
+    // The wall `dda bench` runs, dt and penalty automatic, damped.
+    let mut scene = wall(70, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
+    scene.analysis.duration = 0.083;
+    scene.analysis.contact_damping = 1.0;
+    let mut model = scene.build().unwrap();
     let driver = &mut model.driver;
     let result = driver.advance_to(0.083);
     let stats = driver.statistics();
