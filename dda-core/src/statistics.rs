@@ -88,6 +88,11 @@ pub struct Statistics {
 }
 
 impl Statistics {
+    /// Steps cut, for any reason: open-close, displacement, penetration.
+    pub fn cuts(&self) -> usize {
+        self.open_close_cuts + self.displacement_cuts + self.penetration_cuts
+    }
+
     /// Adds an iterative solver's work.
     pub(crate) fn count_solves(&mut self, counts: SolveCounts) {
         self.iterative_solves += counts.solves;

@@ -302,7 +302,7 @@ fn bench_one(
         ratio_to_baseline: 1.0,
         seconds_per_simulated_second: median.seconds_per_simulated_second,
         per_step: PerStep::of(stats),
-        cuts: stats.open_close_cuts + stats.displacement_cuts + stats.penetration_cuts,
+        cuts: stats.cuts(),
         unconverged_steps: stats.unconverged_steps,
         drift: median.drift,
         peak_memory_mb: peak_memory_mb(),

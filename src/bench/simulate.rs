@@ -205,7 +205,7 @@ fn simulate_driver<D: Timed>(
         seconds_per_simulated_second: wall_s / reached.max(f64::MIN_POSITIVE),
         steps: stats.steps,
         ms_per_step: wall_s * 1e3 / stats.steps.max(1) as f64,
-        cuts: stats.open_close_cuts + stats.displacement_cuts + stats.penetration_cuts,
+        cuts: stats.cuts(),
         unconverged_steps: stats.unconverged_steps,
         per_step: PerStep::of(stats),
         drift: largest,
