@@ -1,7 +1,7 @@
 //! A Shi polygon block: its geometry, integrals, stress and accumulated motion.
 
 use dda_core::BlockKind;
-use nalgebra::{Matrix2, Point2, Rotation2, Vector3, Vector6};
+use nalgebra::{Matrix2, Point2, Rotation2, Vector2, Vector3, Vector6};
 
 use crate::kinematics::{mass_matrix, move_point, strain_tensor, Matrix6, RotationUpdate};
 use crate::polygon::{self, central_moments, CentralMoments, PolygonError};
@@ -12,6 +12,7 @@ pub struct Block {
     vertices: Vec<Point2<f64>>,
     moments: CentralMoments,
     angles: Vec<f64>,
+    edges: Vec<Edge>,
     /// Index of the block's material.
     pub material: usize,
     /// Rigid or deformable; deformable unless set.
@@ -36,11 +37,13 @@ impl Block {
         let vertices = polygon::validate(vertices)?;
         let moments = central_moments(&vertices);
         let angles = polygon::interior_angles(&vertices);
+        let edges = edges(&vertices);
         Ok(Self {
             mass: density * moments.area,
             vertices,
             moments,
             angles,
+            edges,
             material,
             kind: BlockKind::Deformable,
             stress: Vector3::zeros(),
@@ -56,6 +59,11 @@ impl Block {
     /// Interior angle at each vertex (radians; above π at reflex vertices).
     pub fn angles(&self) -> &[f64] {
         &self.angles
+    }
+
+    /// Each edge's frame, edge k running from vertex k to the next.
+    pub fn edges(&self) -> &[Edge] {
+        &self.edges
     }
 
     pub fn centroid(&self) -> Point2<f64> {
@@ -96,6 +104,7 @@ impl Block {
         }
         self.moments = central_moments(&self.vertices);
         self.angles = polygon::interior_angles(&self.vertices);
+        self.edges = edges(&self.vertices);
         let rotate = |s: Matrix2<f64>| {
             let r = Rotation2::new(d[2]).into_inner();
             r * s * r.transpose()
@@ -130,6 +139,7 @@ impl Block {
     ) {
         self.moments = central_moments(&vertices);
         self.angles = polygon::interior_angles(&vertices);
+        self.edges = edges(&vertices);
         self.vertices = vertices;
         self.stress = stress;
         self.strain = strain;
@@ -137,11 +147,69 @@ impl Block {
     }
 }
 
+/// An edge's length and frame, kept with the block: the narrow phase
+/// measures every vertex near a block against each of its edges.
+#[derive(Debug, Clone, Copy)]
+pub struct Edge {
+    pub length: f64,
+    /// Unit vector along the edge, counter-clockwise round the block.
+    pub tangent: Vector2<f64>,
+    /// Outward unit normal.
+    pub normal: Vector2<f64>,
+}
+
+fn edges(vertices: &[Point2<f64>]) -> Vec<Edge> {
+    let n = vertices.len();
+    (0..n)
+        .map(|k| {
+            let edge = vertices[(k + 1) % n] - vertices[k];
+            let length = edge.norm();
+            let tangent = edge / length;
+            Edge {
+                length,
+                tangent,
+                // Outward normal of a counter-clockwise polygon's edge.
+                normal: Vector2::new(tangent.y, -tangent.x),
+            }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use dda_core::Element;
-    use nalgebra::Vector2;
+
+    /// The kept edge frames follow the vertices through a step and a
+    /// restore: each edge's length, its unit tangent from one vertex to the
+    /// next, and the normal pointing away from the centroid.
+    #[test]
+    fn edges_follow_the_vertices() {
+        let v = [(0.0, 0.0), (2.0, -0.3), (2.6, 1.1), (1.1, 2.0)].map(|(x, y)| Point2::new(x, y));
+        let mut block = Block::new(&v, 0, 2000.0).unwrap();
+        let check = |b: &Block| {
+            let n = b.vertices().len();
+            assert_eq!(b.edges().len(), n);
+            for (k, e) in b.edges().iter().enumerate() {
+                let (p, q) = (b.vertices()[k], b.vertices()[(k + 1) % n]);
+                assert!((e.length - (q - p).norm()).abs() < 1e-14);
+                assert!((e.tangent * e.length - (q - p)).norm() < 1e-14);
+                assert!(e.normal.dot(&e.tangent).abs() < 1e-15);
+                assert!(
+                    e.normal.dot(&(p - b.centroid())) > 0.0,
+                    "edge {k} faces out"
+                );
+            }
+        };
+        check(&block);
+        let d = Vector6::new(0.3, -0.2, 0.9, 1e-3, -2e-3, 5e-4);
+        block.commit(&d, Vector3::zeros(), RotationUpdate::Exact);
+        check(&block);
+        let moved = v.map(|p| p + Vector2::new(5.0, 1.0));
+        block.restore(moved.to_vec(), Vector3::zeros(), Vector3::zeros(), 0.0);
+        check(&block);
+        assert!((block.edges()[0].tangent - Vector2::new(2.0, -0.3).normalize()).norm() < 1e-15);
+    }
 
     #[test]
     fn t_matrix_is_the_derivative_of_the_committed_motion() {

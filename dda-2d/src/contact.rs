@@ -16,7 +16,7 @@ use dda_core::contacts::same_contacts;
 use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
 use nalgebra::{Matrix2x6, Point2, Vector2, Vector6};
 
-use crate::block::Block;
+use crate::block::{Block, Edge};
 use crate::kinematics::t_matrix;
 
 /// Marks `feature_b` of a vertex-vertex contact (a vertex, not an edge).
@@ -121,8 +121,15 @@ fn pair_contacts_near(
             if !near_y.holds(pv) {
                 continue;
             }
-            for e in 0..by.vertices().len() {
-                let (q1, q2) = (by.vertices()[e], by.vertices()[next(e, by)]);
+            for (e, edge) in by.edges().iter().enumerate() {
+                let q1 = by.vertices()[e];
+                // The entrance's own first test, made before the two
+                // distances below: most vertices near a block lie far
+                // ahead of or behind most of its edges.
+                if !within_band(edge.normal.dot(&(pv - q1)), range) {
+                    continue;
+                }
+                let q2 = by.vertices()[next(e, by)];
                 if near(pv, &q1) || near(pv, &q2) {
                     continue;
                 }
@@ -207,16 +214,13 @@ fn entrance(
     let p1 = v.vertices()[p];
     let (q1, q2) = (w.vertices()[e], w.vertices()[next(e, w)]);
     let edge = q2 - q1;
-    let l = edge.norm();
-    let tangent = edge / l;
-    // Outward normal of a counter-clockwise polygon's edge.
-    let normal = Vector2::new(tangent.y, -tangent.x);
+    let Edge {
+        length: l,
+        tangent,
+        normal,
+    } = w.edges()[e];
     let gap = normal.dot(&(p1 - q1));
-    // Ahead of the edge by less than the range, or behind it by less than
-    // Shi's penetration distance (0.3 of the range): a vertex deeper behind
-    // an edge's line is inside the block only if it is deep behind another
-    // edge too, and for thin blocks it is usually outside it altogether.
-    if gap >= range || gap <= -PENETRATION_SHARE * range {
+    if !within_band(gap, range) {
         return None;
     }
     let along = tangent.dot(&(p1 - q1)) / l;
@@ -259,6 +263,15 @@ fn entrance(
         normal: normal_rows,
         tangents: [tangent_rows],
     })
+}
+
+/// Whether a vertex at `gap` from an edge's line can enter through it:
+/// ahead of the edge by less than the range, or behind it by less than
+/// Shi's penetration distance (0.3 of the range). A vertex deeper behind an
+/// edge's line is inside the block only if it is deep behind another edge
+/// too, and for thin blocks it is usually outside it altogether.
+fn within_band(gap: f64, range: f64) -> bool {
+    gap < range && gap > -PENETRATION_SHARE * range
 }
 
 /// Row r with r·D = a × (T·D) for a 2D cross product.
