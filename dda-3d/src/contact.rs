@@ -401,7 +401,9 @@ fn crossing_normal(
 /// that separates them.
 fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize) -> Vec<Entrance<12, 2>> {
     let (sa, sb) = (a.shape(), b.shape());
-    let mut out = Vec::new();
+    let (ea, eb) = (sa.vertex_edges(p), sb.vertex_edges(q));
+    let mut out =
+        entrances(sa.vertex_faces(p).len() + sb.vertex_faces(q).len() + ea.len() * eb.len());
     for &f in sb.vertex_faces(q) {
         let n = sb.normal(f);
         if vertex_enters(sa, p, &n) && vertex_below(sb, q, &n) {
@@ -414,8 +416,8 @@ fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize) -> Vec<Entrance<12, 2
             out.push(face_entrance(b, q, a, g, true));
         }
     }
-    for &ea in sa.vertex_edges(p) {
-        for &eb in sb.vertex_edges(q) {
+    for &ea in ea {
+        for &eb in eb {
             let valid = |n: &Vector3<f64>| vertex_enters(sa, p, n) && vertex_below(sb, q, n);
             let da = sa.edge_direction(ea, p);
             let db = sb.edge_direction(eb, q);
@@ -424,7 +426,15 @@ fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize) -> Vec<Entrance<12, 2
             }
         }
     }
+    out.shrink_to_fit();
     out
+}
+
+/// Room for at most `most` entrances of a group, made at once: an
+/// entrance is 580 bytes, and a vector grown by pushes would move them
+/// again at each doubling. The group shrinks it to what it found.
+fn entrances(most: usize) -> Vec<Entrance<12, 2>> {
+    Vec::with_capacity(most)
 }
 
 /// Entrances of convex vertex `p` of `x` near the inside of edge `e` of `y`:
@@ -432,7 +442,7 @@ fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize) -> Vec<Entrance<12, 2
 /// with it.
 fn vertex_edge(x: &Block, p: usize, y: &Block, e: usize) -> Vec<Entrance<12, 2>> {
     let (sx, sy) = (x.shape(), y.shape());
-    let mut out = Vec::new();
+    let mut out = entrances(sy.edges()[e].faces.len() + sx.vertex_edges(p).len());
     for &f in &sy.edges()[e].faces {
         let n = sy.normal(f);
         if vertex_enters(sx, p, &n) && edge_below(sy, e, &n) {
@@ -447,6 +457,7 @@ fn vertex_edge(x: &Block, p: usize, y: &Block, e: usize) -> Vec<Entrance<12, 2>>
             out.extend(edge_entrance(x, ex, y, e, &n, false));
         }
     }
+    out.shrink_to_fit();
     out
 }
 
@@ -506,11 +517,6 @@ fn edge_edge(
     let (sa, sb) = (a.shape(), b.shape());
     let [p1, q1] = ends_a.map(|k| sa.vertices()[k]);
     let [p2, q2] = ends_b.map(|k| sb.vertices()[k]);
-    // Cheap rejection before anything else.
-    let reach = range + (q1 - p1).norm() + (q2 - p2).norm();
-    if (p1 - p2).norm() > reach {
-        return None;
-    }
     let (s, t) = line_closest(&p1, &q1, &p2, &q2)?;
     if !(s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0) {
         return None;
