@@ -586,11 +586,9 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
     let (sx, sy) = (x.shape(), y.shape());
     let n = sy.normal(f);
     let frame = sy.face_frame(f);
-    let triangles: Vec<[Point2<f64>; 3]> = sy
-        .face_triangles(f)
-        .iter()
-        .map(|t| t.map(|k| frame.to_plane(&sy.vertices()[k])))
-        .collect();
+    // The entered face's triangles in its plane, made only once a face at
+    // the vertex is found facing it (for most groups none is).
+    let mut triangles: Vec<[Point2<f64>; 3]> = Vec::new();
     let share = |g: usize| -> Vec<Point2<f64>> {
         let face = &sx.faces()[g];
         let k = face.iter().position(|&v| v == p).unwrap_or(0);
@@ -609,6 +607,11 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
     for &g in sx.vertex_faces(p) {
         if sx.normal(g).dot(&n) > -ANGLE_TOLERANCE.cos() {
             continue;
+        }
+        if triangles.is_empty() {
+            triangles.extend(
+                (sy.face_triangles(f).iter()).map(|t| t.map(|k| frame.to_plane(&sy.vertices()[k]))),
+            );
         }
         let share = share(g);
         total += triangles
