@@ -26,6 +26,7 @@ use nalgebra::{Point2, Point3};
 use dda::bench::{wall, Stepping};
 use dda::scene::BlockKind;
 use dda_core::assembly::BlockSparse;
+use dda_core::driver::BOUND_BLOCK_SHARE;
 use dda_core::solve::{LinearSolver, SparseCholesky};
 use dda_core::{BlockMatrix, BlockSystem, BlockVector};
 
@@ -76,9 +77,9 @@ fn contact_search(c: &mut Criterion) {
         .unwrap();
     let system = &model.driver.system;
     // The driver's range for a wall at rest: 2.5 × the step's displacement
-    // bound, Shi's g2·w0 but at most a quarter of the median block size.
+    // bound, Shi's g2·w0 but at most a share of the median block size.
     let bound = (model.settings.max_displacement_ratio * model.driver.length_scale())
-        .min(0.25 * system.block_size());
+        .min(BOUND_BLOCK_SHARE * system.block_size());
     let range = 2.5 * bound;
     let mut group = c.benchmark_group("contact search");
     group.sample_size(20);

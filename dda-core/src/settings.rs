@@ -35,8 +35,8 @@ macro_rules! with_settings {
             /// failed.
             open_close_limit: usize = 20,
             /// Largest step displacement of any boundary point, as a fraction
-            /// of w0 (Shi's g2); default 0.01. In a model more than about 25
-            /// blocks wide the bound is also at most a quarter of the median
+            /// of w0 (Shi's g2); default 0.01. In a model more than about 10
+            /// blocks wide the bound is also at most a tenth of the median
             /// block size (or twice the last step's motion, if larger). The
             /// contact search range is 2.5 times the bound.
             max_displacement_ratio: f64 = 0.01,
