@@ -175,6 +175,10 @@ pub struct Polyhedron {
     topology: Arc<Topology>,
     normals: Vec<Vector3<f64>>,
     areas: Vec<f64>,
+    /// Each face's frame and area centroid, made when the vertices move:
+    /// the narrow phase reads them for every contact a face takes part in.
+    frames: Vec<FaceFrame>,
+    centroids: Vec<Point3<f64>>,
     moments: CentralMoments,
     edge_kinds: Vec<EdgeKind>,
     convex_vertices: Vec<bool>,
@@ -226,12 +230,7 @@ impl Polyhedron {
 
     /// The face's frame: origin at its first vertex, `u` along its first edge.
     pub fn face_frame(&self, f: usize) -> FaceFrame {
-        let face = &self.topology.faces[f];
-        FaceFrame::new(
-            self.vertices[face[0]],
-            self.vertices[face[1]],
-            self.normals[f],
-        )
+        self.frames[f]
     }
 
     /// The face's vertices in its own frame (counter-clockwise).
@@ -245,19 +244,7 @@ impl Polyhedron {
 
     /// Area centroid of a face.
     pub fn face_centroid(&self, f: usize) -> Point3<f64> {
-        let mut sum = Vector3::zeros();
-        let mut total = 0.0;
-        for t in &self.topology.triangles[f] {
-            let [a, b, c] = t.map(|i| self.vertices[i]);
-            let w = (b - a).cross(&(c - a)).dot(&self.normals[f]) / 2.0;
-            sum += (a.coords + b.coords + c.coords) * (w / 3.0);
-            total += w;
-        }
-        if total.abs() > 0.0 {
-            Point3::from(sum / total)
-        } else {
-            self.vertices[self.topology.faces[f][0]]
-        }
+        self.centroids[f]
     }
 
     pub fn moments(&self) -> &CentralMoments {
@@ -331,6 +318,12 @@ impl Polyhedron {
                 (n / a.max(f64::MIN_POSITIVE), a / 2.0)
             })
             .unzip();
+        let frames = (topology.faces.iter().zip(&normals))
+            .map(|(face, n)| FaceFrame::new(vertices[face[0]], vertices[face[1]], *n))
+            .collect();
+        let centroids = (topology.triangles.iter().zip(&topology.faces).zip(&normals))
+            .map(|((triangles, face), n)| face_centroid(&vertices, face, triangles, n))
+            .collect();
         let moments = central_moments(&vertices, &topology.faces);
         let edge_kinds = topology
             .edges
@@ -366,6 +359,8 @@ impl Polyhedron {
             topology,
             normals,
             areas,
+            frames,
+            centroids,
             moments,
             edge_kinds,
             convex_vertices,
@@ -994,9 +989,68 @@ pub fn closest_on_triangle(
     a + ab * (vb * denom) + ac * (vc * denom)
 }
 
+/// Area centroid of a face with these triangles and unit normal.
+fn face_centroid(
+    vertices: &[Point3<f64>],
+    face: &[usize],
+    triangles: &[[usize; 3]],
+    normal: &Vector3<f64>,
+) -> Point3<f64> {
+    let mut sum = Vector3::zeros();
+    let mut total = 0.0;
+    for t in triangles {
+        let [a, b, c] = t.map(|i| vertices[i]);
+        let w = (b - a).cross(&(c - a)).dot(normal) / 2.0;
+        sum += (a.coords + b.coords + c.coords) * (w / 3.0);
+        total += w;
+    }
+    if total.abs() > 0.0 {
+        Point3::from(sum / total)
+    } else {
+        vertices[face[0]]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The kept face frames and centroids follow the vertices through a
+    /// move and a restore: each frame starts at its face's first vertex
+    /// with `u` along the first side and the face's normal, and a
+    /// rectangle's centroid is the mean of its corners.
+    #[test]
+    fn face_frames_and_centroids_follow_the_vertices() {
+        let (points, faces) = cuboid(
+            Point3::new(1.0, -2.0, 0.5),
+            Vector3::new(2.0, 1.0, 0.5),
+            Rotation3::from_euler_angles(0.3, -0.2, 0.7),
+        );
+        let check = |s: &Polyhedron| {
+            for (f, face) in s.faces().iter().enumerate() {
+                let corners = face.iter().map(|&k| s.vertices()[k].coords);
+                let mean = corners.sum::<Vector3<f64>>() / face.len() as f64;
+                assert!(
+                    (s.face_centroid(f).coords - mean).norm() < 1e-12,
+                    "face {f}"
+                );
+                let frame = s.face_frame(f);
+                let side = s.vertices()[face[1]] - s.vertices()[face[0]];
+                assert_eq!(frame.origin, s.vertices()[face[0]]);
+                assert!((frame.u - side.normalize()).norm() < 1e-12, "face {f}");
+                assert!((frame.normal - s.normal(f)).norm() < 1e-15, "face {f}");
+            }
+        };
+        let shape = validate(&points, &faces).unwrap();
+        check(&shape);
+        let turn = Rotation3::from_euler_angles(-0.5, 0.1, 1.2);
+        let moved = shape.moved(|p| turn * p + Vector3::new(3.0, 0.0, -1.0));
+        check(&moved);
+        assert!((moved.face_centroid(0) - shape.face_centroid(0)).norm() > 0.1);
+        let back = moved.with_vertices(points.clone());
+        check(&back);
+        assert_eq!(back.face_centroid(0), shape.face_centroid(0));
+    }
 
     #[test]
     fn an_inside_out_surface_is_refused_by_validate_outward_only() {
