@@ -21,7 +21,7 @@
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-use super::{widest_entrance, Driver, Motion, Trial, CONTACTS_PER_TASK};
+use super::{widest_at_rest, Driver, Motion, Trial, CONTACTS_PER_TASK};
 use crate::contact::ContactState;
 use crate::error::DdaError;
 use crate::settings::Integrator;
@@ -187,7 +187,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             states: self.contacts.iter().map(|c| c.record.state).collect(),
             entrances: (self.contacts.par_iter())
                 .with_min_len(CONTACTS_PER_TASK)
-                .map(|c| widest_entrance(c, &d, c.record.entrance, tolerance))
+                .map(|c| widest_at_rest(c, c.record.entrance, tolerance))
                 .collect(),
             directions: (self.contacts.iter())
                 .map(|c| c.record.slip_direction)
