@@ -127,6 +127,28 @@ pub struct Contact<const N: usize, const T: usize> {
     pub record: ContactRecord<T>,
 }
 
+#[cfg(test)]
+impl<const N: usize, const T: usize> Contact<N, T> {
+    /// Vertex 0 of block 0 against block 1 through these entrances, law 0,
+    /// unit lengths and a fresh record: the driver's tests' contact.
+    pub(crate) fn between_first_two(entrances: Vec<Entrance<N, T>>) -> Self {
+        Self {
+            key: ContactKey {
+                block_a: 0,
+                feature_a: 0,
+                block_b: 1,
+                feature_b: 0,
+            },
+            blocks: [0, 1],
+            law: 0,
+            length: 1.0,
+            spring_length: 1.0,
+            entrances,
+            record: ContactRecord::default(),
+        }
+    }
+}
+
 /// Whether two narrow phases found the same contacts: the same keys,
 /// entrances and lengths, in the same order (their records aside).
 pub fn same_contacts<const N: usize, const T: usize>(

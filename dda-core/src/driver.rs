@@ -1792,32 +1792,20 @@ fn widest_of(gaps: impl Iterator<Item = f64> + Clone, current: usize, tolerance:
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contacts::{ContactKey, ContactRecord};
 
     /// A contact between blocks 0 and 1 with entrances of these gaps, rows
     /// of every sign (so the zero motion's products are +0 and −0).
     fn contact(gaps: &[f64]) -> Contact<3, 1> {
         let row = |k: f64| BlockVector::<3>::new(k, -2.0 * k, 0.5);
-        Contact {
-            key: ContactKey {
-                block_a: 0,
-                feature_a: 0,
-                block_b: 1,
-                feature_b: 0,
-            },
-            blocks: [0, 1],
-            law: 0,
-            length: 1.0,
-            spring_length: 1.0,
-            entrances: (gaps.iter().enumerate())
+        Contact::between_first_two(
+            (gaps.iter().enumerate())
                 .map(|(i, &gap)| Entrance {
                     gap,
                     normal: [row(i as f64 + 1.0), row(-3.0)],
                     tangents: [[row(2.0), row(-1.0)]],
                 })
                 .collect(),
-            record: ContactRecord::default(),
-        }
+        )
     }
 
     /// Before the blocks move the choice reads the gaps alone, and it is

@@ -448,7 +448,7 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
 mod tests {
     use super::*;
     use crate::contact::{ContactLaw, DynContactLaw};
-    use crate::contacts::{ContactKey, ContactRecord};
+    use crate::contacts::ContactRecord;
 
     /// Penalty springs with Coulomb friction, yielding at its strength.
     struct Friction;
@@ -500,21 +500,12 @@ mod tests {
             tangents: [[n([1.0, 0.0, -0.3]), n([-1.0, 0.0, 0.05])]],
         };
         let contact = Contact {
-            key: ContactKey {
-                block_a: 0,
-                feature_a: 0,
-                block_b: 1,
-                feature_b: 0,
-            },
-            blocks: [0, 1],
-            law: 0,
             length: 0.0,
-            spring_length: 1.0,
-            entrances: vec![entrance],
             record: ContactRecord {
                 history: Some(DynContactLaw::initial_history(&Friction, true)),
                 ..ContactRecord::default()
             },
+            ..Contact::between_first_two(vec![entrance])
         };
         let contacts = [contact];
         let laws: Vec<Box<dyn DynContactLaw>> = vec![Box::new(Friction)];
