@@ -401,9 +401,9 @@ fn crossing_normal(
 /// that separates them.
 fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize) -> Vec<Entrance<12, 2>> {
     let (sa, sb) = (a.shape(), b.shape());
-    let (ea, eb) = (sa.vertex_edges(p), sb.vertex_edges(q));
-    let mut out =
-        entrances(sa.vertex_faces(p).len() + sb.vertex_faces(q).len() + ea.len() * eb.len());
+    let (edges_a, edges_b) = (sa.vertex_edges(p), sb.vertex_edges(q));
+    let faces = sa.vertex_faces(p).len() + sb.vertex_faces(q).len();
+    let mut out = entrances(faces + edges_a.len() * edges_b.len());
     for &f in sb.vertex_faces(q) {
         let n = sb.normal(f);
         if vertex_enters(sa, p, &n) && vertex_below(sb, q, &n) {
@@ -416,8 +416,8 @@ fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize) -> Vec<Entrance<12, 2
             out.push(face_entrance(b, q, a, g, true));
         }
     }
-    for &ea in ea {
-        for &eb in eb {
+    for &ea in edges_a {
+        for &eb in edges_b {
             let valid = |n: &Vector3<f64>| vertex_enters(sa, p, n) && vertex_below(sb, q, n);
             let da = sa.edge_direction(ea, p);
             let db = sb.edge_direction(eb, q);

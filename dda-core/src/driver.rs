@@ -114,8 +114,8 @@ const PATTERN_REACH_MOTION: f64 = 4.0;
 /// extent. Default 0.1: still 400 times what a block moves in an automatic
 /// step. A quarter, as it was, put every feature of two neighbouring
 /// bricks within range of the other's, so no test of the narrow phase
-/// rejected early (at 10,051 3D blocks it took 291 ms a step instead of
-/// 186, finding the same contacts).
+/// rejected early (at 10,051 3D blocks the narrow phase took a median 306
+/// ms a step, against 219 at a tenth, finding the same contacts).
 pub const BOUND_BLOCK_SHARE: f64 = 0.1;
 
 /// The most halvings of a coupled Newton-Raphson step.
