@@ -120,6 +120,13 @@ pub struct Summary {
     pub outputs: Vec<String>,
 }
 
+impl Summary {
+    /// Steps cut, for any reason, as `Statistics::cuts` counts them.
+    pub fn cuts(&self) -> usize {
+        self.open_close_cuts + self.displacement_cuts + self.penetration_cuts
+    }
+}
+
 fn is_zero(n: &usize) -> bool {
     *n == 0
 }

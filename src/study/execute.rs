@@ -169,7 +169,7 @@ impl<'a> Plan<'a> {
             }
         };
         row.steps = summary.steps;
-        row.cuts = summary.open_close_cuts + summary.displacement_cuts + summary.penetration_cuts;
+        row.cuts = summary.cuts();
         row.open_close_iterations = summary.open_close_iterations;
         row.unconverged_steps = summary.unconverged_steps;
         row.deepest_penetration =
