@@ -156,4 +156,65 @@ mod tests {
             );
         }
     }
+
+    /// Each block's loads and fixed points, read from the set's listing,
+    /// give the block terms that filtering the whole lists gives (the path
+    /// of a set whose lists changed after the listing), to the last bit;
+    /// points on no block act on none.
+    #[test]
+    fn listed_points_give_the_terms_of_the_filtered_lists() {
+        let square = |x: f64| [(x, 0.0), (x + 1.0, 0.0), (x + 1.0, 1.0), (x, 1.0)];
+        let law = || -> Box<dyn dda_core::ConstitutiveLaw<3>> {
+            Box::new(PlaneElastic {
+                young: 1e9,
+                poisson: 0.3,
+                plane: Plane::Stress,
+            })
+        };
+        let set = || {
+            let blocks = (0..4)
+                .map(|b| {
+                    let v = square(2.0 * b as f64).map(|(x, y)| Point2::new(x, y));
+                    Block::new(&v, 0, 2500.0).unwrap()
+                })
+                .collect();
+            let mut s = Polygons::new(blocks, vec![law()]);
+            // Interleaved over the blocks, two on block 2, one on none.
+            for (k, b) in [2, 0, 3, 2, 7].into_iter().enumerate() {
+                let at = Point2::new(2.0 * b as f64 + 0.3, 0.1 * k as f64);
+                s.fixed.push(FixedPoint {
+                    target: at + Vector2::new(1e-4 * k as f64, -2e-5),
+                    ..FixedPoint::at(b, at)
+                });
+                s.loads.push(PointLoad {
+                    block: (b + 1) % 5,
+                    point: at,
+                    force: Force::Constant(Vector2::new(3.0 + k as f64, -7.0)),
+                });
+            }
+            s
+        };
+        let terms = |s: &Polygons, i: usize| {
+            let d = BlockVector::<6>::new(1e-4, -2e-4, 3e-4, 1e-5, -2e-5, 3e-5) * (i + 1) as f64;
+            let (mut k, mut r) = (BlockMatrix::<6>::zeros(), BlockVector::<6>::zeros());
+            s.block_terms(i, 0.3, &d, &mut k, &mut r);
+            (k, r)
+        };
+        let listed = set();
+        let mut filtered = set();
+        terms(&filtered, 0);
+        // Listed at the first terms; a load on no block makes the listing
+        // stale without changing any block's terms.
+        filtered.loads.push(PointLoad {
+            block: 9,
+            point: Point2::new(0.5, 0.5),
+            force: Force::Constant(Vector2::new(1.0, 1.0)),
+        });
+        let bare = Polygons::new(set().blocks, vec![law()]);
+        for i in 0..4 {
+            assert_eq!(terms(&listed, i), terms(&filtered, i), "block {i}");
+            // Every block but 1 has a fixed point, and every one a load.
+            assert_ne!(terms(&listed, i).1, terms(&bare, i).1, "block {i}");
+        }
+    }
 }

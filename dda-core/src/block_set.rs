@@ -4,7 +4,7 @@
 //! its geometry, T-matrix, integrals, narrow phase and end-of-step motion.
 
 use std::collections::HashMap;
-use std::sync::Mutex;
+use std::sync::{Mutex, OnceLock};
 
 use nalgebra::{Point, SMatrix, SVector};
 use rayon::prelude::*;
@@ -158,6 +158,9 @@ pub struct BlockSet<B, const D: usize, const N: usize, const T: usize, const S: 
     pub pair_laws: HashMap<(usize, usize), usize>,
     /// Body force per unit mass (m/s²).
     pub gravity: SVector<f64, D>,
+    /// Point loads. The set lists each block's loads and fixed points at
+    /// its first block terms: change the lists, not a point's block, after
+    /// that (a set whose lists changed length filters them again).
     pub loads: Vec<PointLoad<D>>,
     pub fixed: Vec<FixedPoint<D>>,
     /// Points whose motion is an output only.
@@ -171,6 +174,52 @@ pub struct BlockSet<B, const D: usize, const N: usize, const T: usize, const S: 
     /// The last broad phase, reused while the blocks stay near where it
     /// found them.
     near: Mutex<Option<NearPairs<D>>>,
+    /// Which loads and fixed points act on each block.
+    points_of: OnceLock<PointsOf>,
+}
+
+/// Which point loads and fixed points act on each block (indices into
+/// `loads` and `fixed`, in their order), with the lists' lengths when made.
+/// A block's terms read its own: filtering every point for every block at
+/// every move took half the run of a 3,030-block wall on a fixed base of
+/// 1,010 blocks (4,040 fixed points).
+#[derive(Debug)]
+struct PointsOf {
+    lengths: (usize, usize),
+    loads: Listing,
+    fixed: Listing,
+}
+
+/// Items grouped by block: block i's are `items[starts[i]..starts[i + 1]]`.
+#[derive(Debug)]
+struct Listing {
+    starts: Vec<usize>,
+    items: Vec<usize>,
+}
+
+impl Listing {
+    /// Items `0..` on blocks `block_of`; one on no block of the set is
+    /// listed nowhere, as no block's filter would find it.
+    fn new(blocks: usize, block_of: impl Iterator<Item = usize> + Clone) -> Self {
+        let mut starts = vec![0; blocks + 1];
+        for b in block_of.clone().filter(|&b| b < blocks) {
+            starts[b + 1] += 1;
+        }
+        for i in 0..blocks {
+            starts[i + 1] += starts[i];
+        }
+        let mut next = starts.clone();
+        let mut items = vec![0; starts[blocks]];
+        for (k, b) in block_of.enumerate().filter(|&(_, b)| b < blocks) {
+            items[next[b]] = k;
+            next[b] += 1;
+        }
+        Self { starts, items }
+    }
+
+    fn of(&self, block: usize) -> &[usize] {
+        &self.items[self.starts[block]..self.starts[block + 1]]
+    }
 }
 
 /// How much wider than asked a broad phase searches, as a share of the
@@ -232,7 +281,40 @@ where
             rotation_update: RotationUpdate::Exact,
             length_scale: None,
             near: Mutex::new(None),
+            points_of: OnceLock::new(),
         }
+    }
+
+    /// The point loads and fixed points on block `i`, in their lists'
+    /// order: from the listing made at the first call, or, where the lists
+    /// have changed length since, by filtering them.
+    fn points_on(
+        &self,
+        i: usize,
+    ) -> (
+        impl Iterator<Item = &PointLoad<D>>,
+        impl Iterator<Item = &FixedPoint<D>>,
+    ) {
+        let lengths = (self.loads.len(), self.fixed.len());
+        let points = self.points_of.get_or_init(|| PointsOf {
+            lengths,
+            loads: Listing::new(self.blocks.len(), self.loads.iter().map(|l| l.block)),
+            fixed: Listing::new(self.blocks.len(), self.fixed.iter().map(|f| f.block)),
+        });
+        let listed = (points.lengths == lengths
+            && points.loads.starts.len() == self.blocks.len() + 1)
+            .then_some(points);
+        let loads = listed.map(|p| p.loads.of(i).iter().map(|&k| &self.loads[k]));
+        let fixed = listed.map(|p| p.fixed.of(i).iter().map(|&k| &self.fixed[k]));
+        // Where the listing stands, nothing is left to filter.
+        let (all_loads, all_fixed) = match listed {
+            Some(_) => (&[][..], &[][..]),
+            None => (&self.loads[..], &self.fixed[..]),
+        };
+        (
+            (loads.into_iter().flatten()).chain(all_loads.iter().filter(move |l| l.block == i)),
+            (fixed.into_iter().flatten()).chain(all_fixed.iter().filter(move |f| f.block == i)),
+        )
     }
 
     /// Holds every vertex of a block in place.
@@ -346,10 +428,11 @@ where
         for axis in 0..D {
             r[axis] += block.mass() * self.gravity[axis];
         }
-        for load in self.loads.iter().filter(|l| l.block == i) {
+        let (loads, fixed) = self.points_on(i);
+        for load in loads {
             *r += block.t_matrix(&load.point).transpose() * load.force.at(time);
         }
-        for fp in self.fixed.iter().filter(|f| f.block == i) {
+        for fp in fixed {
             let t = block.t_matrix(&fp.point);
             let held = fp.held() * self.fixed_penalty;
             let drift = fp.target_at(time) - fp.point;
