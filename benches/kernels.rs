@@ -6,6 +6,9 @@
 //!   stiffness) and a 3D one (a 0.5 × 0.25 × 0.25 m box);
 //! * contact search (broad and narrow phase) on the 32 × 32 wall, 1,041
 //!   blocks, at the range the driver asks of a wall at rest;
+//! * every block's own terms on the 40 × 40 wall with a fixed point on
+//!   each block: a block reads its own points, so this grows with the
+//!   blocks, not with blocks × points;
 //! * one assembly of the 40 × 40 wall (1,621 blocks) after its first step:
 //!   each block's inertia and own terms and each closed contact's normal and
 //!   shear springs into the driver's block-sparse matrix (`BlockSparse`);
@@ -28,7 +31,7 @@ use dda::scene::BlockKind;
 use dda_core::assembly::BlockSparse;
 use dda_core::driver::BOUND_BLOCK_SHARE;
 use dda_core::solve::{LinearSolver, SparseCholesky};
-use dda_core::{BlockMatrix, BlockSystem, BlockVector};
+use dda_core::{BlockMatrix, BlockSystem, BlockVector, FixedPoint};
 
 const DENSITY: f64 = 1800.0;
 
@@ -92,6 +95,33 @@ fn contact_search(c: &mut Criterion) {
 
 /// The 40 × 40 wall after one step, with its matrix pattern (blocks and the
 /// pairs of closed contacts) and an assembly into it.
+fn own_terms(c: &mut Criterion) {
+    let mut model = wall(40, 2, Stepping::Fixed, BlockKind::Rigid)
+        .unwrap()
+        .build()
+        .unwrap();
+    let system = &mut model.driver.system;
+    let n = system.blocks.len();
+    for i in 0..n {
+        let at = system.blocks[i].centroid();
+        system.fixed.push(FixedPoint::at(i, at));
+    }
+    let system = &model.driver.system;
+    c.bench_function(
+        &format!("own terms, {n} blocks, {} fixed points", system.fixed.len()),
+        |b| {
+            b.iter(|| {
+                let mut r = BlockVector::<6>::zeros();
+                for i in 0..n {
+                    let mut k = BlockMatrix::<6>::zeros();
+                    system.block_terms(i, 0.0, &BlockVector::<6>::zeros(), &mut k, &mut r);
+                }
+                black_box(r)
+            })
+        },
+    );
+}
+
 struct Assembly {
     model: dda::scene::Model,
     matrix: BlockSparse<6>,
@@ -201,6 +231,7 @@ fn assembly_and_factorisation(c: &mut Criterion) {
 criterion_group!(
     kernels,
     integrals,
+    own_terms,
     contact_search,
     assembly_and_factorisation
 );
