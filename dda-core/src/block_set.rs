@@ -9,6 +9,7 @@ use std::sync::{Mutex, OnceLock};
 use nalgebra::{Point, SMatrix, SVector};
 use rayon::prelude::*;
 
+use crate::by_block::ByBlock;
 use crate::constitutive::ConstitutiveLaw;
 use crate::contacts::{BlockVector, Contact};
 use crate::error::DdaError;
@@ -186,40 +187,8 @@ pub struct BlockSet<B, const D: usize, const N: usize, const T: usize, const S: 
 #[derive(Debug)]
 struct PointsOf {
     lengths: (usize, usize),
-    loads: Listing,
-    fixed: Listing,
-}
-
-/// Items grouped by block: block i's are `items[starts[i]..starts[i + 1]]`.
-#[derive(Debug)]
-struct Listing {
-    starts: Vec<usize>,
-    items: Vec<usize>,
-}
-
-impl Listing {
-    /// Items `0..` on blocks `block_of`; one on no block of the set is
-    /// listed nowhere, as no block's filter would find it.
-    fn new(blocks: usize, block_of: impl Iterator<Item = usize> + Clone) -> Self {
-        let mut starts = vec![0; blocks + 1];
-        for b in block_of.clone().filter(|&b| b < blocks) {
-            starts[b + 1] += 1;
-        }
-        for i in 0..blocks {
-            starts[i + 1] += starts[i];
-        }
-        let mut next = starts.clone();
-        let mut items = vec![0; starts[blocks]];
-        for (k, b) in block_of.enumerate().filter(|&(_, b)| b < blocks) {
-            items[next[b]] = k;
-            next[b] += 1;
-        }
-        Self { starts, items }
-    }
-
-    fn of(&self, block: usize) -> &[usize] {
-        &self.items[self.starts[block]..self.starts[block + 1]]
-    }
+    loads: ByBlock,
+    fixed: ByBlock,
 }
 
 /// How much wider than asked a broad phase searches, as a share of the
@@ -296,14 +265,19 @@ where
         impl Iterator<Item = &FixedPoint<D>>,
     ) {
         let lengths = (self.loads.len(), self.fixed.len());
-        let points = self.points_of.get_or_init(|| PointsOf {
-            lengths,
-            loads: Listing::new(self.blocks.len(), self.loads.iter().map(|l| l.block)),
-            fixed: Listing::new(self.blocks.len(), self.fixed.iter().map(|f| f.block)),
+        let blocks = self.blocks.len();
+        let points = self.points_of.get_or_init(|| {
+            let (mut loads, mut fixed) = (ByBlock::default(), ByBlock::default());
+            loads.fill(blocks, self.loads.iter().map(|l| [l.block]));
+            fixed.fill(blocks, self.fixed.iter().map(|f| [f.block]));
+            PointsOf {
+                lengths,
+                loads,
+                fixed,
+            }
         });
-        let listed = (points.lengths == lengths
-            && points.loads.starts.len() == self.blocks.len() + 1)
-            .then_some(points);
+        let listed =
+            (points.lengths == lengths && points.loads.blocks() == blocks).then_some(points);
         let loads = listed.map(|p| p.loads.of(i).iter().map(|&k| &self.loads[k]));
         let fixed = listed.map(|p| p.fixed.of(i).iter().map(|&k| &self.fixed[k]));
         // Where the listing stands, nothing is left to filter.

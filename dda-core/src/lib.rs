@@ -10,6 +10,7 @@
 
 pub mod assembly;
 pub mod block_set;
+mod by_block;
 pub mod constitutive;
 pub mod contact;
 pub mod contacts;

@@ -5,17 +5,13 @@
 //! contacts in contact order, as the one-thread loop over contacts does,
 //! so both give the same residual to the last bit.
 
+use crate::by_block::ByBlock;
 use crate::contacts::Contact;
 
 /// The contacts of each block, in contact order (a block-by-block index of
 /// the contact list, made for one pass).
 #[derive(Debug, Default)]
-pub(super) struct Touching {
-    /// Where each block's contacts start in `contacts`, and one past the
-    /// last block's end; empty while no pass is under way.
-    starts: Vec<usize>,
-    contacts: Vec<usize>,
-}
+pub(super) struct Touching(ByBlock);
 
 impl Touching {
     /// Indexes `contacts` among `blocks` blocks.
@@ -24,41 +20,22 @@ impl Touching {
         blocks: usize,
         contacts: &[Contact<N, T>],
     ) {
-        self.starts.clear();
-        self.starts.resize(blocks + 1, 0);
-        for c in contacts {
-            for &b in &c.blocks {
-                self.starts[b + 1] += 1;
-            }
-        }
-        for b in 0..blocks {
-            self.starts[b + 1] += self.starts[b];
-        }
-        let mut next = self.starts.clone();
-        self.contacts.clear();
-        self.contacts.resize(self.starts[blocks], 0);
-        for (i, c) in contacts.iter().enumerate() {
-            for &b in &c.blocks {
-                self.contacts[next[b]] = i;
-                next[b] += 1;
-            }
-        }
+        self.0.fill(blocks, contacts.iter().map(|c| c.blocks));
     }
 
     /// Forgets the index (the pass is over).
     pub fn clear(&mut self) {
-        self.starts.clear();
-        self.contacts.clear();
+        self.0.clear();
     }
 
     /// Whether a pass's contacts are indexed.
     pub fn is_filled(&self) -> bool {
-        !self.starts.is_empty()
+        self.0.blocks() > 0
     }
 
     /// The contacts of `block`, in contact order.
     pub fn of(&self, block: usize) -> &[usize] {
-        &self.contacts[self.starts[block]..self.starts[block + 1]]
+        self.0.of(block)
     }
 }
 
