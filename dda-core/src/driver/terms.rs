@@ -5,7 +5,7 @@
 
 use nalgebra::SVector;
 
-use super::{block, stored, widest_entrance, Trial, ROUND_OFF_FORCE};
+use super::{block, widest_entrance, Trial, ROUND_OFF_FORCE};
 use crate::contact::{ContactResponse, ContactState, DynContactLaw, LocalKinematics};
 use crate::contacts::{BlockVector, Contact, Entrance};
 use crate::system::BlockMatrix;
@@ -441,6 +441,15 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
                 shear_energy,
             ],
         }
+    }
+}
+
+/// Energy of a linear spring carrying `force` with stiffness `k`.
+fn stored(force: f64, k: f64) -> f64 {
+    if k > 0.0 {
+        0.5 * force * force / k
+    } else {
+        0.0
     }
 }
 

@@ -1,0 +1,290 @@
+//! The step's residual and tangent at a trial: inertia, the blocks' own
+//! terms and the contacts' springs, gathered block by block on every core.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::pass::FrictionCoupling;
+use super::terms::ContactLoad;
+use super::{block, Driver, Motion, Trial, BLOCKS_PER_TASK, CONTACTS_PER_TASK};
+use crate::assembly::{add_outer_into, BlockSparse};
+use crate::contacts::{BlockVector, Entrance};
+use crate::system::{BlockMatrix, BlockSystem};
+
+impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
+    /// Fills `residual` with applied minus internal forces at the trial
+    /// displacement and, with `tangent`, the matrix with the tangent.
+    pub(super) fn assemble(
+        &mut self,
+        dt: f64,
+        masses: &[BlockMatrix<N>],
+        trial: &Trial<T>,
+        residual: &mut [f64],
+        couplings: Option<&mut Vec<FrictionCoupling<N>>>,
+        tangent: bool,
+    ) {
+        let motion = if tangent {
+            Motion::Tangent
+        } else {
+            Motion::Implicit
+        };
+        self.load(dt, masses, trial, residual, couplings, motion);
+    }
+
+    /// [`Driver::assemble`]; or, for [`Motion::Explicit`], the forces alone
+    /// at the trial: no inertia, no matrix, dashpots on the start
+    /// velocities.
+    pub(super) fn load(
+        &mut self,
+        dt: f64,
+        masses: &[BlockMatrix<N>],
+        trial: &Trial<T>,
+        residual: &mut [f64],
+        mut couplings: Option<&mut Vec<FrictionCoupling<N>>>,
+        motion: Motion<'_>,
+    ) {
+        let started = Instant::now();
+        let (implicit, tangent, approach) = match motion {
+            Motion::Tangent => (true, true, None),
+            Motion::Implicit => (true, false, None),
+            Motion::Explicit(approach) => (false, false, Some(approach)),
+        };
+        // Where the dashpots read the blocks' motion in the step.
+        let moving = approach.unwrap_or(&trial.d);
+        let mut matrix = std::mem::take(&mut self.matrix);
+        if tangent {
+            matrix.clear();
+        }
+        residual.fill(0.0);
+        let end = self.time + dt;
+        let ratio = self.settings.velocity_ratio;
+        let alpha = self.settings.mass_damping;
+        let (system, velocity, struck_early) = (&self.system, &self.velocity, &self.struck_early);
+        let own_terms = |i: usize, m: &BlockMatrix<N>| {
+            let d = block(&trial.d, i);
+            let (mut k, mut r) = if implicit {
+                let v0 = velocity[i] * ratio + struck_early[i];
+                // Inertia of Newmark β = 1/2, γ = 1: a = 2(d − v0·dt)/dt²,
+                // and mass-proportional damping −αM·v with v = 2d/dt − v0.
+                (
+                    m * (2.0 / (dt * dt) + 2.0 * alpha / dt),
+                    m * (v0 * (2.0 / dt + alpha) - d * (2.0 / (dt * dt) + 2.0 * alpha / dt)),
+                )
+            } else {
+                (BlockMatrix::<N>::zeros(), BlockVector::<N>::zeros())
+            };
+            system.block_terms(i, end, &d, &mut k, &mut r);
+            (k, r)
+        };
+        // With the contacts of each block at hand (within a pass), the
+        // residual and the matrix are gathered block by block (and the
+        // matrix's off-diagonal blocks pair by pair) on every core; each
+        // sum is made in the same order as below, so the two agree to the
+        // last bit.
+        let gather = couplings.is_none() && self.touching.is_filled() && !self.one_thread_assembly;
+        if gather {
+            let parts = matrix.split_blocks(residual);
+            let (diagonal, _, _) = matrix.blocks_mut();
+            (diagonal.par_iter_mut().zip(parts))
+                .with_min_len(BLOCKS_PER_TASK)
+                .enumerate()
+                .for_each(|(i, (diagonal, part))| {
+                    let (k, r) = own_terms(i, &masses[i]);
+                    if tangent {
+                        *diagonal += k;
+                    }
+                    part.iter_mut().zip(r.iter()).for_each(|(x, r)| *x += r);
+                });
+        } else {
+            for (i, m) in masses.iter().enumerate() {
+                let (k, r) = own_terms(i, m);
+                if tangent {
+                    matrix.add(i, i, &k);
+                }
+                matrix.add_block(residual, i, &r);
+            }
+        }
+        for support in &self.supports {
+            // A dashpot beside each fixed point's spring, as beside a
+            // contact's: a supporting block does not ring on its springs.
+            let (i, g) = (support.block, &support.row);
+            let zero = BlockVector::<N>::zeros();
+            let c = self.terms().dashpot(i, i, &[*g, zero], support.stiffness);
+            let moved = g.dot(&block(moving, i)) - support.target_step;
+            if tangent {
+                matrix.add(i, i, &(g * g.transpose() * (c / dt)));
+            }
+            matrix.add_block(residual, i, &(g * (-c * moved / dt)));
+        }
+        let couple = couplings.is_some();
+        let mut loads = std::mem::take(&mut self.contact_loads);
+        let terms = self.terms();
+        (0..self.contacts.len())
+            .into_par_iter()
+            .with_min_len(CONTACTS_PER_TASK)
+            .map(|i| terms.load(i, trial, dt, moving, couple))
+            .collect_into_vec(&mut loads);
+        if gather {
+            let (contacts, touching, active) = (&self.contacts, &self.touching, &self.active);
+            let entrance = |i: usize| match active.get(i) {
+                Some(entrance) => entrance,
+                None => &contacts[i].entrances[trial.entrances[i]],
+            };
+            let (pairs, of_pair) = if tangent {
+                contacts_by_slot(&loads, &self.slots, matrix.pairs().len())
+            } else {
+                (Vec::new(), Vec::new())
+            };
+            let parts = matrix.split_blocks(residual);
+            let (diagonal, lower, dofs) = matrix.blocks_mut();
+            (diagonal.par_iter_mut().zip(parts))
+                .with_min_len(BLOCKS_PER_TASK)
+                .enumerate()
+                .for_each(|(x, (diagonal, part))| {
+                    for &i in touching.of(x) {
+                        if let Some(load) = &loads[i] {
+                            let side = usize::from(contacts[i].blocks[0] != x);
+                            if tangent {
+                                let n = dofs[x];
+                                spring_terms(load, entrance(i), |g, h, k| {
+                                    add_outer_into(diagonal, (n, n), &g[side], &h[side], k, false);
+                                });
+                            }
+                            let force = &load.force[side];
+                            part.iter_mut().zip(force.iter()).for_each(|(p, f)| *p += f);
+                        }
+                    }
+                });
+            if tangent {
+                (lower.par_iter_mut())
+                    .with_min_len(BLOCKS_PER_TASK)
+                    .enumerate()
+                    .for_each(|(s, block)| {
+                        for &i in &of_pair[pairs[s]..pairs[s + 1]] {
+                            let load = loads[i].as_ref().expect("listed with a load");
+                            let [a, b] = contacts[i].blocks;
+                            spring_terms(load, entrance(i), |g, h, k| {
+                                add_outer_into(block, (dofs[a], dofs[b]), &g[0], &h[1], k, a < b);
+                            });
+                        }
+                    });
+            }
+            self.contact_loads = loads;
+            self.matrix = matrix;
+            self.stats.times.assembly += started.elapsed();
+            return;
+        }
+        for (i, load) in loads.iter().enumerate() {
+            let Some(load) = load else {
+                continue;
+            };
+            let c = &self.contacts[i];
+            let [a, b] = c.blocks;
+            let entrance = match self.active.get(i) {
+                Some(entrance) => entrance,
+                None => &c.entrances[trial.entrances[i]],
+            };
+            let [na, nb] = &entrance.normal;
+            if tangent {
+                let slot = self.slots[i].expect("closed contacts are in the pattern");
+                spring_terms(load, entrance, |g, h, k| {
+                    add_coupling(&mut matrix, slot, a, b, (&g[0], &g[1]), (&h[0], &h[1]), k);
+                });
+            }
+            if let (Some(couplings), true) = (couplings.as_deref_mut(), load.slope != 0.0) {
+                let mut u = [BlockVector::<N>::zeros(), BlockVector::<N>::zeros()];
+                for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
+                    u[0] += ta * load.direction[k];
+                    u[1] += tb * load.direction[k];
+                }
+                couplings.push(FrictionCoupling {
+                    blocks: [a, b],
+                    u,
+                    v: [*na, *nb],
+                    slope: load.slope,
+                });
+            }
+            matrix.add_block(residual, a, &load.force[0]);
+            matrix.add_block(residual, b, &load.force[1]);
+        }
+        self.contact_loads = loads;
+        self.matrix = matrix;
+        self.stats.times.assembly += started.elapsed();
+    }
+}
+
+/// The loaded contacts of each of `count` off-diagonal blocks (by their
+/// `slots`), in contact order: where each block's contacts start in the
+/// list, then the list.
+fn contacts_by_slot<L>(
+    loads: &[Option<L>],
+    slots: &[Option<usize>],
+    count: usize,
+) -> (Vec<usize>, Vec<usize>) {
+    let loaded = || (0..loads.len()).filter(|&i| loads[i].is_some());
+    let slot = |i: usize| slots[i].expect("closed contacts are in the pattern");
+    let mut starts = vec![0; count + 1];
+    for i in loaded() {
+        starts[slot(i) + 1] += 1;
+    }
+    for s in 1..starts.len() {
+        starts[s] += starts[s - 1];
+    }
+    let mut at = starts.clone();
+    let mut list = vec![0; starts[count]];
+    for i in loaded() {
+        list[at[slot(i)]] = i;
+        at[slot(i)] += 1;
+    }
+    (starts, list)
+}
+
+/// A contact's springs as terms k·g·hᵀ over its two blocks' rows (g = [ga,
+/// gb]), in the order the matrix adds them: the normal spring, each shear
+/// spring, then the turning of a sliding contact's friction (3D). Terms of
+/// no stiffness are left out.
+fn spring_terms<const N: usize, const T: usize>(
+    load: &ContactLoad<N, T>,
+    entrance: &Entrance<N, T>,
+    mut term: impl FnMut(&[BlockVector<N>; 2], &[BlockVector<N>; 2], f64),
+) {
+    let mut add = |g: &[BlockVector<N>; 2], h: &[BlockVector<N>; 2], k: f64| {
+        if k != 0.0 {
+            term(g, h, k);
+        }
+    };
+    add(&entrance.normal, &entrance.normal, load.normal_stiffness);
+    for (k, rows) in entrance.tangents.iter().enumerate() {
+        add(rows, rows, load.shear_stiffness[k]);
+    }
+    if load.turning != 0.0 {
+        let direction = &load.direction;
+        for (k, gk) in entrance.tangents.iter().enumerate() {
+            for (l, gl) in entrance.tangents.iter().enumerate() {
+                let identity = if k == l { 1.0 } else { 0.0 };
+                let projector = identity - direction[k] * direction[l];
+                add(gk, gl, load.turning * projector);
+            }
+        }
+    }
+}
+
+/// Adds k·g·hᵀ with g = (ga, gb) and h = (ha, hb); called for (g, h) and
+/// (h, g) with the same k, the sum is symmetric.
+fn add_coupling<const N: usize>(
+    matrix: &mut BlockSparse<N>,
+    slot: usize,
+    a: usize,
+    b: usize,
+    (ga, gb): (&BlockVector<N>, &BlockVector<N>),
+    (ha, hb): (&BlockVector<N>, &BlockVector<N>),
+    k: f64,
+) {
+    if k == 0.0 {
+        return;
+    }
+    matrix.add_outer(slot, a, a, ga, ha, k);
+    matrix.add_outer(slot, b, b, gb, hb, k);
+    matrix.add_outer(slot, a, b, ga, hb, k);
+}

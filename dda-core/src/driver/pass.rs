@@ -1,0 +1,466 @@
+//! One open-close pass: Newton-Raphson on the step's residual with the
+//! contact states held, on the symmetric tangent (explicit friction, mixed
+//! by Anderson, on a kept factor where it carries the iteration), then, if
+//! that does not converge, on the whole tangent.
+
+use std::time::Instant;
+
+use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+
+use super::anderson::Anderson;
+use super::{gmres, Driver, Trial, CONTACTS_PER_TASK};
+use crate::contact::ContactState;
+use crate::contacts::BlockVector;
+use crate::error::DdaError;
+use crate::system::{BlockMatrix, BlockSystem};
+
+/// Couplings (sliding contacts) up to this many are applied by the
+/// Sherman-Morrison-Woodbury formula, one back-substitution each; more, by
+/// GMRES on the symmetric factor (`driver/gmres.rs`), one a product.
+const SMW_COUPLINGS: usize = 64;
+
+/// A step's first pass starts on the last step's factor where its matrix
+/// changed by at most this share of its largest value. A rigid wall's
+/// matrix changes by a spring or two a step (1.5e-4 of its largest value
+/// on the 20 × 20 wall at its automatic step): a change of low rank, which
+/// the mixed moves on the old factor remove, where a new factor of the
+/// step's start served no better (at 1e-4 that wall factorised 95 times in
+/// its first simulated second, with 345 moves; at 1e-3, 8 times with 284).
+/// Where the old factor falls short, `STALE_FACTOR_MOVES` gives it up. A
+/// large factor has its own limit, `LARGE_FACTOR_DRIFT`.
+const FACTOR_DRIFT: f64 = 1e-3;
+
+/// A step's first pass that started on an earlier step's factor and needed
+/// more moves than this without a new one gives that factor up: the next
+/// step factorises afresh. A change spread over the whole matrix (a
+/// deformable wall's stresses as it settles) leaves the old factor a slow
+/// one: kept for every later step, it cost the 20 × 20 deformable wall
+/// 242 moves instead of 127 over its first 0.3 s.
+const STALE_FACTOR_MOVES: usize = 5;
+
+/// `FACTOR_DRIFT` for a factor of `LARGE_FACTOR_ENTRIES` or more, which
+/// costs eight to ten moves and is kept through slower ones: there a
+/// looser limit only kept slow factors longer (the 40 × 40 deformable
+/// wall's simulated second: 510 moves and 20 factorisations at 1e-4, 790
+/// and 24 at 1e-3), so such factors keep the limit they had, and are not
+/// given up after `STALE_FACTOR_MOVES` (the 10,051-block walls take seven
+/// moves a step on the last step's factor; giving it up after five made
+/// the rigid one's step 95 → 165 ms).
+const LARGE_FACTOR_DRIFT: f64 = 1e-4;
+
+/// ... and by more than this: a matrix that changed only by round-off (a
+/// free block's, turning) is factorised again, so its linear step is
+/// solved to round-off as before; on the old factor each step kept an
+/// error of the change's size, and a cube spinning for 6,283 steps ended
+/// 1.4e-12 off its spin.
+const FACTOR_ROUND_OFF: f64 = 1e-12;
+
+/// With more sliding contacts than `SMW_COUPLINGS`, moves on fresh factors
+/// that raise the residual this many times in a row end the symmetric
+/// iteration, and the whole tangent takes over: there the symmetric one
+/// climbs on to the iteration limit (a wall at a fine contact tolerance
+/// spent 25 iterations and factorisations on each such pass). With fewer,
+/// it runs to the limit, since its best iterate starts the whole-tangent
+/// iteration, which on a wedge at its friction limit failed from an
+/// earlier one.
+const RISES_BEFORE_WHOLE_TANGENT: usize = 3;
+
+/// The most halvings of a coupled Newton-Raphson step.
+const LINE_SEARCH_HALVINGS: usize = 12;
+
+/// The largest share of the last residual that a Newton-Raphson move made
+/// with an earlier iterate's factor may leave for the factor to be kept: a
+/// factor costs several residual assemblies and solves, and between the
+/// iterates of one pass the tangent changes only where a contact reaches
+/// its strength. 0.3 kept one factor a pass on the 40 × 40 wall (0.1 took
+/// two).
+const KEPT_FACTOR_CONTRACTION: f64 = 0.3;
+
+/// The same share for a factor of at least `LARGE_FACTOR_ENTRIES` entries,
+/// which costs eight to ten moves (12 ms against 1.5 on the 40 × 40
+/// deformable wall, 155 against 20 at 100 × 100): a kept factor that
+/// contracts by 0.6 a move converges in fewer moves than that would buy.
+/// Over the first ten steps at dt 1 ms, the 100 × 100 deformable wall
+/// went from 0.8 factorisations and 6.9 moves a step to none and 7.8.
+const KEPT_LARGE_FACTOR_CONTRACTION: f64 = 0.6;
+
+/// Factor entries from which `KEPT_LARGE_FACTOR_CONTRACTION` applies: the
+/// 40 × 40 deformable wall (1.3 million) and larger. Below it (the 40 × 40
+/// rigid wall, 0.25 million) a factorisation costs two or three moves.
+const LARGE_FACTOR_ENTRIES: usize = 1 << 20;
+
+/// How a sliding contact's friction force changes with its normal gap:
+/// the tangent gains `slope`·u·vᵀ, u the friction's rows along the slip
+/// direction, v the gap's rows, on blocks `blocks`.
+pub(super) struct FrictionCoupling<const N: usize> {
+    pub(super) blocks: [usize; 2],
+    pub(super) u: [BlockVector<N>; 2],
+    pub(super) v: [BlockVector<N>; 2],
+    pub(super) slope: f64,
+}
+
+impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
+    /// Newton-Raphson on the step's residual with the contact states fixed.
+    ///
+    /// The symmetric tangent leaves out how a sliding contact's friction
+    /// grows with its normal force; where springs are stiff against the
+    /// blocks' inertia (large steps, stiff penalties) that iteration does
+    /// not converge, and the step is solved again from its best iterate
+    /// with the whole tangent.
+    pub(super) fn newton(
+        &mut self,
+        dt: f64,
+        masses: &[BlockMatrix<N>],
+        trial: &mut Trial<T>,
+    ) -> Result<(), DdaError> {
+        self.cover_closed(&trial.states);
+        // The entrances stay put until the pass's decision: its iterations
+        // read them side by side, not each through its contact (at ten
+        // thousand blocks, that pointer chase was a third of an assembly).
+        let copying = Instant::now();
+        self.active.clear();
+        self.active.par_extend(
+            (self.contacts.par_iter())
+                .zip(&trial.entrances)
+                .with_min_len(CONTACTS_PER_TASK)
+                .map(|(c, &e)| c.entrances[e].clone()),
+        );
+        self.touching
+            .fill(self.system.block_count(), &self.contacts);
+        self.stats.times.assembly += copying.elapsed();
+        let solved = self.solve_pass(dt, masses, trial);
+        self.active.clear();
+        self.touching.clear();
+        solved
+    }
+
+    /// The pass's iterations: on the symmetric tangent, then, if those do
+    /// not converge and few contacts slide, on the whole one.
+    fn solve_pass(
+        &mut self,
+        dt: f64,
+        masses: &[BlockMatrix<N>],
+        trial: &mut Trial<T>,
+    ) -> Result<(), DdaError> {
+        let sliding = (trial.states.iter())
+            .filter(|s| **s == ContactState::Sliding)
+            .count();
+        let hand_over = sliding > SMW_COUPLINGS;
+        if self.iterate(dt, masses, trial, false, hand_over)? {
+            return Ok(());
+        }
+        if sliding > 0 && self.iterate(dt, masses, trial, true, false)? {
+            self.stats.coupled_solves += 1;
+            return Ok(());
+        }
+        self.stats.newton_failures += 1;
+        Ok(())
+    }
+
+    /// Newton-Raphson iterations from `trial.d`; with `coupled`, the
+    /// tangent includes friction's dependence on the normal gap (a rank-one
+    /// term per sliding contact, solved by the Sherman-Morrison-Woodbury
+    /// formula on the symmetric factor). Returns whether it converged;
+    /// otherwise `trial.d` is left at the iterate with the smallest
+    /// residual (the first one is Shi's explicit-friction solution).
+    fn iterate(
+        &mut self,
+        dt: f64,
+        masses: &[BlockMatrix<N>],
+        trial: &mut Trial<T>,
+        coupled: bool,
+        hand_over: bool,
+    ) -> Result<bool, DdaError> {
+        let mut first = 0.0;
+        let mut residual = vec![0.0; self.matrix.dim()];
+        let mut couplings = Vec::new();
+        let mut best = (f64::INFINITY, trial.d.clone());
+        let mut anderson = Anderson::default();
+        let mut last = f64::INFINITY;
+        // Whether the pass has a factor to move on; whether the last move
+        // was made with an earlier iterate's factor; and whether the pass
+        // still keeps factors. A step's first pass starts on the last
+        // step's factor while the pattern stands and its matrix has barely
+        // changed (`factor_fits`): with the same springs it carries the
+        // iteration, and the test of a kept factor below refreshes it where
+        // it does not (a checkpoint keeps its values, so a resumed run
+        // starts on the same one). A later pass starts on its
+        // own: the springs that came or went drive its first residual, and
+        // an earlier pass's factor left 98-107 % of it.
+        let mut factored =
+            !coupled && trial.load_scale == 0.0 && self.analysed && self.factored.is_some();
+        let mut kept = false;
+        let mut keeping = true;
+        let (give_way, stale, drift) = if self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES {
+            (
+                KEPT_LARGE_FACTOR_CONTRACTION,
+                usize::MAX,
+                LARGE_FACTOR_DRIFT,
+            )
+        } else {
+            (KEPT_FACTOR_CONTRACTION, STALE_FACTOR_MOVES, FACTOR_DRIFT)
+        };
+        let mut rises = 0;
+        let mut moves = 0;
+        // Whether the pass runs on an earlier step's factor (until it
+        // factorises anew).
+        let mut carried = false;
+        for iteration in 0..=self.settings.newton_limit {
+            couplings.clear();
+            // The tangent is assembled where a new factor is sure to be
+            // needed, and at a pass's start to weigh the last step's factor
+            // against it; elsewhere only if the kept one falls short.
+            let tangent = coupled || !keeping || !factored || iteration == 0;
+            self.assemble(
+                dt,
+                masses,
+                trial,
+                &mut residual,
+                coupled.then_some(&mut couplings),
+                tangent,
+            );
+            if iteration == 0 && factored {
+                factored = self.factor_fits(drift);
+                carried = factored;
+            }
+            if residual.iter().any(|v| !v.is_finite()) {
+                return Err(DdaError::NotFinite {
+                    time: self.time + dt,
+                });
+            }
+            let norm = residual.iter().map(|r| r * r).sum::<f64>().sqrt();
+            if iteration == 0 {
+                // A later pass starts from the last one's solution, so its
+                // residual is only what the changed states add: measured
+                // against that alone, it would be solved to many more
+                // digits than the step's first pass was.
+                trial.load_scale = trial.load_scale.max(norm);
+                first = trial.load_scale;
+            }
+            if norm < best.0 {
+                best.0 = norm;
+                best.1.clone_from(&trial.d);
+            }
+            let converged = iteration > 0 && norm <= self.settings.residual_tolerance * first;
+            rises = if !kept && norm > last { rises + 1 } else { 0 };
+            let diverging = !kept
+                && (norm > 1e3 * best.0 || (hand_over && rises >= RISES_BEFORE_WHOLE_TANGENT));
+            if converged || diverging || iteration == self.settings.newton_limit {
+                if carried && moves > stale {
+                    self.factored = None;
+                }
+                if !converged {
+                    trial.d = best.1;
+                }
+                return Ok(converged);
+            }
+            // A kept factor that does not carry the iteration (a contact's
+            // force reached or left its strength) gives way to this
+            // iterate's own tangent, and so does every later one of the
+            // pass: where the tangent changes from one iterate to the next,
+            // moves on an old one only spend the iteration limit. A kept
+            // factor's move that raised the residual is undone: the next
+            // move is Newton's from the best iterate.
+            if kept && norm > give_way * last {
+                // An earlier step's factor is replaced once, by this
+                // iterate's; the pass's own falls short only where the
+                // tangent changes from one iterate to the next.
+                if carried {
+                    factored = false;
+                } else {
+                    keeping = false;
+                }
+                if norm > last {
+                    trial.d.clone_from(&best.1);
+                    kept = false;
+                    last = best.0;
+                    anderson.restart();
+                    continue;
+                }
+            }
+            let refresh = coupled || !keeping || !factored;
+            if norm > last || (kept && refresh) {
+                // A mixed move that did not lower the residual (a contact
+                // crossed its strength), or a new factor: mix again from
+                // here.
+                anderson.restart();
+            }
+            last = norm;
+            self.stats.newton_iterations += 1;
+            if refresh {
+                if !tangent {
+                    self.assemble(dt, masses, trial, &mut residual, None, true);
+                }
+                self.factorize()?;
+                carried = false;
+                factored = true;
+            }
+            kept = !refresh;
+            let solving = Instant::now();
+            // A pass's first move is solved exactly: where the equations
+            // are linear it is the answer. Later ones correct an iterate of
+            // a tangent that is itself approximate (explicit friction, a
+            // kept factor), so single precision costs them nothing.
+            if coupled || moves == 0 {
+                self.solver.solve(&mut residual);
+            } else {
+                self.solver.solve_correction(&mut residual);
+            }
+            moves += 1;
+            if !couplings.is_empty() {
+                self.correct(&couplings, &mut residual);
+            }
+            self.stats.times.solve += solving.elapsed();
+            self.stats.count_solves(self.solver.take_counts());
+            // Convergence is read off the Newton move itself: a mixed or
+            // shortened move can be tiny where the residual is not.
+            let newton_move = residual.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
+            if !coupled {
+                anderson.mix(&mut residual);
+            }
+            if !couplings.is_empty() {
+                // The friction's direction turns fast with the stretch, so
+                // a full step can overshoot: halve it until the residual
+                // falls (the exact tangent makes the step a descent one).
+                let step = std::mem::take(&mut residual);
+                let start = trial.d.clone();
+                let mut scale = 1.0;
+                let mut probe = vec![0.0; step.len()];
+                for _ in 0..LINE_SEARCH_HALVINGS {
+                    for (i, (d, d0)) in trial
+                        .d
+                        .chunks_exact_mut(N)
+                        .zip(start.chunks_exact(N))
+                        .enumerate()
+                    {
+                        let dd = self.matrix.block(&step, i);
+                        for ((d, d0), dd) in d.iter_mut().zip(d0).zip(dd.iter()) {
+                            *d = d0 + scale * dd;
+                        }
+                    }
+                    self.assemble(dt, masses, trial, &mut probe, None, false);
+                    let trial_norm = probe.iter().map(|r| r * r).sum::<f64>().sqrt();
+                    if trial_norm < (1.0 - 1e-4 * scale) * norm {
+                        break;
+                    }
+                    scale *= 0.5;
+                }
+                trial.d = start;
+                residual = step.iter().map(|dd| dd * scale).collect();
+            }
+            let mut largest: f64 = 0.0;
+            for (i, d) in trial.d.chunks_exact_mut(N).enumerate() {
+                for (d, dd) in d.iter_mut().zip(self.matrix.block(&residual, i).iter()) {
+                    *d += dd;
+                    largest = largest.max(dd.abs());
+                }
+            }
+            if !largest.is_finite() {
+                return Err(DdaError::NotFinite {
+                    time: self.time + dt,
+                });
+            }
+            // A kept factor stiffer than the tangent makes short moves
+            // that are no sign of convergence.
+            if !kept && newton_move <= self.settings.increment_tolerance * self.length_scale {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
+    /// Turns `y = K⁻¹r` (K the symmetric tangent) into the solution with
+    /// K + Σ sⱼ uⱼvⱼᵀ: x = y − Z (I + S VᵀZ)⁻¹ S Vᵀy, with Z = K⁻¹U; beyond
+    /// `SMW_COUPLINGS` couplings, by GMRES on x + K⁻¹U S Vᵀx = y.
+    fn correct(&self, couplings: &[FrictionCoupling<N>], y: &mut [f64]) {
+        let m = couplings.len();
+        let size = y.len();
+        let dot = |c: &FrictionCoupling<N>, x: &[f64]| {
+            c.v[0].dot(&self.matrix.block(x, c.blocks[0]))
+                + c.v[1].dot(&self.matrix.block(x, c.blocks[1]))
+        };
+        if m > SMW_COUPLINGS {
+            // x + K⁻¹Σ sⱼuⱼ(vⱼᵀx) = y, from x = y.
+            let apply = |v: &[f64], out: &mut [f64]| {
+                out.iter_mut().for_each(|o| *o = 0.0);
+                for c in couplings {
+                    let w = c.slope * dot(c, v);
+                    self.matrix.add_block(out, c.blocks[0], &(c.u[0] * w));
+                    self.matrix.add_block(out, c.blocks[1], &(c.u[1] * w));
+                }
+                self.solver.solve(out);
+                for (o, v) in out.iter_mut().zip(v) {
+                    *o += v;
+                }
+            };
+            let rhs = y.to_vec();
+            gmres::gmres(apply, &rhs, y, 1e-6, 60);
+            return;
+        }
+        let z: Vec<Vec<f64>> = couplings
+            .iter()
+            .map(|c| {
+                let mut u = vec![0.0; size];
+                self.matrix.add_block(&mut u, c.blocks[0], &c.u[0]);
+                self.matrix.add_block(&mut u, c.blocks[1], &c.u[1]);
+                self.solver.solve(&mut u);
+                u
+            })
+            .collect();
+        let system = DMatrix::from_fn(m, m, |i, j| {
+            let identity = if i == j { 1.0 } else { 0.0 };
+            identity + couplings[i].slope * dot(&couplings[i], &z[j])
+        });
+        let rhs = DVector::from_fn(m, |i, _| couplings[i].slope * dot(&couplings[i], y));
+        let Some(c) = system.lu().solve(&rhs) else {
+            return;
+        };
+        for (zj, cj) in z.iter().zip(c.iter()) {
+            for (yi, zi) in y.iter_mut().zip(zj) {
+                *yi -= cj * zi;
+            }
+        }
+    }
+
+    /// Whether the step may start on the last factor: its matrix changed
+    /// (largest change against largest value) by more than round-off and
+    /// at most `drift` (`FACTOR_DRIFT`, or `LARGE_FACTOR_DRIFT` for a large
+    /// factor) from the one just assembled.
+    fn factor_fits(&mut self, drift: f64) -> bool {
+        self.matrix.values_into(&mut self.values);
+        let Some(old) = &self.factored else {
+            return false;
+        };
+        let scale = old.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let change = (old.iter().zip(&self.values)).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        change > FACTOR_ROUND_OFF * scale && change <= drift * scale
+    }
+
+    /// Factorizes the assembled matrix unless its values are unchanged.
+    fn factorize(&mut self) -> Result<(), DdaError> {
+        self.matrix.values_into(&mut self.values);
+        if self.values.iter().any(|v| !v.is_finite()) {
+            return Err(DdaError::NotFinite { time: self.time });
+        }
+        if !self.analysed {
+            let started = Instant::now();
+            self.solver.analyse(&self.matrix.pattern())?;
+            self.analysed = true;
+            self.factored = None;
+            self.stats.symbolic_analyses += 1;
+            self.stats.times.symbolic += started.elapsed();
+        }
+        if self.factored.as_ref() != Some(&self.values) {
+            let started = Instant::now();
+            self.solver.factorize(&self.values)?;
+            self.stats.times.numeric += started.elapsed();
+            self.stats.factorizations += 1;
+            // The factored values swap places with the buffer the next
+            // assembly fills: no copy, no allocation.
+            let spare = self.factored.take().unwrap_or_default();
+            self.factored = Some(std::mem::replace(&mut self.values, spare));
+        }
+        Ok(())
+    }
+}
