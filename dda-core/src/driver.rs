@@ -28,7 +28,6 @@ use crate::solve::{solver_for, LinearSolver};
 use crate::statistics::CYCLES_KEPT;
 pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
-use pattern::{PATTERN_REACH_MOTION, PATTERN_REACH_SHARE};
 use predict::RecentSteps;
 use terms::{ContactLoad, ContactTerms, Decision, Kept};
 use touching::Touching;
@@ -265,7 +264,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let dofs = (0..blocks).map(|i| system.dofs(i)).collect();
         let block_size = system.block_size();
         let solver = solver_for(settings.solver);
-        Ok(Self {
+        let mut driver = Self {
             velocity: vec![BlockVector::<N>::zeros(); blocks],
             matrix: BlockSparse::new(dofs, []),
             system,
@@ -283,7 +282,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             kept: Vec::new(),
             slots: Vec::new(),
             one_thread_assembly: false,
-            pattern_reach: PATTERN_REACH_SHARE * block_size,
+            pattern_reach: 0.0,
             last_moved: 0.0,
             block_size,
             inverse_masses: Vec::new(),
@@ -307,8 +306,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             half_velocity: Vec::new(),
             block_rates: Vec::new(),
             recent: RecentSteps::default(),
-        }
-        .explained())
+        };
+        driver.reach_pattern(0.0);
+        Ok(driver.explained())
     }
 
     /// Replaces the linear solver.
@@ -512,8 +512,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.commit(trial, dt);
         self.stats.times.commit += committing.elapsed();
         self.last_moved = moved_by;
-        self.pattern_reach =
-            (PATTERN_REACH_MOTION * moved_by).max(PATTERN_REACH_SHARE * self.block_size);
+        self.reach_pattern(moved_by);
         if let Some(cap) = self.dt_cap {
             // The automatic step: as long as keeps the motion per step
             // within its share of the block size, never above the ceiling.

@@ -15,18 +15,26 @@ use crate::system::BlockSystem;
 
 /// The least reach of the matrix pattern, as a share of the median block
 /// size: open contacts this near enter the pattern whatever the motion.
-pub(super) const PATTERN_REACH_SHARE: f64 = 0.05;
+const PATTERN_REACH_SHARE: f64 = 0.05;
 
 /// How many times the last step's largest displacement an open contact's
 /// gap may be and still enter the pattern (both blocks may move toward each
 /// other, and the next step may be faster).
-pub(super) const PATTERN_REACH_MOTION: f64 = 4.0;
+const PATTERN_REACH_MOTION: f64 = 4.0;
 
 /// Block pairs a narrow-phase task takes at least: fewer would cost more
 /// in scheduling than they save.
 const PAIRS_PER_TASK: usize = 64;
 
 impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
+    /// The pattern's reach for the next step, after one whose largest
+    /// displacement was `moved` (m): `PATTERN_REACH_MOTION` times it, at
+    /// least `PATTERN_REACH_SHARE` of the median block size.
+    pub(super) fn reach_pattern(&mut self, moved: f64) {
+        self.pattern_reach =
+            (PATTERN_REACH_MOTION * moved).max(PATTERN_REACH_SHARE * self.block_size);
+    }
+
     /// Finds the contacts within `range` (broad and narrow phase) and moves
     /// the last step's records onto them.
     pub(super) fn search(&mut self, range: f64) {
