@@ -286,8 +286,9 @@ fn a_wall_runs_for_simulated_time_with_automatic_dt() {
     let work = &r.per_step;
     assert!(work.passes_per_step >= 1.0, "{work:?}");
     assert!(work.newton_per_step >= work.passes_per_step, "{work:?}");
-    assert_eq!(work.phase_ms_per_step.len(), 9, "{work:?}");
+    assert_eq!(work.phase_ms_per_step.len(), 10, "{work:?}");
     assert_eq!(work.phase_ms_per_step[3].0, "assembly");
+    assert_eq!(work.phase_ms_per_step[9].0, "other");
     let phases: f64 = work.phase_ms_per_step.iter().map(|(_, ms)| ms).sum();
     assert!(
         phases > 0.0 && phases <= r.ms_per_step,

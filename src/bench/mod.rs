@@ -14,7 +14,7 @@ pub mod simulate;
 pub mod study;
 pub mod walls;
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
@@ -90,7 +90,9 @@ pub struct PerStep {
     pub newton_per_step: f64,
     pub factorizations_per_step: f64,
     pub analyses_per_step: f64,
-    /// Milliseconds per step in each phase, in step order.
+    /// Milliseconds per step in each phase, in step order, then `other`:
+    /// the rest of the driver's step (each attempt's setup, the checks of
+    /// its motion and penetration, impacts), so the phases add up to it.
     pub phase_ms_per_step: Vec<(String, f64)>,
 }
 
@@ -104,11 +106,21 @@ impl PerStep {
             newton_per_step: per_step(stats.newton_iterations),
             factorizations_per_step: per_step(stats.factorizations),
             analyses_per_step: per_step(stats.symbolic_analyses),
-            phase_ms_per_step: (stats.times.phases().iter())
-                .map(|(name, t)| (name.to_string(), t.as_secs_f64() * 1e3 / steps))
-                .collect(),
+            phase_ms_per_step: phase_ms_per_step(stats, steps),
         }
     }
+}
+
+/// Milliseconds per step in each phase of `stats`, then the rest of its
+/// steps' wall time.
+fn phase_ms_per_step(stats: &Statistics, steps: f64) -> Vec<(String, f64)> {
+    let ms = |t: Duration| t.as_secs_f64() * 1e3 / steps;
+    let mut phases: Vec<(String, f64)> = (stats.times.phases().iter())
+        .map(|(name, t)| (name.to_string(), ms(*t)))
+        .collect();
+    let named: f64 = phases.iter().map(|(_, ms)| ms).sum();
+    phases.push(("other".to_string(), (ms(stats.wall_time) - named).max(0.0)));
+    phases
 }
 
 impl BenchRow {
@@ -228,6 +240,7 @@ fn difference(after: &Statistics, before: &Statistics) -> Statistics {
         penetration_cuts: after.penetration_cuts - before.penetration_cuts,
         unconverged_steps: after.unconverged_steps - before.unconverged_steps,
         times: after.times.since(&before.times),
+        wall_time: after.wall_time.saturating_sub(before.wall_time),
         iterative_solves: after.iterative_solves - before.iterative_solves,
         iterative_iterations: after.iterative_iterations - before.iterative_iterations,
         iterative_fallbacks: after.iterative_fallbacks - before.iterative_fallbacks,
@@ -310,4 +323,36 @@ fn bench_one(
             / stats.iterative_solves.max(1) as f64,
         solver_fallbacks: stats.iterative_fallbacks,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Timed steps' statistics keep their own wall time, and the phases
+    /// with `other` add up to it: 2 steps in 10 ms, 4 ms of them named.
+    #[test]
+    fn the_phases_and_the_rest_add_up_to_the_timed_steps() {
+        let ms = Duration::from_millis;
+        let before = Statistics {
+            steps: 1,
+            wall_time: ms(3),
+            ..Statistics::default()
+        };
+        let mut after = Statistics {
+            steps: 3,
+            wall_time: ms(13),
+            ..Statistics::default()
+        };
+        after.times.assembly = ms(3);
+        after.times.solve = ms(1);
+        let timed = difference(&after, &before);
+        assert_eq!(timed.wall_time, ms(10));
+        let phases = PerStep::of(&timed).phase_ms_per_step;
+        assert_eq!(phases.len(), 10);
+        assert_eq!(phases[9].0, "other");
+        assert!((phases[9].1 - 3.0).abs() < 1e-12, "{phases:?}");
+        let sum: f64 = phases.iter().map(|(_, ms)| ms).sum();
+        assert!((sum - 5.0).abs() < 1e-12, "{phases:?}");
+    }
 }
