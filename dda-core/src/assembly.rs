@@ -9,6 +9,8 @@
 //! contacts can close in the step, kept with hysteresis, so the solver's
 //! symbolic analysis is reused across passes and steps.
 
+use rayon::prelude::*;
+
 use crate::contacts::BlockVector;
 use crate::system::BlockMatrix;
 
@@ -45,6 +47,10 @@ pub fn add_outer_into<const N: usize>(
         }
     }
 }
+
+/// Column blocks a task of [`BlockSparse::values_into`] fills at least:
+/// fewer would cost more in scheduling than they save.
+const BLOCKS_PER_TASK: usize = 128;
 
 /// The lower triangle of a symmetric block-sparse matrix.
 #[derive(Debug, Clone, Default)]
@@ -255,24 +261,46 @@ impl<const N: usize> BlockSparse<N> {
         }
     }
 
-    /// Values in the order of [`BlockSparse::pattern`].
+    /// Values in the order of [`BlockSparse::pattern`]: column block by
+    /// column block, each filled on any core into its own part (the same
+    /// values in the same places as one thread's; at ten thousand blocks
+    /// one thread took 3.5 ms, once a pass and at every factorisation).
     pub fn values_into(&self, values: &mut Vec<f64>) {
-        values.clear();
         let dofs = &self.dofs;
-        let mut next = 0;
+        // Column block cb holds the lower triangle of its diagonal block,
+        // then, column by column, the rows of its off-diagonal blocks.
+        let mut starts = Vec::with_capacity(self.block_count() + 1);
+        starts.push(0);
         for cb in 0..self.block_count() {
-            let start = next;
-            while next < self.pairs.len() && self.pairs[next].1 == cb {
-                next += 1;
-            }
-            let d = &self.diagonal[cb];
-            for c in 0..dofs[cb] {
-                values.extend((c..dofs[cb]).map(|r| d[(r, c)]));
-                for (m, &(rb, _)) in self.lower[start..next].iter().zip(&self.pairs[start..next]) {
-                    values.extend((0..dofs[rb]).map(|r| m[(r, c)]));
-                }
-            }
+            let n = dofs[cb];
+            let below: usize = (self.pairs[self.columns[cb]..self.columns[cb + 1]].iter())
+                .map(|&(rb, _)| dofs[rb])
+                .sum();
+            starts.push(starts[cb] + n * (n + 1) / 2 + n * below);
         }
+        values.resize(starts[self.block_count()], 0.0);
+        let mut parts = Vec::with_capacity(self.block_count());
+        let mut rest = values.as_mut_slice();
+        for cb in 0..self.block_count() {
+            let (part, tail) = rest.split_at_mut(starts[cb + 1] - starts[cb]);
+            parts.push(part);
+            rest = tail;
+        }
+        (parts.into_par_iter().enumerate())
+            .with_min_len(BLOCKS_PER_TASK)
+            .for_each(|(cb, part)| {
+                let range = self.columns[cb]..self.columns[cb + 1];
+                let (lower, pairs) = (&self.lower[range.clone()], &self.pairs[range]);
+                let d = &self.diagonal[cb];
+                let mut at = part.iter_mut();
+                let mut put = |v: f64| *at.next().expect("sized by the count") = v;
+                for c in 0..dofs[cb] {
+                    (c..dofs[cb]).for_each(|r| put(d[(r, c)]));
+                    for (m, &(rb, _)) in lower.iter().zip(pairs) {
+                        (0..dofs[rb]).for_each(|r| put(m[(r, c)]));
+                    }
+                }
+            });
     }
 
     /// y = A x for the full symmetric matrix on the global vector of kept

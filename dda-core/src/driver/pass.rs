@@ -90,6 +90,9 @@ const KEPT_LARGE_FACTOR_CONTRACTION: f64 = 0.6;
 /// rigid wall, 0.25 million) a factorisation costs two or three moves.
 const LARGE_FACTOR_ENTRIES: usize = 1 << 20;
 
+/// Matrix values a task of `factor_fits` compares at least.
+const VALUES_PER_TASK: usize = 4096;
+
 /// How a sliding contact's friction force changes with its normal gap:
 /// the tangent gains `slope`·u·vᵀ, u the friction's rows along the slip
 /// direction, v the gap's rows, on blocks `blocks`.
@@ -432,8 +435,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let Some(old) = &self.factored else {
             return false;
         };
-        let scale = old.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        let change = (old.iter().zip(&self.values)).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        // On every core: a largest value is the same in any order.
+        let scale = (old.par_iter())
+            .with_min_len(VALUES_PER_TASK)
+            .map(|v| v.abs())
+            .reduce(|| 0.0, f64::max);
+        let change = (old.par_iter().zip(&self.values))
+            .with_min_len(VALUES_PER_TASK)
+            .map(|(a, b)| (a - b).abs())
+            .reduce(|| 0.0, f64::max);
         change > FACTOR_ROUND_OFF * scale && change <= drift * scale
     }
 
