@@ -13,6 +13,7 @@ use rayon::prelude::*;
 
 use crate::contacts::BlockVector;
 use crate::system::BlockMatrix;
+use crate::BLOCKS_PER_TASK;
 
 /// Compressed sparse column pattern of the lower triangle.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -47,10 +48,6 @@ pub fn add_outer_into<const N: usize>(
         }
     }
 }
-
-/// Column blocks a task of [`BlockSparse::values_into`] fills at least:
-/// fewer would cost more in scheduling than they save.
-const BLOCKS_PER_TASK: usize = 128;
 
 /// The lower triangle of a symmetric block-sparse matrix.
 #[derive(Debug, Clone, Default)]

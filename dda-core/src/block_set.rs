@@ -15,6 +15,7 @@ use crate::contacts::{BlockVector, Contact};
 use crate::error::DdaError;
 use crate::loads::{held_energy, FixedPoint, MeasuredPoint, PointLoad};
 use crate::system::{BlockKind, BlockMatrix, BlockState, BlockSystem, SystemState};
+use crate::BLOCKS_PER_TASK;
 
 /// Angle tolerance for parallel edges and faces and for wedge tests (Shi's
 /// h1 = 3°), in radians.
@@ -141,10 +142,6 @@ pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize
         law: usize,
     ) -> Vec<Contact<N, T>>;
 }
-
-/// Blocks a task of a commit or of a sweep over the blocks takes at
-/// least: fewer would cost more in scheduling than they save.
-const BLOCKS_PER_TASK: usize = 128;
 
 /// Blocks of one dimension with what acts on them: the [`BlockSystem`] the
 /// driver runs.

@@ -28,6 +28,7 @@ use crate::solve::{solver_for, LinearSolver};
 use crate::statistics::CYCLES_KEPT;
 pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
+use crate::BLOCKS_PER_TASK;
 use predict::RecentSteps;
 use terms::{ContactLoad, ContactTerms, Decision, Kept};
 use touching::Touching;
@@ -74,9 +75,6 @@ const ROUND_OFF_FORCE: f64 = 1e-9;
 
 /// Contacts an assembly task takes at least, for the same reason.
 const CONTACTS_PER_TASK: usize = 256;
-
-/// Blocks a residual-gathering task takes at least, for the same reason.
-const BLOCKS_PER_TASK: usize = 128;
 
 /// The trial solution of one step attempt.
 struct Trial<const T: usize> {

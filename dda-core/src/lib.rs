@@ -25,6 +25,11 @@ pub mod solve;
 pub mod statistics;
 pub mod system;
 
+/// Blocks a parallel task over the blocks (their masses, terms, commits,
+/// the matrix's column blocks) takes at least: fewer would cost more in
+/// scheduling than they save.
+const BLOCKS_PER_TASK: usize = 128;
+
 pub use block_set::{BlockSet, Element, RotationUpdate};
 pub use constitutive::ConstitutiveLaw;
 pub use contact::{ContactLaw, ContactResponse, ContactState, DynContactLaw, LocalKinematics};
