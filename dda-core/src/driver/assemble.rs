@@ -143,9 +143,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 .with_min_len(BLOCKS_PER_TASK)
                 .enumerate()
                 .for_each(|(x, (diagonal, part))| {
-                    for &i in touching.of(x) {
+                    for (i, side) in touching.of(x) {
                         if let Some(load) = &loads[i] {
-                            let side = usize::from(contacts[i].blocks[0] != x);
                             if tangent {
                                 let n = dofs[x];
                                 spring_terms(load, entrance(i), |g, h, k| {
