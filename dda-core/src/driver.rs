@@ -20,7 +20,7 @@ use rayon::prelude::*;
 
 use crate::assembly::BlockSparse;
 use crate::contact::{ContactState, DynContactLaw};
-use crate::contacts::{BlockVector, Contact, ContactKey, Entrance};
+use crate::contacts::{BlockVector, Contact, ContactKey};
 use crate::error::DdaError;
 use crate::loads::Support;
 use crate::settings::{Integrator, Settings};
@@ -29,6 +29,7 @@ use crate::statistics::CYCLES_KEPT;
 pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
 use crate::BLOCKS_PER_TASK;
+use chosen::Chosen;
 use predict::RecentSteps;
 use terms::{ContactLoad, ContactTerms, Decision, Kept};
 use touching::Touching;
@@ -36,6 +37,7 @@ use touching::Touching;
 mod anderson;
 mod assemble;
 mod checkpoint;
+mod chosen;
 mod commit;
 mod explicit;
 mod gmres;
@@ -131,9 +133,8 @@ pub struct Driver<S, const N: usize, const T: usize> {
     /// step (kept for their storage).
     decisions: Vec<Decision<T>>,
     kept: Vec<Kept<T>>,
-    /// Each contact's entrance in the current pass, side by side: a pass's
-    /// iterations read them in order instead of through each contact.
-    active: Vec<Entrance<N, T>>,
+    /// Each contact's chosen entrance, side by side, for the step's sweeps.
+    chosen: Chosen<N, T>,
     /// The contacts of each block in the current pass, in contact order:
     /// a residual is gathered block by block, in parallel, adding each
     /// block's contact forces in the order one thread would.
@@ -274,7 +275,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             factored: None,
             analysed: false,
             contact_loads: Vec::new(),
-            active: Vec::new(),
+            chosen: Chosen::default(),
             touching: Touching::default(),
             decisions: Vec::new(),
             kept: Vec::new(),
@@ -704,7 +705,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             damping: self.settings.contact_damping,
             tolerance: self.settings.contact_tolerance * self.length_scale,
             penalty: self.penalty,
-            active: &self.active,
+            chosen: &self.chosen,
         }
     }
 
@@ -713,11 +714,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     fn penetration(&self, trial: &Trial<T>, limit: f64) -> (f64, f64, Option<ContactKey>) {
         // Each closed contact's entrance and gap on any thread; the deepest
         // is then found in contact order, as one thread would.
+        let chosen = &self.chosen;
         let gaps: Vec<Option<(f64, f64)>> = (self.contacts.par_iter().enumerate())
             .with_min_len(CONTACTS_PER_TASK)
             .map(|(i, c)| {
                 trial.states[i].is_closed().then(|| {
-                    let e = &c.entrances[trial.entrances[i]];
+                    let e = trial.entrances[i];
+                    let e = chosen.get(i, e).unwrap_or_else(|| &c.entrances[e]);
                     let (da, db) = (block(&trial.d, c.blocks[0]), block(&trial.d, c.blocks[1]));
                     (e.gap, e.gap_at(&da, &db))
                 })
@@ -768,12 +771,17 @@ fn split<const N: usize>(d: &[f64]) -> Vec<BlockVector<N>> {
 /// displacement (the line the vertex would cross first). The current one is
 /// kept unless another is wider by more than `tolerance`, so entrances with
 /// nearly equal gaps (corners meeting corners) do not flip between passes.
+/// A lone entrance is chosen without reading it (most contacts have one,
+/// each in its own allocation).
 fn widest_entrance<const N: usize, const T: usize>(
     c: &Contact<N, T>,
     d: &[f64],
     current: usize,
     tolerance: f64,
 ) -> usize {
+    if c.entrances.len() == 1 {
+        return 0;
+    }
     let da = block::<N>(d, c.blocks[0]);
     let db = block::<N>(d, c.blocks[1]);
     widest_of(
@@ -792,6 +800,9 @@ fn widest_at_rest<const N: usize, const T: usize>(
     current: usize,
     tolerance: f64,
 ) -> usize {
+    if c.entrances.len() == 1 {
+        return 0;
+    }
     widest_of(c.entrances.iter().map(|e| e.gap), current, tolerance)
 }
 
@@ -817,6 +828,7 @@ fn widest_of(gaps: impl Iterator<Item = f64> + Clone, current: usize, tolerance:
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contacts::Entrance;
 
     /// A contact between blocks 0 and 1 with entrances of these gaps, rows
     /// of every sign (so the zero motion's products are +0 and −0).

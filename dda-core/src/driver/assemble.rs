@@ -127,10 +127,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             .map(|i| terms.load(i, trial, dt, moving, couple))
             .collect_into_vec(&mut loads);
         if gather {
-            let (contacts, touching, active) = (&self.contacts, &self.touching, &self.active);
-            let entrance = |i: usize| match active.get(i) {
-                Some(entrance) => entrance,
-                None => &contacts[i].entrances[trial.entrances[i]],
+            let (contacts, touching, chosen) = (&self.contacts, &self.touching, &self.chosen);
+            let entrance = |i: usize| {
+                let e = trial.entrances[i];
+                chosen
+                    .get(i, e)
+                    .unwrap_or_else(|| &contacts[i].entrances[e])
             };
             let (pairs, of_pair) = if tangent {
                 contacts_by_slot(&loads, &self.slots, matrix.pairs().len())
@@ -181,10 +183,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             };
             let c = &self.contacts[i];
             let [a, b] = c.blocks;
-            let entrance = match self.active.get(i) {
-                Some(entrance) => entrance,
-                None => &c.entrances[trial.entrances[i]],
-            };
+            let e = trial.entrances[i];
+            let entrance = self.chosen.get(i, e).unwrap_or_else(|| &c.entrances[e]);
             let [na, nb] = &entrance.normal;
             if tangent {
                 let slot = self.slots[i].expect("closed contacts are in the pattern");

@@ -184,6 +184,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             });
         }
         self.contacts = contacts;
+        self.chosen.clear();
         self.velocity = saved
             .velocity
             .iter()

@@ -9,7 +9,7 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
 use super::anderson::Anderson;
-use super::{gmres, Driver, Trial, CONTACTS_PER_TASK};
+use super::{gmres, Driver, Trial};
 use crate::contact::ContactState;
 use crate::contacts::BlockVector;
 use crate::error::DdaError;
@@ -119,21 +119,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     ) -> Result<(), DdaError> {
         self.cover_closed(&trial.states);
         // The entrances stay put until the pass's decision: its iterations
-        // read them side by side, not each through its contact (at ten
-        // thousand blocks, that pointer chase was a third of an assembly).
+        // read them side by side (`chosen.rs`).
         let copying = Instant::now();
-        self.active.clear();
-        self.active.par_extend(
-            (self.contacts.par_iter())
-                .zip(&trial.entrances)
-                .with_min_len(CONTACTS_PER_TASK)
-                .map(|(c, &e)| c.entrances[e].clone()),
-        );
+        self.chosen.update(&self.contacts, &trial.entrances);
         self.touching
             .fill(self.system.block_count(), &self.contacts);
         self.stats.times.assembly += copying.elapsed();
         let solved = self.solve_pass(dt, masses, trial);
-        self.active.clear();
         self.touching.clear();
         solved
     }

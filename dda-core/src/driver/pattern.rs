@@ -65,6 +65,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // Freeing the last step's contacts (a heap block or two each: 4.6
         // ms at ten thousand blocks) is left to a thread that would idle.
         let last = std::mem::replace(&mut self.contacts, fresh);
+        self.chosen.clear();
         rayon::spawn(move || drop(last));
         self.stats.times.narrow_phase += searched.elapsed();
     }
