@@ -159,7 +159,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 /// or open within `reach`), and whether a pattern holding it may keep it
 /// (closed, or open within twice the reach).
 fn pattern_wants<const N: usize, const T: usize>(c: &Contact<N, T>, reach: f64) -> (bool, bool) {
-    let closed = c.record.state.is_closed();
+    // A closed contact's entrances are not read (each in its own
+    // allocation, on one thread, every step).
+    if c.record.state.is_closed() {
+        return (true, true);
+    }
     // Shi's contact closes through its widest entrance, so it is as far
     // from closing as that entrance's gap.
     let gap = c
@@ -167,5 +171,5 @@ fn pattern_wants<const N: usize, const T: usize>(c: &Contact<N, T>, reach: f64) 
         .iter()
         .map(|e| e.gap)
         .fold(f64::NEG_INFINITY, f64::max);
-    (closed || gap <= reach, closed || gap <= 2.0 * reach)
+    (gap <= reach, gap <= 2.0 * reach)
 }
