@@ -95,7 +95,15 @@ impl Anderson {
 fn fit(df: &[Vec<f64>], f: &[f64]) -> Option<DVector<f64>> {
     let m = df.len();
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-    let mut gram = DMatrix::from_fn(m, m, |i, j| dot(&df[i], &df[j]));
+    // Symmetric: each product once (x·y and y·x round alike).
+    let mut gram = DMatrix::zeros(m, m);
+    for i in 0..m {
+        for j in 0..=i {
+            let g = dot(&df[i], &df[j]);
+            gram[(i, j)] = g;
+            gram[(j, i)] = g;
+        }
+    }
     let scale = gram.diagonal().max();
     if !(scale > 0.0 && scale.is_finite()) {
         return None;
