@@ -28,7 +28,7 @@ use crate::solve::{solver_for, LinearSolver};
 use crate::statistics::CYCLES_KEPT;
 pub use crate::statistics::{Cycle, PhaseTimes, Statistics};
 use crate::system::{BlockMatrix, BlockSystem};
-use crate::BLOCKS_PER_TASK;
+use crate::{BLOCKS_PER_TASK, CONTACTS_PER_TASK};
 use chosen::Chosen;
 use predict::RecentSteps;
 use terms::{ContactLoad, ContactTerms, Decision, Kept};
@@ -74,9 +74,6 @@ pub const BOUND_BLOCK_SHARE: f64 = 0.1;
 /// contact tolerance are round-off: a contact whose friction and shear
 /// force both lie below it keeps its state between locked and sliding.
 const ROUND_OFF_FORCE: f64 = 1e-9;
-
-/// Contacts an assembly task takes at least, for the same reason.
-const CONTACTS_PER_TASK: usize = 256;
 
 /// The trial solution of one step attempt.
 struct Trial<const T: usize> {

@@ -30,6 +30,10 @@ pub mod system;
 /// scheduling than they save.
 const BLOCKS_PER_TASK: usize = 128;
 
+/// Contacts a parallel task over the contacts (their loads, decisions,
+/// commits, copies) takes at least, for the same reason.
+const CONTACTS_PER_TASK: usize = 256;
+
 pub use block_set::{BlockSet, Element, RotationUpdate};
 pub use constitutive::ConstitutiveLaw;
 pub use contact::{ContactLaw, ContactResponse, ContactState, DynContactLaw, LocalKinematics};

@@ -7,11 +7,11 @@ use rayon::prelude::*;
 
 use super::pass::FrictionCoupling;
 use super::terms::ContactLoad;
-use super::{block, Driver, Motion, Trial, CONTACTS_PER_TASK};
+use super::{block, Driver, Motion, Trial};
 use crate::assembly::{add_outer_into, BlockSparse};
 use crate::contacts::{BlockVector, Entrance};
 use crate::system::{BlockMatrix, BlockSystem};
-use crate::BLOCKS_PER_TASK;
+use crate::{BLOCKS_PER_TASK, CONTACTS_PER_TASK};
 
 impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// Fills `residual` with applied minus internal forces at the trial

@@ -7,8 +7,8 @@
 
 use rayon::prelude::*;
 
-use super::CONTACTS_PER_TASK;
 use crate::contacts::{Contact, Entrance};
+use crate::CONTACTS_PER_TASK;
 
 /// The entrance each contact holds in the step, with its index.
 #[derive(Debug, Default)]

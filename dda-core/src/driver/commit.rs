@@ -3,10 +3,10 @@
 
 use rayon::prelude::*;
 
-use super::{block, split, Driver, Trial, CONTACTS_PER_TASK};
+use super::{block, split, Driver, Trial};
 use crate::contact::ContactState;
 use crate::system::BlockSystem;
-use crate::BLOCKS_PER_TASK;
+use crate::{BLOCKS_PER_TASK, CONTACTS_PER_TASK};
 
 impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     pub(super) fn commit(&mut self, trial: Trial<T>, dt: f64) {

@@ -21,12 +21,12 @@
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-use super::{widest_at_rest, Driver, Motion, Trial, CONTACTS_PER_TASK};
+use super::{widest_at_rest, Driver, Motion, Trial};
 use crate::contact::ContactState;
 use crate::error::DdaError;
 use crate::settings::Integrator;
 use crate::system::{BlockMatrix, BlockSystem};
-use crate::BlockVector;
+use crate::{BlockVector, CONTACTS_PER_TASK};
 
 /// The share of the critical step an explicit step may take: the bound is
 /// already above ω_max, this leaves room for springs that stiffen within

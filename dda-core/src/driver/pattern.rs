@@ -7,11 +7,12 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::{Driver, BOUND_BLOCK_SHARE, CONTACTS_PER_TASK};
+use super::{Driver, BOUND_BLOCK_SHARE};
 use crate::assembly::BlockSparse;
 use crate::contact::ContactState;
 use crate::contacts::{transfer_records, Contact};
 use crate::system::BlockSystem;
+use crate::CONTACTS_PER_TASK;
 
 /// The least reach of the matrix pattern, as a share of the median block
 /// size: open contacts this near enter the pattern whatever the motion.
