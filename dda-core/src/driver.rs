@@ -711,13 +711,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     fn penetration(&self, trial: &Trial<T>, limit: f64) -> (f64, f64, Option<ContactKey>) {
         // Each closed contact's entrance and gap on any thread; the deepest
         // is then found in contact order, as one thread would.
-        let chosen = &self.chosen;
+        let (chosen, contacts) = (&self.chosen, &self.contacts);
         let gaps: Vec<Option<(f64, f64)>> = (self.contacts.par_iter().enumerate())
             .with_min_len(CONTACTS_PER_TASK)
             .map(|(i, c)| {
                 trial.states[i].is_closed().then(|| {
-                    let e = trial.entrances[i];
-                    let e = chosen.get(i, e).unwrap_or_else(|| &c.entrances[e]);
+                    let e = chosen.of(contacts, i, trial.entrances[i]);
                     let (da, db) = (block(&trial.d, c.blocks[0]), block(&trial.d, c.blocks[1]));
                     (e.gap, e.gap_at(&da, &db))
                 })

@@ -128,12 +128,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             .collect_into_vec(&mut loads);
         if gather {
             let (contacts, touching, chosen) = (&self.contacts, &self.touching, &self.chosen);
-            let entrance = |i: usize| {
-                let e = trial.entrances[i];
-                chosen
-                    .get(i, e)
-                    .unwrap_or_else(|| &contacts[i].entrances[e])
-            };
+            let entrance = |i: usize| chosen.of(contacts, i, trial.entrances[i]);
             let (pairs, of_pair) = if tangent {
                 contacts_by_slot(&loads, &self.slots, matrix.pairs().len())
             } else {
@@ -183,8 +178,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             };
             let c = &self.contacts[i];
             let [a, b] = c.blocks;
-            let e = trial.entrances[i];
-            let entrance = self.chosen.get(i, e).unwrap_or_else(|| &c.entrances[e]);
+            let entrance = self.chosen.of(&self.contacts, i, trial.entrances[i]);
             let [na, nb] = &entrance.normal;
             if tangent {
                 let slot = self.slots[i].expect("closed contacts are in the pattern");

@@ -54,6 +54,16 @@ impl<const N: usize, const T: usize> Chosen<N, T> {
     pub fn get(&self, i: usize, e: usize) -> Option<&Entrance<N, T>> {
         (self.of.get(i) == Some(&e)).then(|| &self.entrances[i])
     }
+
+    /// Contact `i`'s entrance `e`: its copy where held, else its own.
+    pub fn of<'a>(
+        &'a self,
+        contacts: &'a [Contact<N, T>],
+        i: usize,
+        e: usize,
+    ) -> &'a Entrance<N, T> {
+        self.get(i, e).unwrap_or_else(|| &contacts[i].entrances[e])
+    }
 }
 
 #[cfg(test)]

@@ -80,7 +80,7 @@ pub(super) struct ContactTerms<'a, const N: usize, const T: usize> {
 impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
     /// Contact `i`'s entrance `e`: its copy where held.
     pub fn entrance(&self, i: usize, e: usize) -> &Entrance<N, T> {
-        (self.chosen.get(i, e)).unwrap_or_else(|| &self.contacts[i].entrances[e])
+        self.chosen.of(self.contacts, i, e)
     }
 
     /// Elastic shear displacement carried from earlier steps, valid only on
