@@ -126,6 +126,9 @@ pub struct Driver<S, const N: usize, const T: usize> {
     analysed: bool,
     /// Each contact's load at the last assembly (kept for its storage).
     contact_loads: Vec<Option<ContactLoad<N, T>>>,
+    /// Each contact's forces at the last move on a kept factor (kept for
+    /// its storage).
+    contact_forces: Vec<Option<[BlockVector<N>; 2]>>,
     /// Each contact's open-close decision and what it keeps of an accepted
     /// step (kept for their storage).
     decisions: Vec<Decision<T>>,
@@ -272,6 +275,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             factored: None,
             analysed: false,
             contact_loads: Vec::new(),
+            contact_forces: Vec::new(),
             chosen: Chosen::default(),
             touching: Touching::default(),
             decisions: Vec::new(),
