@@ -4,6 +4,8 @@
 //! DOF order: (u0, v0, w0, rx, ry, rz, εx, εy, εz, γyz, γzx, γxy) about the
 //! block centroid, engineering shears.
 
+use std::sync::OnceLock;
+
 use nalgebra::{Matrix3, Point3, Rotation3, SMatrix, SVector, Vector3, Vector6};
 
 use crate::polyhedron::CentralMoments;
@@ -32,22 +34,34 @@ pub fn t_matrix(p: &Point3<f64>, c: &Point3<f64>) -> TMatrix {
 /// and G linear in X, the cross terms vanish about the centroid and the rest
 /// is Σ J_ab G_aᵀ G_b.
 pub fn mass_matrix(m: &CentralMoments, density: f64) -> Matrix12 {
-    let origin = Point3::origin();
-    let g: [SMatrix<f64, 3, 9>; 3] = [Vector3::x(), Vector3::y(), Vector3::z()].map(|axis| {
-        t_matrix(&Point3::from(axis), &origin)
-            .fixed_columns::<9>(3)
-            .into_owned()
-    });
+    let g = axis_products();
     let mut k = Matrix12::zeros();
     let mut translation = k.fixed_view_mut::<3, 3>(0, 0);
     translation += Matrix3::identity() * m.volume;
     let mut rest = k.fixed_view_mut::<9, 9>(3, 3);
-    for a in 0..3 {
-        for b in 0..3 {
-            rest += g[a].transpose() * g[b] * m.second[(a, b)];
+    for (a, products) in g.iter().enumerate() {
+        for (b, product) in products.iter().enumerate() {
+            rest += product * m.second[(a, b)];
         }
     }
     k * density
+}
+
+/// G_aᵀ G_b for the unit axes a and b, G_a the T-matrix columns beyond
+/// translation at the point a from the centroid: the same for every block,
+/// made once (each block's mass matrix, built once a step attempt and once
+/// for the energy check, was some 8,000 instructions with them).
+fn axis_products() -> &'static [[SMatrix<f64, 9, 9>; 3]; 3] {
+    static PRODUCTS: OnceLock<[[SMatrix<f64, 9, 9>; 3]; 3]> = OnceLock::new();
+    PRODUCTS.get_or_init(|| {
+        let origin = Point3::origin();
+        let g: [SMatrix<f64, 3, 9>; 3] = [Vector3::x(), Vector3::y(), Vector3::z()].map(|axis| {
+            t_matrix(&Point3::from(axis), &origin)
+                .fixed_columns::<9>(3)
+                .into_owned()
+        });
+        std::array::from_fn(|a| std::array::from_fn(|b| g[a].transpose() * g[b]))
+    })
 }
 
 pub use dda_core::RotationUpdate;
