@@ -120,7 +120,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         }
         let couple = couplings.is_some();
         // A move on a kept factor, gathered, needs the contacts' forces
-        // alone: a third less to write and read again than their loads.
+        // alone: a quarter less to write and read again than their loads
+        // (104 bytes a contact against 144 in 2D, 200 against 256 in 3D).
         let forces_only = gather && !tangent;
         let mut loads = std::mem::take(&mut self.contact_loads);
         let mut forces = std::mem::take(&mut self.contact_forces);
