@@ -112,6 +112,9 @@ fn pair_contacts_near(
     let (a, b) = (&blocks[i], &blocks[j]);
     let (sa, sb) = (a.shape(), b.shape());
     let mut out = Vec::new();
+    // A group's entrances, found here and then moved to a vector of their
+    // own, exactly as long: one allocation a group, none for the misses.
+    let mut group = Vec::new();
     // Vertex-vertex groups between convex corners.
     for (p, pv) in sa.vertices().iter().enumerate() {
         if !sa.is_convex_vertex(p) || !near_b.holds(pv) {
@@ -121,8 +124,8 @@ fn pair_contacts_near(
             if (pv - qv).norm() >= range || !sb.is_convex_vertex(q) {
                 continue;
             }
-            let entrances = vertex_vertex(a, p, b, q);
-            if entrances.is_empty() {
+            vertex_vertex(a, p, b, q, &mut group);
+            if group.is_empty() {
                 continue;
             }
             let areas = sb
@@ -136,7 +139,7 @@ fn pair_contacts_near(
                 (j, VERTEX | q as u32),
                 law,
                 areas,
-                entrances,
+                exactly(&mut group),
             ));
         }
     }
@@ -157,8 +160,8 @@ fn pair_contacts_near(
                 if distance >= range || s <= 0.0 || s >= 1.0 {
                     continue;
                 }
-                let entrances = vertex_edge(bx, p, by, e);
-                if entrances.is_empty() {
+                vertex_edge(bx, p, by, e, &mut group);
+                if group.is_empty() {
                     continue;
                 }
                 let areas = edge
@@ -171,7 +174,7 @@ fn pair_contacts_near(
                     (y, EDGE | e as u32),
                     law,
                     areas,
-                    entrances,
+                    exactly(&mut group),
                 ));
             }
             // Vertex-face contacts.
@@ -214,6 +217,15 @@ fn pair_contacts_near(
         }
     }
     out
+}
+
+/// The entrances found, moved to a vector exactly as long (an entrance is
+/// 580 bytes, and a contact keeps them for the step); `found` keeps its
+/// room for the next group. Taking `found` whole would hand over its spare
+/// room and leave the next group to grow a new one.
+#[allow(clippy::drain_collect)]
+fn exactly(found: &mut Vec<Entrance<12, 2>>) -> Vec<Entrance<12, 2>> {
+    found.drain(..).collect()
 }
 
 /// A readable, stable name for a contact: `block:feature/block:feature`, a
@@ -397,13 +409,12 @@ fn crossing_normal(
     }
 }
 
-/// Entrances of two convex corners: every face plane and edge-pair plane
-/// that separates them.
-fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize) -> Vec<Entrance<12, 2>> {
+/// Entrances of two convex corners, into `out`: every face plane and
+/// edge-pair plane that separates them.
+fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize, out: &mut Vec<Entrance<12, 2>>) {
     let (sa, sb) = (a.shape(), b.shape());
     let (edges_a, edges_b) = (sa.vertex_edges(p), sb.vertex_edges(q));
-    let faces = sa.vertex_faces(p).len() + sb.vertex_faces(q).len();
-    let mut out = entrances(faces + edges_a.len() * edges_b.len());
+    out.clear();
     for &f in sb.vertex_faces(q) {
         let n = sb.normal(f);
         if vertex_enters(sa, p, &n) && vertex_below(sb, q, &n) {
@@ -426,23 +437,14 @@ fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize) -> Vec<Entrance<12, 2
             }
         }
     }
-    out.shrink_to_fit();
-    out
 }
 
-/// Room for at most `most` entrances of a group, made at once: an
-/// entrance is 580 bytes, and a vector grown by pushes would move them
-/// again at each doubling. The group shrinks it to what it found.
-fn entrances(most: usize) -> Vec<Entrance<12, 2>> {
-    Vec::with_capacity(most)
-}
-
-/// Entrances of convex vertex `p` of `x` near the inside of edge `e` of `y`:
-/// the planes of the edge's faces and the crossings of the vertex's edges
-/// with it.
-fn vertex_edge(x: &Block, p: usize, y: &Block, e: usize) -> Vec<Entrance<12, 2>> {
+/// Entrances of convex vertex `p` of `x` near the inside of edge `e` of `y`,
+/// into `out`: the planes of the edge's faces and the crossings of the
+/// vertex's edges with it.
+fn vertex_edge(x: &Block, p: usize, y: &Block, e: usize, out: &mut Vec<Entrance<12, 2>>) {
     let (sx, sy) = (x.shape(), y.shape());
-    let mut out = entrances(sy.edges()[e].faces.len() + sx.vertex_edges(p).len());
+    out.clear();
     for &f in &sy.edges()[e].faces {
         let n = sy.normal(f);
         if vertex_enters(sx, p, &n) && edge_below(sy, e, &n) {
@@ -457,8 +459,6 @@ fn vertex_edge(x: &Block, p: usize, y: &Block, e: usize) -> Vec<Entrance<12, 2>>
             out.extend(edge_entrance(x, ex, y, e, &n, false));
         }
     }
-    out.shrink_to_fit();
-    out
 }
 
 /// Whether convex vertex `p` of `x` makes a plain VF contact with face `f`
@@ -586,10 +586,11 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
     let (sx, sy) = (x.shape(), y.shape());
     let n = sy.normal(f);
     let frame = sy.face_frame(f);
-    // The entered face's triangles in its plane, made only once a face at
-    // the vertex is found facing it (for most groups none is).
-    let mut triangles: Vec<[Point2<f64>; 3]> = Vec::new();
-    let share = |g: usize| -> Vec<Point2<f64>> {
+    // The entered face's triangles in its plane, made only for a face at
+    // the vertex found facing it (for most groups none is).
+    let triangles =
+        || (sy.face_triangles(f).iter()).map(|t| t.map(|k| frame.to_plane(&sy.vertices()[k])));
+    let share = |g: usize| -> [Point2<f64>; 4] {
         let face = &sx.faces()[g];
         let k = face.iter().position(|&v| v == p).unwrap_or(0);
         let m = face.len();
@@ -598,25 +599,16 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
         let next = Point3::from((corner.coords + at((k + 1) % m).coords) / 2.0);
         let prev = Point3::from((corner.coords + at((k + m - 1) % m).coords) / 2.0);
         // Counter-clockwise about g's normal is clockwise in f's frame.
-        [prev, sx.face_centroid(g), next, corner]
-            .iter()
-            .map(|q| frame.to_plane(q))
-            .collect()
+        [prev, sx.face_centroid(g), next, corner].map(|q| frame.to_plane(&q))
     };
     let mut total = 0.0;
     for &g in sx.vertex_faces(p) {
         if sx.normal(g).dot(&n) > -ANGLE_TOLERANCE.cos() {
             continue;
         }
-        if triangles.is_empty() {
-            triangles.extend(
-                (sy.face_triangles(f).iter()).map(|t| t.map(|k| frame.to_plane(&sy.vertices()[k]))),
-            );
-        }
         let share = share(g);
-        total += triangles
-            .iter()
-            .map(|t| planar::signed_area(&planar::clip_convex(&share, t)).abs())
+        total += triangles()
+            .map(|t| planar::clipped_area(&share, &t).abs())
             .sum::<f64>();
     }
     if total > 0.0 {

@@ -433,7 +433,7 @@ fn overlap_area(a: &[Point3<f64>], b: &[Point3<f64>]) -> f64 {
         }
         out
     };
-    planar::signed_area(&planar::clip_convex(&flat(a), &flat(b)))
+    planar::clipped_area(&flat(a), &flat(b))
 }
 
 #[cfg(test)]
