@@ -179,6 +179,10 @@ pub struct Polyhedron {
     /// the narrow phase reads them for every contact a face takes part in.
     frames: Vec<FaceFrame>,
     centroids: Vec<Point3<f64>>,
+    /// Each edge's unit direction from its first end to its second, made
+    /// when the vertices move: the narrow phase tests every plane a corner
+    /// might enter against the directions of the corner's edges.
+    directions: Vec<Vector3<f64>>,
     moments: CentralMoments,
     edge_kinds: Vec<EdgeKind>,
     convex_vertices: Vec<bool>,
@@ -272,16 +276,19 @@ impl Polyhedron {
 
     /// Unit direction of edge `e` leaving vertex `from`.
     pub fn edge_direction(&self, e: usize, from: usize) -> Vector3<f64> {
-        let [a, b] = self.topology.edges[e].ends;
-        let other = if a == from { b } else { a };
-        (self.vertices[other] - self.vertices[from]).normalize()
+        // Negated, the same to the last bit as normalised from the other end.
+        if self.topology.edges[e].ends[0] == from {
+            self.directions[e]
+        } else {
+            -self.directions[e]
+        }
     }
 
     /// Unit directions perpendicular to edge `e`, in each of its two faces,
     /// pointing into the face: the edge's solid wedge lies between them.
     pub fn edge_wedge(&self, e: usize) -> [Vector3<f64>; 2] {
         let edge = self.topology.edges[e];
-        let d = (self.vertices[edge.ends[1]] - self.vertices[edge.ends[0]]).normalize();
+        let d = self.directions[e];
         // Face 0 runs along d, face 1 against it; the face lies to the left.
         [
             self.normals[edge.faces[0]].cross(&d),
@@ -325,11 +332,11 @@ impl Polyhedron {
             .map(|((triangles, face), n)| face_centroid(&vertices, face, triangles, n))
             .collect();
         let moments = central_moments(&vertices, &topology.faces);
-        let edge_kinds = topology
-            .edges
-            .iter()
-            .map(|e| {
-                let d = (vertices[e.ends[1]] - vertices[e.ends[0]]).normalize();
+        let directions: Vec<_> = (topology.edges.iter())
+            .map(|e| (vertices[e.ends[1]] - vertices[e.ends[0]]).normalize())
+            .collect();
+        let edge_kinds = (topology.edges.iter().zip(&directions))
+            .map(|(e, &d)| {
                 let (n0, n1) = (normals[e.faces[0]], normals[e.faces[1]]);
                 let turn = n0.cross(&n1).dot(&d).atan2(n0.dot(&n1));
                 if turn > ANGLE_TOLERANCE {
@@ -361,6 +368,7 @@ impl Polyhedron {
             areas,
             frames,
             centroids,
+            directions,
             moments,
             edge_kinds,
             convex_vertices,
