@@ -143,16 +143,24 @@ fn pair_contacts_near(
             ));
         }
     }
-    for (x, y, bx, by, near_y) in [(i, j, a, b, &near_b), (j, i, b, a, &near_a)] {
+    // Each block's edges that can take part (not reflex) within the other's
+    // reach, with their bounds grown by the range: a vertex or an edge
+    // outside those bounds is farther from the edge than the range.
+    let near_a_edges = edges_within(sa, &near_b, range);
+    let near_b_edges = edges_within(sb, &near_a, range);
+    for (x, y, bx, by, near_y, edges_y) in [
+        (i, j, a, b, &near_b, &near_b_edges),
+        (j, i, b, a, &near_a, &near_a_edges),
+    ] {
         let (sx, sy) = (bx.shape(), by.shape());
         for (p, pv) in sx.vertices().iter().enumerate() {
             if !sx.is_convex_vertex(p) || !near_y.holds(pv) {
                 continue;
             }
             // Vertex-edge groups.
-            for (e, edge) in sy.edges().iter().enumerate() {
-                if sy.edge_kind(e) == EdgeKind::Reflex || near_convex_end(sy, edge.ends, pv, range)
-                {
+            for &(e, bounds) in edges_y {
+                let edge = &sy.edges()[e];
+                if !within(&bounds, pv) || near_convex_end(sy, edge.ends, pv, range) {
                     continue;
                 }
                 let [q0, q1] = edge.ends.map(|k| sy.vertices()[k]);
@@ -190,11 +198,10 @@ fn pair_contacts_near(
     // Edge-edge crossings away from corners, between the convex edges of
     // each block within the other's reach. Two edges whose bounds, each
     // grown by the range, do not overlap are farther apart than the range.
-    let near_a_edges = convex_edges_within(sa, &near_b, range);
-    let near_b_edges = convex_edges_within(sb, &near_a, range);
-    for &(ea, bounds_a) in &near_a_edges {
+    let convex = |s: &Polyhedron, (e, _): &&(usize, Bounds)| s.edge_kind(*e) == EdgeKind::Convex;
+    for &(ea, bounds_a) in near_a_edges.iter().filter(|n| convex(sa, n)) {
         let edge_a = &sa.edges()[ea];
-        for &(eb, bounds_b) in &near_b_edges {
+        for &(eb, bounds_b) in near_b_edges.iter().filter(|n| convex(sb, n)) {
             let edge_b = &sb.edges()[eb];
             if apart(&bounds_a, &bounds_b) {
                 continue;
@@ -281,13 +288,13 @@ fn near_convex_end(s: &Polyhedron, ends: [usize; 2], p: &Point3<f64>, range: f64
 /// Axis-aligned bounds (min, max).
 type Bounds = (Point3<f64>, Point3<f64>);
 
-/// The convex edges of `s` whose bounds meet `reach`, each with its bounds
-/// grown by `range` (min, max).
-fn convex_edges_within(s: &Polyhedron, reach: &Reach<3>, range: f64) -> Vec<(usize, Bounds)> {
+/// The edges of `s` that are not reflex and whose bounds meet `reach`,
+/// each with its bounds grown by `range` (min, max).
+fn edges_within(s: &Polyhedron, reach: &Reach<3>, range: f64) -> Vec<(usize, Bounds)> {
     (s.edges().iter().enumerate())
         .filter_map(|(e, edge)| {
             let [u, v] = edge.ends.map(|k| s.vertices()[k]);
-            (s.edge_kind(e) == EdgeKind::Convex && reach.meets(&u, &v))
+            (s.edge_kind(e) != EdgeKind::Reflex && reach.meets(&u, &v))
                 .then(|| (e, grown_bounds(&u, &v, range)))
         })
         .collect()
@@ -297,6 +304,11 @@ fn convex_edges_within(s: &Polyhedron, reach: &Reach<3>, range: f64) -> Vec<(usi
 fn grown_bounds(u: &Point3<f64>, v: &Point3<f64>, range: f64) -> Bounds {
     let grow = Vector3::repeat(range);
     (u.inf(v) - grow, u.sup(v) + grow)
+}
+
+/// Whether `p` lies within the bounds.
+fn within((lo, hi): &Bounds, p: &Point3<f64>) -> bool {
+    (0..3).all(|k| lo[k] <= p[k] && p[k] <= hi[k])
 }
 
 /// Whether two bounds do not overlap.
@@ -1093,5 +1105,31 @@ mod tests {
             })
             .unwrap();
         assert!(crossings.get() > 100, "{} crossings", crossings.get());
+    }
+
+    #[test]
+    fn a_point_outside_an_edges_grown_bounds_is_farther_than_the_range() {
+        use proptest::prelude::*;
+        let mut runner = proptest::test_runner::TestRunner::new_with_rng(
+            proptest::test_runner::Config::with_cases(4096),
+            proptest::test_runner::TestRng::deterministic_rng(
+                proptest::test_runner::RngAlgorithm::ChaCha,
+            ),
+        );
+        let point = || prop::array::uniform3(-1.0..1.0f64).prop_map(Point3::from);
+        let near = std::cell::Cell::new(0);
+        runner
+            .run(
+                &(point(), point(), point(), 0.001..0.5f64),
+                |(p, u, v, range)| {
+                    if segment_distance(&p, &u, &v).0 < range {
+                        near.set(near.get() + 1);
+                        prop_assert!(within(&grown_bounds(&u, &v, range), &p));
+                    }
+                    Ok(())
+                },
+            )
+            .unwrap();
+        assert!(near.get() > 100, "{} near", near.get());
     }
 }
