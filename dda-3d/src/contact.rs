@@ -62,7 +62,7 @@ use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
 use nalgebra::{Point2, Point3, Vector3};
 
 use crate::block::Block;
-use crate::kinematics::Vector12;
+use crate::kinematics::{t_matrix_transpose_times, Vector12};
 use crate::polyhedron::{EdgeKind, Polyhedron};
 
 /// A 3D contact: 12 DOF per block, two tangential directions.
@@ -355,10 +355,13 @@ fn entrance(
     t1: &Vector3<f64>,
     swap: bool,
 ) -> Entrance<12, 2> {
-    let (ta, tb) = (enter.t_matrix(pa), entered.t_matrix(pb));
+    let (ca, cb) = (enter.centroid(), entered.centroid());
     let t2 = n.cross(t1);
     let rows = |d: &Vector3<f64>| -> [Vector12; 2] {
-        let (ra, rb) = (ta.transpose() * d, -(tb.transpose() * d));
+        let (ra, rb) = (
+            t_matrix_transpose_times(pa, &ca, d),
+            -t_matrix_transpose_times(pb, &cb, d),
+        );
         if swap {
             [rb, ra]
         } else {
