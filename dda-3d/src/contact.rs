@@ -1024,12 +1024,7 @@ mod tests {
     fn examining_only_near_features_finds_every_contact() {
         use proptest::prelude::*;
         let l = l_block(|p| *p);
-        let mut runner = proptest::test_runner::TestRunner::new_with_rng(
-            proptest::test_runner::Config::with_cases(1024),
-            proptest::test_runner::TestRng::deterministic_rng(
-                proptest::test_runner::RngAlgorithm::ChaCha,
-            ),
-        );
+        let mut runner = crate::seeded_runner(1024);
         let cases = (
             prop::array::uniform3(-1.6..1.6f64),
             prop::array::uniform3(-0.6..0.6f64),
@@ -1083,12 +1078,7 @@ mod tests {
     #[test]
     fn edges_whose_grown_bounds_are_apart_make_no_crossing() {
         use proptest::prelude::*;
-        let mut runner = proptest::test_runner::TestRunner::new_with_rng(
-            proptest::test_runner::Config::with_cases(4096),
-            proptest::test_runner::TestRng::deterministic_rng(
-                proptest::test_runner::RngAlgorithm::ChaCha,
-            ),
-        );
+        let mut runner = crate::seeded_runner(4096);
         let point = || prop::array::uniform3(-1.0..1.0f64).prop_map(Point3::from);
         let cases = (point(), point(), point(), point(), 0.001..0.5f64);
         let crossings = std::cell::Cell::new(0);
@@ -1113,12 +1103,7 @@ mod tests {
     #[test]
     fn a_point_outside_an_edges_grown_bounds_is_farther_than_the_range() {
         use proptest::prelude::*;
-        let mut runner = proptest::test_runner::TestRunner::new_with_rng(
-            proptest::test_runner::Config::with_cases(4096),
-            proptest::test_runner::TestRng::deterministic_rng(
-                proptest::test_runner::RngAlgorithm::ChaCha,
-            ),
-        );
+        let mut runner = crate::seeded_runner(4096);
         let point = || prop::array::uniform3(-1.0..1.0f64).prop_map(Point3::from);
         let near = std::cell::Cell::new(0);
         runner

@@ -168,12 +168,7 @@ mod tests {
     #[test]
     fn the_transpose_product_is_the_t_matrix_products_to_the_last_bit() {
         use proptest::prelude::*;
-        let mut runner = proptest::test_runner::TestRunner::new_with_rng(
-            proptest::test_runner::Config::with_cases(2048),
-            proptest::test_runner::TestRng::deterministic_rng(
-                proptest::test_runner::RngAlgorithm::ChaCha,
-            ),
-        );
+        let mut runner = crate::seeded_runner(2048);
         let vector = || prop::array::uniform3(-1e3..1e3f64).prop_map(Vector3::from);
         runner
             .run(&(vector(), vector(), vector()), |(p, c, v)| {

@@ -29,3 +29,13 @@ pub use system::{FixedPoint, Force, PointLoad, Polyhedra};
 
 /// The core driver running polyhedra: 12 DOF per block, two tangents per contact.
 pub type Driver3d = dda_core::Driver<Polyhedra, 12, 2>;
+
+/// A property-test runner with a fixed seed: the same cases on every run.
+#[cfg(test)]
+pub(crate) fn seeded_runner(cases: u32) -> proptest::test_runner::TestRunner {
+    use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+    TestRunner::new_with_rng(
+        Config::with_cases(cases),
+        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
+    )
+}
