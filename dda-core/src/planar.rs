@@ -143,40 +143,35 @@ fn is_ear(poly: &[Point2<f64>], left: &[usize], k: usize) -> bool {
 /// (Sutherland–Hodgman). A concave subject is fine: the result may then
 /// have edges running back along each other, which add no area.
 pub fn clip_convex(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> Vec<Point2<f64>> {
-    let room = room(subject.len(), clip.len());
-    let mut buffers = vec![Point2::origin(); 2 * room];
-    let (out, input) = buffers.split_at_mut(room);
-    clip_into(subject, clip, out, input).to_vec()
+    // Two buffers passed back and forth.
+    let mut out = subject.to_vec();
+    let mut input = Vec::with_capacity(subject.len() + clip.len());
+    for (a, b) in edges(clip) {
+        if out.is_empty() {
+            break;
+        }
+        std::mem::swap(&mut input, &mut out);
+        out.clear();
+        cut(&input, a, b, |p| out.push(p));
+    }
+    out
 }
 
-/// The signed area of [`clip_convex`]'s polygon; small ones are clipped on
-/// the stack, as the 3D narrow phase weighs tens of thousands a step.
+/// The signed area of [`clip_convex`]'s polygon. A small clip is made
+/// between two arrays on the stack: the 3D narrow phase weighs tens of
+/// thousands of corners' shares of faces a step.
 pub fn clipped_area(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> f64 {
     const SMALL: usize = 16;
-    if room(subject.len(), clip.len()) <= SMALL {
-        let (mut out, mut input) = ([Point2::origin(); SMALL], [Point2::origin(); SMALL]);
-        signed_area(clip_into(subject, clip, &mut out, &mut input))
-    } else {
-        signed_area(&clip_convex(subject, clip))
+    // A cut keeps at most the i vertices inside and adds one per crossing
+    // edge, at most 2 min(i, n − i) and at most n: n grows at most to 3n/2.
+    let room = (0..clip.len()).try_fold(subject.len(), |n, _| {
+        Some(n + n / 2).filter(|&m| m <= SMALL)
+    });
+    if room.is_none() {
+        return signed_area(&clip_convex(subject, clip));
     }
-}
-
-/// Room for every vertex of a clip of `subject` vertices by `clip` edges:
-/// a cut keeps at most all i vertices inside and adds one per crossing
-/// edge, at most 2 min(i, n − i) and at most n, so n grows at most to
-/// 3n/2 (n + 1 for a convex subject).
-fn room(subject: usize, clip: usize) -> usize {
-    (0..clip).fold(subject, |n, _| n + n / 2)
-}
-
-/// [`clip_convex`] between two buffers of [`room`] each, passed back and
-/// forth; the clip is left in one of them.
-fn clip_into<'a>(
-    subject: &[Point2<f64>],
-    clip: &[Point2<f64>],
-    mut out: &'a mut [Point2<f64>],
-    mut input: &'a mut [Point2<f64>],
-) -> &'a [Point2<f64>] {
+    let (mut a_buffer, mut b_buffer) = ([Point2::origin(); SMALL], [Point2::origin(); SMALL]);
+    let (mut out, mut input) = (&mut a_buffer, &mut b_buffer);
     let mut n = subject.len();
     out[..n].copy_from_slice(subject);
     for (a, b) in edges(clip) {
@@ -186,29 +181,35 @@ fn clip_into<'a>(
         std::mem::swap(&mut input, &mut out);
         let kept = n;
         n = 0;
-        // Each vertex's side, found once: it is both an edge's start and
-        // the previous edge's end.
-        let first = orient(a, b, &input[0]);
-        let mut sp = first;
-        for k in 0..kept {
-            let p = input[k];
-            let (q, sq) = match input[..kept].get(k + 1) {
-                Some(q) => (*q, orient(a, b, q)),
-                None => (input[0], first),
-            };
-            if sp >= 0.0 {
-                out[n] = p;
-                n += 1;
-            }
-            if (sp >= 0.0) != (sq >= 0.0) {
-                // Opposite signs: the denominator is not zero.
-                out[n] = p + (q - p) * (sp / (sp - sq));
-                n += 1;
-            }
-            sp = sq;
-        }
+        cut(&input[..kept], a, b, |p| {
+            out[n] = p;
+            n += 1;
+        });
     }
-    &out[..n]
+    signed_area(&out[..n])
+}
+
+/// One cut of [`clip_convex`]: the vertices of `input` on the left of the
+/// line (a, b) or on it, and where its edges cross the line, in order.
+fn cut(input: &[Point2<f64>], a: &Point2<f64>, b: &Point2<f64>, mut keep: impl FnMut(Point2<f64>)) {
+    // Each vertex's side, found once: it is both an edge's start and the
+    // previous edge's end.
+    let first = orient(a, b, &input[0]);
+    let mut sp = first;
+    for (k, &p) in input.iter().enumerate() {
+        let (q, sq) = match input.get(k + 1) {
+            Some(q) => (*q, orient(a, b, q)),
+            None => (input[0], first),
+        };
+        if sp >= 0.0 {
+            keep(p);
+        }
+        if (sp >= 0.0) != (sq >= 0.0) {
+            // Opposite signs: the denominator is not zero.
+            keep(p + (q - p) * (sp / (sp - sq)));
+        }
+        sp = sq;
+    }
 }
 
 /// The edges (v[k], v[k + 1]), closing back to the first vertex.
@@ -476,11 +477,14 @@ mod tests {
     }
 
     #[test]
-    fn a_sawtooth_cut_across_every_tooth_fits_its_room_on_and_off_the_stack() {
+    fn a_sawtooth_cut_across_every_tooth_gives_half_again_its_vertices_on_and_off_the_stack() {
         // A block m − 1 wide whose top zigzags between heights 3 and 1 at
-        // each unit: the line at height 2 crosses every edge of the top, so
-        // the cut keeps half the vertices and adds one per edge, nearly the
-        // 3n/2 a cut can give (a convex subject's n + 1 would overflow).
+        // each unit, clipped by a wide triangle whose top side lies at
+        // height 2: that side crosses every edge of the top, so the cut
+        // keeps half the vertices and adds one per edge, nearly the 3n/2 a
+        // cut can give (a convex subject gains at most one). With m = 4 the
+        // clip is made on the stack, with 8 and 12 on the heap.
+        let below = pts(&[(100.0, 2.0), (-100.0, 2.0), (0.0, -300.0)]);
         for m in [4usize, 8, 12] {
             let w = (m - 1) as f64;
             let mut saw = pts(&[(0.0, 0.0), (w, 0.0)]);
@@ -488,17 +492,29 @@ mod tests {
                 (0..m).map(|j| Point2::new(w - j as f64, if j % 2 == 0 { 3.0 } else { 1.0 })),
             );
             assert!((signed_area(&saw) - 2.0 * w).abs() < 1e-12);
-            let below = pts(&[(-1.0, -1.0), (99.0, -1.0), (99.0, 2.0), (-1.0, 2.0)]);
             let kept = clip_convex(&saw, &below);
             // Both base corners, the m / 2 low teeth and a crossing on each
             // of the m edges up to and along the top: more than n + 1.
             assert_eq!(kept.len(), 2 + m / 2 + m, "m = {m}");
             assert!(kept.len() > saw.len() + 1);
-            assert!(kept.len() <= room(saw.len(), below.len()));
             // Each unit of the top loses the triangle above 2 (0.5 by 1).
             assert!((signed_area(&kept) - 1.75 * w).abs() < 1e-12, "m = {m}");
             assert_eq!(clipped_area(&saw, &below), signed_area(&kept));
         }
+        // A face of many sides by another: on the heap, with no room to
+        // reserve beforehand. Two regular 40-gons of radius 1, one turned by
+        // half a side: their common part lies between the inscribed and the
+        // circumscribed circle's areas.
+        let gon = |turn: f64| -> Vec<Point2<f64>> {
+            (0..40)
+                .map(|k| {
+                    let t = (k as f64 + turn) * std::f64::consts::TAU / 40.0;
+                    Point2::new(t.cos(), t.sin())
+                })
+                .collect()
+        };
+        let common = clipped_area(&gon(0.0), &gon(0.5));
+        assert!(common < signed_area(&gon(0.0)) && common > 0.99 * std::f64::consts::PI);
         // A quadrilateral by a triangle, on the stack: the same as on the heap.
         let share = pts(&[(0.2, 0.1), (1.3, 0.4), (1.1, 1.2), (0.1, 0.9)]);
         let triangle = pts(&[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]);
