@@ -37,16 +37,34 @@ pub fn add_outer_into<const N: usize>(
     k: f64,
     transposed: bool,
 ) {
-    for c in 0..cols {
-        for r in 0..rows {
-            let v = g[r] * h[c] * k;
-            if transposed {
-                m[(c, r)] += v;
-            } else {
-                m[(r, c)] += v;
-            }
+    let (g, h) = (&g.as_slice()[..rows], &h.as_slice()[..cols]);
+    // Column-major: entry (r, c) is at r + c·N. Each entry takes one
+    // product, (g_r·h_c)·k, so the loops' order changes no sum.
+    let m = m.as_mut_slice();
+    let (outer, inner) = if transposed { (g, h) } else { (h, g) };
+    for (j, &a) in outer.iter().enumerate() {
+        let column = &mut m[j * N..j * N + inner.len()];
+        match inner.len() {
+            3 => scaled_add::<3>(column, inner, a, k),
+            6 => scaled_add::<6>(column, inner, a, k),
+            12 => scaled_add::<12>(column, inner, a, k),
+            _ => scaled_add_any(column, inner, a, k),
         }
     }
+}
+
+/// x += (b·a)·k entry by entry, over a length the compiler knows.
+#[inline(always)]
+fn scaled_add<const L: usize>(x: &mut [f64], b: &[f64], a: f64, k: f64) {
+    let x: &mut [f64; L] = x.try_into().expect("a column of L entries");
+    let b: &[f64; L] = b.try_into().expect("L entries");
+    for i in 0..L {
+        x[i] += b[i] * a * k;
+    }
+}
+
+fn scaled_add_any(x: &mut [f64], b: &[f64], a: f64, k: f64) {
+    x.iter_mut().zip(b).for_each(|(x, &b)| *x += b * a * k);
 }
 
 /// The lower triangle of a symmetric block-sparse matrix.
@@ -333,9 +351,9 @@ mod tests {
         dense
     }
 
-    fn filled(dofs: Vec<usize>) -> BlockSparse<3> {
-        let mut a = BlockSparse::<3>::new(dofs, [(0, 2), (2, 0), (1, 2)]);
-        let m = |s: f64| BlockMatrix::<3>::from_fn(|r, c| s + (3 * r + c) as f64);
+    fn filled<const N: usize>(dofs: Vec<usize>) -> BlockSparse<N> {
+        let mut a = BlockSparse::<N>::new(dofs, [(0, 2), (2, 0), (1, 2)]);
+        let m = |s: f64| BlockMatrix::<N>::from_fn(|r, c| s + (N * r + c) as f64);
         a.add(0, 0, &(m(10.0) + m(10.0).transpose()));
         a.add(1, 1, &(m(20.0) + m(20.0).transpose()));
         a.add(2, 2, &(m(30.0) + m(30.0).transpose()));
@@ -363,7 +381,7 @@ mod tests {
 
     #[test]
     fn pattern_and_values_match_the_dense_matrix() {
-        let a = filled(vec![3, 3, 3]);
+        let a = filled::<3>(vec![3, 3, 3]);
         let p = a.pattern();
         let mut v = Vec::new();
         a.values_into(&mut v);
@@ -400,10 +418,30 @@ mod tests {
         assert_eq!(v, w);
     }
 
+    /// The same at the widths with their own loops (12 and 6) and one
+    /// without (4), on both sides of the diagonal, to the last bit.
+    #[test]
+    fn outer_products_of_every_width_match_whole_products_to_the_bit() {
+        let g = BlockVector::<12>::from_fn(|i, _| (i as f64 * 0.37 - 1.3).sin());
+        let h = BlockVector::<12>::from_fn(|i, _| (i as f64 * 0.71 + 0.2).cos() * 3.1);
+        let k = 2.3e9;
+        let dofs = vec![12, 6, 4];
+        let (mut whole, mut kept) = (filled(dofs.clone()), filled(dofs));
+        for (row, col) in [(0, 0), (1, 1), (2, 2), (0, 2), (2, 0), (1, 2), (2, 1)] {
+            let slot = kept.slot(row, col).unwrap_or(0);
+            kept.add_outer(slot, row, col, &g, &h, k);
+            whole.add(row, col, &(g * h.transpose() * k));
+        }
+        let (mut v, mut w) = (Vec::new(), Vec::new());
+        kept.values_into(&mut v);
+        whole.values_into(&mut w);
+        assert_eq!(v, w);
+    }
+
     #[test]
     fn blocks_keep_their_leading_dofs_only() {
         // Block 1 keeps 2 of 3 DOF, block 2 only 1.
-        let full = filled(vec![3, 3, 3]);
+        let full = filled::<3>(vec![3, 3, 3]);
         let a = filled(vec![3, 2, 1]);
         assert_eq!(a.dim(), 6);
         let (p, pf) = (a.pattern(), full.pattern());
