@@ -54,9 +54,6 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // Where the dashpots read the blocks' motion in the step.
         let moving = approach.unwrap_or(&trial.d);
         let mut matrix = std::mem::take(&mut self.matrix);
-        if tangent {
-            matrix.clear();
-        }
         residual.fill(0.0);
         let end = self.time + dt;
         let ratio = self.settings.velocity_ratio;
@@ -84,6 +81,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // sum is made in the same order as below, so the two agree to the
         // last bit.
         let gather = couplings.is_none() && self.touching.is_filled() && !self.one_thread_assembly;
+        if tangent && !gather {
+            matrix.clear();
+        }
         if gather {
             let parts = matrix.split_blocks(residual);
             let (diagonal, _, _) = matrix.blocks_mut();
@@ -93,7 +93,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 .for_each(|(i, (diagonal, part))| {
                     let (k, r) = own_terms(i, &masses[i]);
                     if tangent {
-                        *diagonal += k;
+                        // Written over the last pass's terms: 0 + k is k
+                        // (a zero's sign too), so no serial sweep clears
+                        // the matrix first (16 ms a pass at 10,051 blocks
+                        // in 3D).
+                        *diagonal = k.add_scalar(0.0);
                     }
                     part.iter_mut().zip(r.iter()).for_each(|(x, r)| *x += r);
                 });
@@ -173,6 +177,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     .with_min_len(BLOCKS_PER_TASK)
                     .enumerate()
                     .for_each(|(s, block)| {
+                        block.fill(0.0);
                         for &i in &of_pair[pairs[s]..pairs[s + 1]] {
                             let load = loads[i].as_ref().expect("listed with a load");
                             let [a, b] = contacts[i].blocks;
