@@ -398,44 +398,46 @@ mod tests {
         assert_eq!(dense[7][0], 1.0 + 1.0);
     }
 
+    /// k·g·hᵀ added over the kept DOF of blocks keeping `dofs`, and the
+    /// whole product added block by block, on either side of the diagonal
+    /// and on it: the stored values of the two.
+    fn kept_and_whole<const N: usize>(
+        dofs: Vec<usize>,
+        g: &BlockVector<N>,
+        h: &BlockVector<N>,
+        k: f64,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let (mut whole, mut kept) = (filled::<N>(dofs.clone()), filled::<N>(dofs));
+        for (row, col) in [(0, 0), (1, 1), (2, 2), (0, 2), (2, 0), (1, 2), (2, 1)] {
+            let slot = kept.slot(row, col).unwrap_or(0);
+            kept.add_outer(slot, row, col, g, h, k);
+            whole.add(row, col, &(g * h.transpose() * k));
+        }
+        let (mut v, mut w) = (Vec::new(), Vec::new());
+        kept.values_into(&mut v);
+        whole.values_into(&mut w);
+        (v, w)
+    }
+
     /// A spring's k·g·hᵀ added over the kept DOF gives the values of the
-    /// whole product added block by block, on either side of the diagonal.
+    /// whole product added block by block.
     #[test]
     fn outer_products_fill_the_kept_dofs_as_whole_products_do() {
         let g = BlockVector::<3>::new(0.3, -1.2, 0.7);
         let h = BlockVector::<3>::new(-0.4, 0.9, 2.5);
-        let k = 1.7e9;
-        let dofs = vec![3, 2, 1];
-        let (mut whole, mut kept) = (filled(dofs.clone()), filled(dofs));
-        for (row, col) in [(0, 0), (2, 2), (0, 2), (2, 0), (1, 2), (2, 1)] {
-            let slot = kept.slot(row, col).unwrap_or(0);
-            kept.add_outer(slot, row, col, &g, &h, k);
-            whole.add(row, col, &(g * h.transpose() * k));
-        }
-        let (mut v, mut w) = (Vec::new(), Vec::new());
-        kept.values_into(&mut v);
-        whole.values_into(&mut w);
-        assert_eq!(v, w);
+        let (kept, whole) = kept_and_whole(vec![3, 2, 1], &g, &h, 1.7e9);
+        assert_eq!(kept, whole);
     }
 
     /// The same at the widths with their own loops (12 and 6) and one
-    /// without (4), on both sides of the diagonal, to the last bit.
+    /// without (4), to the last bit.
     #[test]
     fn outer_products_of_every_width_match_whole_products_to_the_bit() {
         let g = BlockVector::<12>::from_fn(|i, _| (i as f64 * 0.37 - 1.3).sin());
         let h = BlockVector::<12>::from_fn(|i, _| (i as f64 * 0.71 + 0.2).cos() * 3.1);
-        let k = 2.3e9;
-        let dofs = vec![12, 6, 4];
-        let (mut whole, mut kept) = (filled(dofs.clone()), filled(dofs));
-        for (row, col) in [(0, 0), (1, 1), (2, 2), (0, 2), (2, 0), (1, 2), (2, 1)] {
-            let slot = kept.slot(row, col).unwrap_or(0);
-            kept.add_outer(slot, row, col, &g, &h, k);
-            whole.add(row, col, &(g * h.transpose() * k));
-        }
-        let (mut v, mut w) = (Vec::new(), Vec::new());
-        kept.values_into(&mut v);
-        whole.values_into(&mut w);
-        assert_eq!(v, w);
+        let (kept, whole) = kept_and_whole(vec![12, 6, 4], &g, &h, 2.3e9);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&kept), bits(&whole));
     }
 
     #[test]
