@@ -95,8 +95,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     if tangent {
                         // Written over the last pass's terms: 0 + k is k
                         // (a zero's sign too), so no serial sweep clears
-                        // the matrix first (16 ms a pass at 10,051 blocks
-                        // in 3D).
+                        // the matrix first (up to 16 ms a pass at 10,051
+                        // blocks in 3D).
                         *diagonal = k.add_scalar(0.0);
                     }
                     part.iter_mut().zip(r.iter()).for_each(|(x, r)| *x += r);
