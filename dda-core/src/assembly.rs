@@ -281,18 +281,7 @@ impl<const N: usize> BlockSparse<N> {
     /// values in the same places as one thread's; at ten thousand blocks
     /// one thread took 3.5 ms, once a pass and at every factorisation).
     pub fn values_into(&self, values: &mut Vec<f64>) {
-        let dofs = &self.dofs;
-        // Column block cb holds the lower triangle of its diagonal block,
-        // then, column by column, the rows of its off-diagonal blocks.
-        let mut starts = Vec::with_capacity(self.block_count() + 1);
-        starts.push(0);
-        for cb in 0..self.block_count() {
-            let n = dofs[cb];
-            let below: usize = (self.pairs[self.columns[cb]..self.columns[cb + 1]].iter())
-                .map(|&(rb, _)| dofs[rb])
-                .sum();
-            starts.push(starts[cb] + n * (n + 1) / 2 + n * below);
-        }
+        let starts = self.value_starts();
         values.resize(starts[self.block_count()], 0.0);
         let mut parts = Vec::with_capacity(self.block_count());
         let mut rest = values.as_mut_slice();
@@ -304,18 +293,69 @@ impl<const N: usize> BlockSparse<N> {
         (parts.into_par_iter().enumerate())
             .with_min_len(BLOCKS_PER_TASK)
             .for_each(|(cb, part)| {
-                let range = self.columns[cb]..self.columns[cb + 1];
-                let (lower, pairs) = (&self.lower[range.clone()], &self.pairs[range]);
-                let d = &self.diagonal[cb];
                 let mut at = part.iter_mut();
-                let mut put = |v: f64| *at.next().expect("sized by the count") = v;
-                for c in 0..dofs[cb] {
-                    (c..dofs[cb]).for_each(|r| put(d[(r, c)]));
-                    for (m, &(rb, _)) in lower.iter().zip(pairs) {
-                        (0..dofs[rb]).for_each(|r| put(m[(r, c)]));
-                    }
-                }
+                self.column_values(cb, |v| *at.next().expect("sized by the count") = v);
             });
+    }
+
+    /// The largest |v| of `old` (values in the order of
+    /// [`BlockSparse::values_into`]) and the largest |v − m| against this
+    /// matrix's values, on every core without gathering them: a largest
+    /// value is the same in any order. `None` where `old` has another
+    /// length (another pattern).
+    pub fn largest_change(&self, old: &[f64]) -> Option<(f64, f64)> {
+        let starts = self.value_starts();
+        if old.len() != starts[self.block_count()] {
+            return None;
+        }
+        let largest = |(a, b): (f64, f64), (c, d): (f64, f64)| (a.max(c), b.max(d));
+        let found = (0..self.block_count())
+            .into_par_iter()
+            .with_min_len(BLOCKS_PER_TASK)
+            .map(|cb| {
+                let mut was = old[starts[cb]..starts[cb + 1]].iter();
+                let mut found = (0.0_f64, 0.0_f64);
+                self.column_values(cb, |v| {
+                    let w = *was.next().expect("sized by the count");
+                    found = largest(found, (w.abs(), (w - v).abs()));
+                });
+                found
+            })
+            .reduce(|| (0.0, 0.0), largest);
+        Some(found)
+    }
+
+    /// Where each column block's values start in [`BlockSparse::values_into`]'s
+    /// order, then their count.
+    fn value_starts(&self) -> Vec<usize> {
+        let dofs = &self.dofs;
+        let mut starts = Vec::with_capacity(self.block_count() + 1);
+        starts.push(0);
+        for cb in 0..self.block_count() {
+            let n = dofs[cb];
+            let below: usize = (self.pairs[self.columns[cb]..self.columns[cb + 1]].iter())
+                .map(|&(rb, _)| dofs[rb])
+                .sum();
+            starts.push(starts[cb] + n * (n + 1) / 2 + n * below);
+        }
+        starts
+    }
+
+    /// Column block cb's values, in order: the lower triangle of its
+    /// diagonal block, then, column by column, the rows of its
+    /// off-diagonal blocks.
+    #[inline(always)]
+    fn column_values(&self, cb: usize, mut put: impl FnMut(f64)) {
+        let dofs = &self.dofs;
+        let range = self.columns[cb]..self.columns[cb + 1];
+        let (lower, pairs) = (&self.lower[range.clone()], &self.pairs[range]);
+        let d = &self.diagonal[cb];
+        for c in 0..dofs[cb] {
+            (c..dofs[cb]).for_each(|r| put(d[(r, c)]));
+            for (m, &(rb, _)) in lower.iter().zip(pairs) {
+                (0..dofs[rb]).for_each(|r| put(m[(r, c)]));
+            }
+        }
     }
 
     /// y = A x for the full symmetric matrix on the global vector of kept
@@ -398,6 +438,31 @@ mod tests {
         assert_eq!(dense[7][0], 1.0 + 1.0);
     }
 
+    /// The largest value and change read off the blocks are those of the
+    /// gathered values, at every kept width; another pattern's values give
+    /// none.
+    #[test]
+    fn the_largest_change_is_read_off_the_blocks_as_off_the_values() {
+        for dofs in [vec![3, 3, 3], vec![3, 2, 1]] {
+            let a = filled::<3>(dofs.clone());
+            let mut b = filled::<3>(dofs);
+            b.add(
+                2,
+                1,
+                &BlockMatrix::<3>::from_fn(|r, c| 0.25 * r as f64 - 0.5 * c as f64),
+            );
+            b.add(1, 1, &(BlockMatrix::<3>::identity() * -7.0));
+            let (mut va, mut vb) = (Vec::new(), Vec::new());
+            a.values_into(&mut va);
+            b.values_into(&mut vb);
+            let scale = va.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let change = (va.iter().zip(&vb)).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+            assert!(change > 0.0);
+            assert_eq!(b.largest_change(&va), Some((scale, change)));
+            assert_eq!(a.largest_change(&va), Some((scale, 0.0)));
+            assert_eq!(a.largest_change(&va[1..]), None);
+        }
+    }
     /// k·g·hᵀ added over the kept DOF of blocks keeping `dofs`, and the
     /// whole product added block by block, on either side of the diagonal
     /// and on it: the stored values of the two.

@@ -6,7 +6,6 @@
 use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector};
-use rayon::prelude::*;
 
 use super::anderson::Anderson;
 use super::{gmres, Driver, Trial};
@@ -89,9 +88,6 @@ const KEPT_LARGE_FACTOR_CONTRACTION: f64 = 0.6;
 /// 40 × 40 deformable wall (1.3 million) and larger. Below it (the 40 × 40
 /// rigid wall, 0.25 million) a factorisation costs two or three moves.
 const LARGE_FACTOR_ENTRIES: usize = 1 << 20;
-
-/// Matrix values a task of `factor_fits` compares at least.
-const VALUES_PER_TASK: usize = 4096;
 
 /// How a sliding contact's friction force changes with its normal gap:
 /// the tangent gains `slope`·u·vᵀ, u the friction's rows along the slip
@@ -423,19 +419,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// at most `drift` (`FACTOR_DRIFT`, or `LARGE_FACTOR_DRIFT` for a large
     /// factor) from the one just assembled.
     fn factor_fits(&mut self, drift: f64) -> bool {
-        self.matrix.values_into(&mut self.values);
         let Some(old) = &self.factored else {
             return false;
         };
-        // On every core: a largest value is the same in any order.
-        let scale = (old.par_iter())
-            .with_min_len(VALUES_PER_TASK)
-            .map(|v| v.abs())
-            .reduce(|| 0.0, f64::max);
-        let change = (old.par_iter().zip(&self.values))
-            .with_min_len(VALUES_PER_TASK)
-            .map(|(a, b)| (a - b).abs())
-            .reduce(|| 0.0, f64::max);
+        // Read off the matrix's blocks: the values are gathered only for a
+        // factorisation.
+        let Some((scale, change)) = self.matrix.largest_change(old) else {
+            return false;
+        };
         change > FACTOR_ROUND_OFF * scale && change <= drift * scale
     }
 
