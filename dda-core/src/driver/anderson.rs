@@ -21,9 +21,14 @@ pub(crate) struct Anderson {
     steps: Vec<Vec<f64>>,
     /// The moves made from each of those iterates to the next.
     moves: Vec<Vec<f64>>,
-    /// The differences of successive steps, and vectors no longer used:
-    /// kept for their storage (a vector per unknown, several an iteration).
+    /// The differences of successive steps (one fewer than the steps):
+    /// each is made once and kept while both its steps are.
     differences: Vec<Vec<f64>>,
+    /// Their dot products, `products[i][j]` = differencesᵢ·differencesⱼ for
+    /// j ≤ i, each taken once, when the later one was made.
+    products: [[f64; DEPTH]; DEPTH],
+    /// Vectors no longer used, kept for their storage (a vector per
+    /// unknown, several an iteration).
     spare: Vec<Vec<f64>>,
 }
 
@@ -33,6 +38,7 @@ impl Anderson {
     pub fn restart(&mut self) {
         self.spare.append(&mut self.steps);
         self.spare.append(&mut self.moves);
+        self.spare.append(&mut self.differences);
     }
 
     /// A copy of `x` in a kept vector.
@@ -50,26 +56,22 @@ impl Anderson {
     /// as it is.
     pub fn mix(&mut self, f: &mut [f64]) {
         let step = self.copy(f);
-        let m = self.moves.len().min(self.steps.len());
-        if m > 0 {
-            // The last m steps before this one, f_{k−m} … f_{k−1}; ΔF column
-            // j is f_{k−m+j+1} − f_{k−m+j}, the last one ending at f itself.
-            let first = self.steps.len() - m;
-            self.differences.resize_with(m, Vec::new);
-            for (j, df) in self.differences.iter_mut().enumerate() {
-                let next = if j + 1 == m {
-                    &step
-                } else {
-                    &self.steps[first + j + 1]
-                };
-                df.clear();
-                df.extend(next.iter().zip(&self.steps[first + j]).map(|(a, b)| a - b));
+        // The last m steps before this one, f_{k−m} … f_{k−1}; ΔF column j
+        // is f_{k−m+j+1} − f_{k−m+j}, the last one ending at f itself.
+        let m = self.steps.len();
+        if let Some(last) = self.steps.last() {
+            let mut newest = self.spare.pop().unwrap_or_default();
+            newest.clear();
+            newest.extend(step.iter().zip(last).map(|(a, b)| a - b));
+            for (j, earlier) in self.differences.iter().enumerate() {
+                self.products[m - 1][j] = dot(&newest, earlier);
             }
-            let df = &self.differences[..m];
-            if let Some(gamma) = fit(df, &step) {
-                let moves = &self.moves[self.moves.len() - m..];
-                for (j, g) in gamma.iter().enumerate() {
-                    for ((f, dx), df) in f.iter_mut().zip(&moves[j]).zip(&df[j]) {
+            self.products[m - 1][m - 1] = dot(&newest, &newest);
+            self.differences.push(newest);
+            let gram = DMatrix::from_fn(m, m, |i, j| self.products[i.max(j)][i.min(j)]);
+            if let Some(gamma) = fit(gram, &self.differences, &step) {
+                for ((g, dx), df) in gamma.iter().zip(&self.moves).zip(&self.differences) {
+                    for ((f, dx), df) in f.iter_mut().zip(dx).zip(df) {
                         *f -= g * (dx + df);
                     }
                 }
@@ -78,32 +80,33 @@ impl Anderson {
         self.steps.push(step);
         let mixed = self.copy(f);
         self.moves.push(mixed);
-        if self.moves.len() > DEPTH {
-            let oldest = self.moves.remove(0);
-            self.spare.push(oldest);
-        }
         if self.steps.len() > DEPTH {
-            let oldest = self.steps.remove(0);
-            self.spare.push(oldest);
+            for v in [
+                self.steps.remove(0),
+                self.moves.remove(0),
+                self.differences.remove(0),
+            ] {
+                self.spare.push(v);
+            }
+            for i in 0..DEPTH - 1 {
+                for j in 0..=i {
+                    self.products[i][j] = self.products[i + 1][j + 1];
+                }
+            }
         }
     }
 }
 
-/// γ minimising |f − Σ γⱼ dfⱼ| by the normal equations, which at this
-/// size are cheaper than a QR; `None` when the columns are (nearly)
-/// dependent.
-fn fit(df: &[Vec<f64>], f: &[f64]) -> Option<DVector<f64>> {
+/// a·b, entry by entry in order.
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>()
+}
+
+/// γ minimising |f − Σ γⱼ dfⱼ| by the normal equations (`gram`, the
+/// columns' dot products), which at this size are cheaper than a QR;
+/// `None` when the columns are (nearly) dependent.
+fn fit(mut gram: DMatrix<f64>, df: &[Vec<f64>], f: &[f64]) -> Option<DVector<f64>> {
     let m = df.len();
-    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-    // Symmetric: each product once (x·y and y·x round alike).
-    let mut gram = DMatrix::zeros(m, m);
-    for i in 0..m {
-        for j in 0..=i {
-            let g = dot(&df[i], &df[j]);
-            gram[(i, j)] = g;
-            gram[(j, i)] = g;
-        }
-    }
     let scale = gram.diagonal().max();
     if !(scale > 0.0 && scale.is_finite()) {
         return None;
@@ -150,6 +153,55 @@ mod tests {
         println!("plain {plain} iterations, mixed {mixed}");
         assert!((xp - &exact).norm() < 1e-10 && (xm - &exact).norm() < 1e-10);
         assert!(mixed * 4 < plain, "mixed {mixed} against plain {plain}");
+    }
+
+    /// Mixes `f` by the last `DEPTH` (step, move) pairs of `history`,
+    /// every difference and product taken anew: the mixing as written
+    /// before the products were kept.
+    fn mixed_anew(history: &[(Vec<f64>, Vec<f64>)], f: &mut [f64]) {
+        let kept = &history[history.len().saturating_sub(DEPTH)..];
+        let step = f.to_vec();
+        let m = kept.len();
+        if m == 0 {
+            return;
+        }
+        let df: Vec<Vec<f64>> = (0..m)
+            .map(|j| {
+                let next = if j + 1 == m { &step } else { &kept[j + 1].0 };
+                next.iter().zip(&kept[j].0).map(|(a, b)| a - b).collect()
+            })
+            .collect();
+        let gram = DMatrix::from_fn(m, m, |i, j| dot(&df[i.max(j)], &df[i.min(j)]));
+        if let Some(gamma) = fit(gram, &df, &step) {
+            for (j, g) in gamma.iter().enumerate() {
+                for ((f, dx), df) in f.iter_mut().zip(&kept[j].1).zip(&df[j]) {
+                    *f -= g * (dx + df);
+                }
+            }
+        }
+    }
+
+    /// The kept differences and products give the moves of differences and
+    /// products taken anew, to the last bit, while the window fills, after
+    /// it slides and after a restart.
+    #[test]
+    fn kept_products_mix_as_products_taken_anew() {
+        let mut anderson = Anderson::default();
+        let mut history: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
+        for k in 0..12 {
+            if k == 7 {
+                anderson.restart();
+                history.clear();
+            }
+            let step: Vec<f64> = (0..5)
+                .map(|i| ((k * 5 + i) as f64 * 0.73).sin() * 0.5_f64.powi(k))
+                .collect();
+            let (mut kept, mut anew) = (step.clone(), step.clone());
+            anderson.mix(&mut kept);
+            mixed_anew(&history, &mut anew);
+            assert_eq!(kept, anew, "move {k}");
+            history.push((step, kept));
+        }
     }
 
     #[test]
