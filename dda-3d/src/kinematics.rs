@@ -150,12 +150,23 @@ pub fn move_point(
     d: &Vector12,
     update: RotationUpdate,
 ) -> Point3<f64> {
-    match update {
-        RotationUpdate::Linear => p + t_matrix(p, c) * d,
-        RotationUpdate::Exact => {
+    point_mover(c, d, update)(p)
+}
+
+/// [`move_point`] for many points of one block: the step's rotation and
+/// strain are made once, not at every point.
+pub fn point_mover<'a>(
+    c: &'a Point3<f64>,
+    d: &'a Vector12,
+    update: RotationUpdate,
+) -> impl Fn(&Point3<f64>) -> Point3<f64> + 'a {
+    let exact = (update == RotationUpdate::Exact).then(|| (step_rotation(d), strain_tensor(d)));
+    move |p| match exact {
+        None => p + t_matrix(p, c) * d,
+        Some((rotation, strain)) => {
             let arm = p - c;
-            let strained = arm + strain_tensor(d) * arm;
-            c + Vector3::new(d[0], d[1], d[2]) + step_rotation(d) * strained
+            let strained = arm + strain * arm;
+            c + Vector3::new(d[0], d[1], d[2]) + rotation * strained
         }
     }
 }
