@@ -808,18 +808,18 @@ fn widest_at_rest<const N: usize, const T: usize>(
 
 /// The entrance of the largest of `gaps`, or `current` if within
 /// `tolerance` of it.
-fn widest_of(gaps: impl Iterator<Item = f64> + Clone, current: usize, tolerance: f64) -> usize {
-    let (best, widest) =
-        gaps.clone()
-            .enumerate()
-            .fold((current, f64::NEG_INFINITY), |acc, (i, g)| {
-                if g > acc.1 {
-                    (i, g)
-                } else {
-                    acc
-                }
-            });
-    match gaps.clone().nth(current) {
+fn widest_of(gaps: impl Iterator<Item = f64>, current: usize, tolerance: f64) -> usize {
+    // One sweep: each gap (in 3D two dot products of 12 entries) made once.
+    let (mut best, mut widest, mut at_current) = (current, f64::NEG_INFINITY, None);
+    for (i, g) in gaps.enumerate() {
+        if g > widest {
+            (best, widest) = (i, g);
+        }
+        if i == current {
+            at_current = Some(g);
+        }
+    }
+    match at_current {
         Some(g) if widest - g <= tolerance => current,
         _ => best,
     }
