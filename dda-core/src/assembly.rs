@@ -463,6 +463,7 @@ mod tests {
             assert_eq!(a.largest_change(&va[1..]), None);
         }
     }
+
     /// k·g·hᵀ added over the kept DOF of blocks keeping `dofs`, and the
     /// whole product added block by block, on either side of the diagonal
     /// and on it: the stored values of the two.
