@@ -41,6 +41,13 @@ pub trait LinearSolver: Send {
         self.solve(rhs);
     }
 
+    /// Whether `solve_correction` solves less exactly than `solve` on the
+    /// same factor (a single-precision copy), so a correction that falls
+    /// short may be the copy's and not the factor's. Default: no.
+    fn corrections_inexact(&self) -> bool {
+        false
+    }
+
     /// A new step begins: forget what earlier systems left behind (an
     /// iterative solver's start), so a step solves the same whether the
     /// run went on or was resumed from a checkpoint before it.
@@ -280,6 +287,10 @@ impl LinearSolver for SparseCholesky {
 
     fn factor_entries(&self) -> usize {
         self.factor.len()
+    }
+
+    fn corrections_inexact(&self) -> bool {
+        !self.single.is_empty()
     }
 
     fn solve_correction(&self, rhs: &mut [f64]) {

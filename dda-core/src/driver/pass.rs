@@ -193,6 +193,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             (KEPT_FACTOR_CONTRACTION, STALE_FACTOR_MOVES, FACTOR_DRIFT)
         };
         let mut rises = 0;
+        // Whether the pass's moves are solved exactly, and whether the last
+        // one was solved inexactly (see below).
+        let (mut exact, mut inexact) = (false, false);
         let mut moves = 0;
         // Whether the pass runs on an earlier step's factor (until it
         // factorises anew).
@@ -254,10 +257,19 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // factor's move that raised the residual is undone: the next
             // move is Newton's from the best iterate.
             if kept && norm > give_way * last {
-                // An earlier step's factor is replaced once, by this
-                // iterate's; the pass's own falls short only where the
-                // tangent changes from one iterate to the next.
-                if carried {
+                if inexact && self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES {
+                    // The move may have fallen short by the single-precision
+                    // copy's round-off, not the factor's age: near the
+                    // tolerance a large 3D wall's moves stall on the copy,
+                    // and a new factor's, solved on its copy again, stall
+                    // alike. A large factorisation costs many moves, so the
+                    // factor's later moves are solved exactly first; only if
+                    // one of those falls short does it give way.
+                    exact = true;
+                } else if carried {
+                    // An earlier step's factor is replaced once, by this
+                    // iterate's; the pass's own falls short only where the
+                    // tangent changes from one iterate to the next.
                     factored = false;
                 } else {
                     keeping = false;
@@ -292,8 +304,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // A pass's first move is solved exactly: where the equations
             // are linear it is the answer. Later ones correct an iterate of
             // a tangent that is itself approximate (explicit friction, a
-            // kept factor), so single precision costs them nothing.
-            if coupled || moves == 0 {
+            // kept factor), so single precision costs them nothing, until
+            // what is left is its round-off (above).
+            inexact = !(coupled || moves == 0 || exact) && self.solver.corrections_inexact();
+            if coupled || moves == 0 || exact {
                 self.solver.solve(&mut residual);
             } else {
                 self.solver.solve_correction(&mut residual);
