@@ -263,8 +263,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     // tolerance a large 3D wall's moves stall on the copy,
                     // and a new factor's, solved on its copy again, stall
                     // alike. A large factorisation costs many moves, so the
-                    // factor's later moves are solved exactly first; only if
-                    // one of those falls short does it give way.
+                    // pass's later moves are solved exactly (on this factor
+                    // and any that replaces it); only if one of those falls
+                    // short does this one give way.
                     exact = true;
                 } else if carried {
                     // An earlier step's factor is replaced once, by this
