@@ -13,6 +13,8 @@ use dda_core::solve::{LinearSolver, SparseCholesky};
 use dda_core::DdaError;
 use dda_core::{BlockKind, Statistics};
 use nalgebra::Point2;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
 
 /// Runs `scene` for `steps` steps of 1 ms, with every factor's copy or
 /// none: the statistics and the blocks' centroids.
@@ -87,6 +89,17 @@ fn a_settling_wall_takes_as_many_iterations_and_settles_alike() {
     assert!(gap < 1e-10, "centroids {gap} m apart");
 }
 
+/// The 10 × 10 deformable wall with joints bonded far more strongly than
+/// its weight needs: no joint opens or slides.
+fn bonded_wall() -> Scene {
+    let mut scene = wall(10, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
+    let JointLaw::Coulomb(law) = &mut scene.default_joint else {
+        panic!("the wall's joints are Coulomb's");
+    };
+    (law.cohesion, law.tensile_strength) = (1e8, 1e8);
+    scene
+}
+
 /// Bonded joints make each pass's equations linear. A pass on a fresh
 /// factor is solved by its first move, which is exact; one that starts on
 /// the last step's factor (its matrix changed by at most 1e-3) needs one
@@ -94,12 +107,7 @@ fn a_settling_wall_takes_as_many_iterations_and_settles_alike() {
 /// is the same to round-off.
 #[test]
 fn a_bonded_wall_takes_no_more_moves() {
-    let mut scene = wall(10, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
-    let JointLaw::Coulomb(law) = &mut scene.default_joint else {
-        panic!("the wall's joints are Coulomb's");
-    };
-    // A bond far stronger than the wall's weight: no joint opens or slides.
-    (law.cohesion, law.tensile_strength) = (1e8, 1e8);
+    let scene = bonded_wall();
     let steps = 20;
     let (double, at) = run(&scene, steps, false);
     let (single, at_single) = run(&scene, steps, true);
@@ -195,4 +203,77 @@ fn a_large_factor_whose_corrections_fall_short_is_solved_exactly() {
         unowned.factorizations
     );
     assert!(gap < 1e-10, "centroids {gap} m apart");
+}
+
+/// Sparse Cholesky with every factor's single-precision copy, posing as a
+/// large factor, counting the moves it solves exactly.
+struct LargeCounted {
+    solver: SparseCholesky,
+    exact: Arc<AtomicUsize>,
+}
+
+impl LinearSolver for LargeCounted {
+    fn analyse(&mut self, pattern: &CscPattern) -> Result<(), DdaError> {
+        self.solver.analyse(pattern)
+    }
+    fn factorize(&mut self, values: &[f64]) -> Result<(), DdaError> {
+        self.solver.factorize(values)
+    }
+    fn solve(&self, rhs: &mut [f64]) {
+        self.exact.fetch_add(1, Ordering::Relaxed);
+        self.solver.solve(rhs);
+    }
+    fn solve_correction(&self, rhs: &mut [f64]) {
+        self.solver.solve_correction(rhs);
+    }
+    fn corrections_inexact(&self) -> bool {
+        self.solver.corrections_inexact()
+    }
+    fn factor_entries(&self) -> usize {
+        usize::MAX
+    }
+}
+
+/// A pass that starts on an earlier step's large factor makes even its
+/// first move in single precision: that factor's matrix has changed since,
+/// so the move is no exact answer. On the bonded wall only the first move
+/// on a fresh factor is solved exactly; the wall converges at every step
+/// and stands where double precision leaves it.
+#[test]
+fn a_large_earlier_factor_makes_even_a_first_move_in_single_precision() {
+    let scene = bonded_wall();
+    let steps = 20;
+    let mut solver = SparseCholesky::default();
+    solver.single_from = 0;
+    let exact = Arc::new(AtomicUsize::new(0));
+    let counted = LargeCounted {
+        solver,
+        exact: exact.clone(),
+    };
+    let (double, at) = run(&scene, steps, false);
+    let (large, at_large) = run_on(&scene, steps, Some(Box::new(counted)));
+    let exact = exact.load(Ordering::Relaxed);
+    let gap = apart(&at, &at_large);
+    println!(
+        "{} moves in {} passes, {} factorisations, {exact} solved exactly; double: {} moves; centroids {gap:.2e} m apart",
+        large.newton_iterations,
+        large.open_close_iterations,
+        large.factorizations,
+        double.newton_iterations
+    );
+    for s in [&double, &large] {
+        assert_eq!(s.steps, steps);
+        assert_eq!(s.open_close_cuts, 0);
+        assert_eq!(s.unconverged_steps, 0);
+        assert_eq!(s.newton_failures, 0);
+    }
+    // Passes that started on the last step's factor kept it throughout
+    // (every pass on a fresh one would solve its first move exactly).
+    assert!(large.factorizations < large.open_close_iterations);
+    assert!(
+        (1..=large.factorizations).contains(&exact),
+        "{exact} moves solved exactly, {} factorisations",
+        large.factorizations
+    );
+    assert!(gap < 1e-12, "centroids {gap} m apart");
 }
