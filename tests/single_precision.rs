@@ -42,6 +42,15 @@ fn run_on(
     (driver.statistics().clone(), centroids)
 }
 
+/// Every one of `steps` steps taken, none cut, none accepted unconverged,
+/// no Newton-Raphson iteration failed.
+fn ran_clean(s: &Statistics, steps: usize) {
+    assert_eq!(s.steps, steps);
+    assert_eq!(s.open_close_cuts, 0);
+    assert_eq!(s.unconverged_steps, 0);
+    assert_eq!(s.newton_failures, 0);
+}
+
 /// The largest distance between two runs' centroids, m.
 fn apart(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
     a.iter()
@@ -68,10 +77,7 @@ fn a_settling_wall_takes_as_many_iterations_and_settles_alike() {
         per_step(&single)
     );
     for s in [&double, &single] {
-        assert_eq!(s.steps, steps);
-        assert_eq!(s.open_close_cuts, 0);
-        assert_eq!(s.unconverged_steps, 0);
-        assert_eq!(s.newton_failures, 0);
+        ran_clean(s, steps);
     }
     // The copy's round-off, a few parts in 10⁷ of a move, is far below the
     // tenfold contraction of the explicit friction's iterations.
@@ -191,10 +197,7 @@ fn a_large_factor_whose_corrections_fall_short_is_solved_exactly() {
         unowned.newton_iterations
     );
     for s in [&exact, &owned, &unowned] {
-        assert_eq!(s.steps, steps);
-        assert_eq!(s.open_close_cuts, 0);
-        assert_eq!(s.unconverged_steps, 0);
-        assert_eq!(s.newton_failures, 0);
+        ran_clean(s, steps);
     }
     assert!(
         owned.newton_iterations < unowned.newton_iterations,
@@ -268,10 +271,7 @@ fn a_large_earlier_factor_makes_even_a_first_move_in_single_precision() {
         double.newton_iterations
     );
     for s in [&double, &large] {
-        assert_eq!(s.steps, steps);
-        assert_eq!(s.open_close_cuts, 0);
-        assert_eq!(s.unconverged_steps, 0);
-        assert_eq!(s.newton_failures, 0);
+        ran_clean(s, steps);
     }
     // Passes that started on the last step's factor kept it throughout
     // (every pass on a fresh one would solve its first move exactly).
@@ -315,10 +315,7 @@ fn a_large_factor_gives_way_to_a_kept_one() {
         exact.factorizations
     );
     for s in [&exact, &large] {
-        assert_eq!(s.steps, steps);
-        assert_eq!(s.open_close_cuts, 0);
-        assert_eq!(s.unconverged_steps, 0);
-        assert_eq!(s.newton_failures, 0);
+        ran_clean(s, steps);
     }
     assert_eq!(log.matches('F').count(), large.factorizations);
     // Some step factorised after a move: the rule was put to the test.
