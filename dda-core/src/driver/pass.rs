@@ -96,7 +96,10 @@ const KEPT_LARGE_FACTOR_CONTRACTION: f64 = 0.6;
 /// ms (with 1.0, a factor kept until a move raised the residual: 559 ms).
 const OWN_LARGE_FACTOR_CONTRACTION: f64 = 0.9;
 
-/// Factor entries from which `KEPT_LARGE_FACTOR_CONTRACTION` applies: the
+/// Factor entries from which the large factor's rules apply (the
+/// `LARGE_FACTOR_DRIFT`, `KEPT_LARGE_FACTOR_CONTRACTION` and
+/// `OWN_LARGE_FACTOR_CONTRACTION` limits, exact moves where the copy's
+/// fall short, a carried factor's first move in single precision): the
 /// 40 × 40 deformable wall (1.3 million) and larger. Below it (the 40 × 40
 /// rigid wall, 0.25 million) a factorisation costs two or three moves.
 const LARGE_FACTOR_ENTRIES: usize = 1 << 20;
