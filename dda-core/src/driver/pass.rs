@@ -198,7 +198,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             !coupled && trial.load_scale == 0.0 && self.analysed && self.factored.is_some();
         let mut kept = false;
         let mut keeping = true;
-        let (give_way, stale, drift) = if self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES {
+        let (give_way, stale, drift) = if self.large_factor() {
             (
                 KEPT_LARGE_FACTOR_CONTRACTION,
                 usize::MAX,
@@ -273,7 +273,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // move that raised the residual is undone: the next move is
             // Newton's from the best iterate.
             if kept && norm > give_way * last {
-                let large = self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES;
+                let large = self.large_factor();
                 if inexact && large {
                     // The move may have fallen short by the single-precision
                     // copy's round-off, not the factor's age: near the
@@ -332,7 +332,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // its solve is the pass's dearest. A small factor's is cheap,
             // and its round-off only tips residuals that land at the
             // tolerance across it.
-            let first_exact = !(carried && self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES);
+            let first_exact = !(carried && self.large_factor());
             let precise = coupled || exact || (moves == 0 && first_exact);
             inexact = !precise && self.solver.corrections_inexact();
             if precise {
@@ -454,6 +454,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 *yi -= cj * zi;
             }
         }
+    }
+
+    /// Whether the solver's factor is large (`LARGE_FACTOR_ENTRIES`), read
+    /// at the moment: a run's first pass starts with none.
+    fn large_factor(&self) -> bool {
+        self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES
     }
 
     /// Whether the step may start on the last factor: its matrix changed
