@@ -359,18 +359,24 @@ impl<const N: usize> BlockSparse<N> {
     }
 
     /// y = A x for the full symmetric matrix on the global vector of kept
-    /// DOF (used in tests and checks).
+    /// DOF.
     pub fn multiply(&self, x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.dim()];
-        let xs: Vec<BlockVector<N>> = (0..self.block_count()).map(|i| self.block(x, i)).collect();
+        self.multiply_into(x, &mut y);
+        y
+    }
+
+    /// `y` = A x, as [`BlockSparse::multiply`], into `y` (the whole-tangent
+    /// GMRES's product, once a move or more).
+    pub fn multiply_into(&self, x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|y| *y = 0.0);
         for (i, d) in self.diagonal.iter().enumerate() {
-            self.add_block(&mut y, i, &(d * xs[i]));
+            self.add_block(y, i, &(d * self.block(x, i)));
         }
         for (m, &(r, c)) in self.lower.iter().zip(&self.pairs) {
-            self.add_block(&mut y, r, &(m * xs[c]));
-            self.add_block(&mut y, c, &(m.transpose() * xs[r]));
+            self.add_block(y, r, &(m * self.block(x, c)));
+            self.add_block(y, c, &(m.transpose() * self.block(x, r)));
         }
-        y
     }
 }
 

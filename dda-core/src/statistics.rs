@@ -46,6 +46,10 @@ pub struct Statistics {
     /// Open-close passes solved again with friction's coupling to the
     /// normal force in the tangent, after the symmetric iteration failed.
     pub coupled_solves: usize,
+    /// Newton-Raphson moves on the whole tangent, and the factorisations
+    /// among them: a large factor preconditions several such moves.
+    pub whole_tangent_moves: usize,
+    pub whole_tangent_factorizations: usize,
     /// Accepted steps that ended with a penetration deeper than the limit.
     pub deep_penetration_steps: usize,
     /// The deepest penetration of any accepted step.

@@ -234,6 +234,9 @@ fn difference(after: &Statistics, before: &Statistics) -> Statistics {
         open_close_iterations: after.open_close_iterations - before.open_close_iterations,
         newton_iterations: after.newton_iterations - before.newton_iterations,
         factorizations: after.factorizations - before.factorizations,
+        whole_tangent_moves: after.whole_tangent_moves - before.whole_tangent_moves,
+        whole_tangent_factorizations: after.whole_tangent_factorizations
+            - before.whole_tangent_factorizations,
         symbolic_analyses: after.symbolic_analyses - before.symbolic_analyses,
         open_close_cuts: after.open_close_cuts - before.open_close_cuts,
         displacement_cuts: after.displacement_cuts - before.displacement_cuts,

@@ -65,6 +65,23 @@ const FACTOR_ROUND_OFF: f64 = 1e-12;
 /// earlier one.
 const RISES_BEFORE_WHOLE_TANGENT: usize = 3;
 
+/// A large factor's whole-tangent moves with more than `SMW_COUPLINGS`
+/// couplings are GMRES's on the whole tangent itself, the factor at hand
+/// (the symmetric iteration's or an earlier move's) only its
+/// preconditioner, kept while GMRES needs at most this many products: the
+/// move is the whole tangent's whatever the factor's age. With a factor at
+/// every such move, the 70 × 70 deformable wall's first 0.1 s at its
+/// automatic step made 150 factorisations in 214 of them; with this, 9 in
+/// 258 (2,735 products), 471–496 ms a step against 655–673. A limit of 10
+/// made 36 (507 ms), one of 40 made 2, with 3,314 products (512 ms).
+const PRECONDITIONED_PRODUCTS: usize = 20;
+
+/// GMRES's relative tolerance for such a move: an inexact Newton move, as
+/// the pass's residual, not the move, decides convergence. At 1e-6 the
+/// same wall made 219 such moves, 3,233 products and 33 factorisations,
+/// 513–531 ms a step.
+const PRECONDITIONED_TOLERANCE: f64 = 1e-3;
+
 /// The most halvings of a coupled Newton-Raphson step.
 const LINE_SEARCH_HALVINGS: usize = 12;
 
@@ -212,6 +229,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // one was solved inexactly (see below).
         let (mut exact, mut inexact) = (false, false);
         let mut moves = 0;
+        // Whether a whole-tangent move may run on the factor at hand
+        // (`PRECONDITIONED_PRODUCTS`).
+        let mut precondition = true;
         // Whether the pass runs on an earlier step's factor (until it
         // factorises anew).
         let mut carried = false;
@@ -302,7 +322,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     continue;
                 }
             }
-            let refresh = coupled || !keeping || !factored;
+            let preconditioned = coupled && couplings.len() > SMW_COUPLINGS && self.large_factor();
+            let refresh = if coupled {
+                !(preconditioned && precondition && self.factored.is_some())
+            } else {
+                !keeping || !factored
+            };
             if norm > last || (kept && refresh) {
                 // A mixed move that did not lower the residual (a contact
                 // crossed its strength), or a new factor: mix again from
@@ -315,11 +340,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 if !tangent {
                     self.assemble(dt, masses, trial, &mut residual, None, true);
                 }
+                let before = self.stats.factorizations;
                 self.factorize()?;
+                if coupled {
+                    self.stats.whole_tangent_factorizations += self.stats.factorizations - before;
+                }
                 carried = false;
                 factored = true;
             }
-            kept = !refresh;
+            // A whole-tangent move is Newton's on any factor.
+            kept = !refresh && !coupled;
             let solving = Instant::now();
             // A pass's first move is solved exactly: where the equations
             // are linear it is the answer. Later ones correct an iterate of
@@ -333,7 +363,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // and its round-off only tips residuals that land at the
             // tolerance across it.
             let first_exact = !(carried && self.large_factor());
-            let precise = coupled || exact || (moves == 0 && first_exact);
+            // A preconditioned whole-tangent move's GMRES makes it exact
+            // to its own tolerance.
+            let precise = if coupled {
+                !preconditioned
+            } else {
+                exact || (moves == 0 && first_exact)
+            };
             inexact = !precise && self.solver.corrections_inexact();
             if precise {
                 self.solver.solve(&mut residual);
@@ -341,8 +377,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 self.solver.solve_correction(&mut residual);
             }
             moves += 1;
+            if coupled {
+                self.stats.whole_tangent_moves += 1;
+            }
             if !couplings.is_empty() {
-                self.correct(&couplings, &mut residual);
+                precondition = self.correct(&couplings, &mut residual, preconditioned);
             }
             self.stats.times.solve += solving.elapsed();
             self.stats.count_solves(self.solver.take_counts());
@@ -405,23 +444,47 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// Turns `y = K⁻¹r` (K the symmetric tangent) into the solution with
     /// K + Σ sⱼ uⱼvⱼᵀ: x = y − Z (I + S VᵀZ)⁻¹ S Vᵀy, with Z = K⁻¹U; beyond
-    /// `SMW_COUPLINGS` couplings, by GMRES on x + K⁻¹U S Vᵀx = y.
-    fn correct(&self, couplings: &[FrictionCoupling<N>], y: &mut [f64]) {
+    /// `SMW_COUPLINGS` couplings, by GMRES on x + K⁻¹U S Vᵀx = y, or, where
+    /// `preconditioned`, on F⁻¹(K + U S Vᵀ)x = y with y = F⁻¹r, F the
+    /// factor at hand solved in single precision. Returns whether the
+    /// factor may serve the next move (`PRECONDITIONED_PRODUCTS`).
+    fn correct(
+        &self,
+        couplings: &[FrictionCoupling<N>],
+        y: &mut [f64],
+        preconditioned: bool,
+    ) -> bool {
         let m = couplings.len();
         let size = y.len();
         let dot = |c: &FrictionCoupling<N>, x: &[f64]| {
             c.v[0].dot(&self.matrix.block(x, c.blocks[0]))
                 + c.v[1].dot(&self.matrix.block(x, c.blocks[1]))
         };
+        // out += Σ sⱼuⱼ(vⱼᵀv).
+        let couple = |v: &[f64], out: &mut [f64]| {
+            for c in couplings {
+                let w = c.slope * dot(c, v);
+                self.matrix.add_block(out, c.blocks[0], &(c.u[0] * w));
+                self.matrix.add_block(out, c.blocks[1], &(c.u[1] * w));
+            }
+        };
+        if preconditioned {
+            let mut products = 0;
+            let apply = |v: &[f64], out: &mut [f64]| {
+                products += 1;
+                self.matrix.multiply_into(v, out);
+                couple(v, out);
+                self.solver.solve_correction(out);
+            };
+            let rhs = y.to_vec();
+            let solved = gmres::gmres(apply, &rhs, y, PRECONDITIONED_TOLERANCE, 60);
+            return solved && products <= PRECONDITIONED_PRODUCTS;
+        }
         if m > SMW_COUPLINGS {
             // x + K⁻¹Σ sⱼuⱼ(vⱼᵀx) = y, from x = y.
             let apply = |v: &[f64], out: &mut [f64]| {
                 out.iter_mut().for_each(|o| *o = 0.0);
-                for c in couplings {
-                    let w = c.slope * dot(c, v);
-                    self.matrix.add_block(out, c.blocks[0], &(c.u[0] * w));
-                    self.matrix.add_block(out, c.blocks[1], &(c.u[1] * w));
-                }
+                couple(v, out);
                 self.solver.solve(out);
                 for (o, v) in out.iter_mut().zip(v) {
                     *o += v;
@@ -429,7 +492,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             };
             let rhs = y.to_vec();
             gmres::gmres(apply, &rhs, y, 1e-6, 60);
-            return;
+            return true;
         }
         let z: Vec<Vec<f64>> = couplings
             .iter()
@@ -447,13 +510,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         });
         let rhs = DVector::from_fn(m, |i, _| couplings[i].slope * dot(&couplings[i], y));
         let Some(c) = system.lu().solve(&rhs) else {
-            return;
+            return true;
         };
         for (zj, cj) in z.iter().zip(c.iter()) {
             for (yi, zi) in y.iter_mut().zip(zj) {
                 *yi -= cj * zi;
             }
         }
+        true
     }
 
     /// Whether the solver's factor is large (`LARGE_FACTOR_ENTRIES`), read
