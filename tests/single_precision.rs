@@ -15,6 +15,9 @@ use dda_core::{BlockKind, Statistics};
 use nalgebra::Point2;
 use std::sync::{Arc, Mutex};
 
+mod common;
+use common::LargeLogged;
+
 /// Runs `scene` for `steps` steps of 1 ms, with every factor's copy or
 /// none: the statistics and the blocks' centroids.
 fn run(scene: &Scene, steps: usize, single: bool) -> (Statistics, Vec<Point2<f64>>) {
@@ -206,41 +209,6 @@ fn a_large_factor_whose_corrections_fall_short_is_solved_exactly() {
         unowned.newton_iterations
     );
     assert!(gap < 1e-10, "centroids {gap} m apart");
-}
-
-/// Sparse Cholesky posing as a large factor, writing down what it is
-/// asked: `F` a factorisation, `S` an exact solve, `C` a correction (on
-/// the single-precision copy where the solver keeps one), `|` a new step.
-struct LargeLogged {
-    solver: SparseCholesky,
-    log: Arc<Mutex<String>>,
-}
-
-impl LinearSolver for LargeLogged {
-    fn analyse(&mut self, pattern: &CscPattern) -> Result<(), DdaError> {
-        self.solver.analyse(pattern)
-    }
-    fn factorize(&mut self, values: &[f64]) -> Result<(), DdaError> {
-        self.log.lock().unwrap().push('F');
-        self.solver.factorize(values)
-    }
-    fn solve(&self, rhs: &mut [f64]) {
-        self.log.lock().unwrap().push('S');
-        self.solver.solve(rhs);
-    }
-    fn solve_correction(&self, rhs: &mut [f64]) {
-        self.log.lock().unwrap().push('C');
-        self.solver.solve_correction(rhs);
-    }
-    fn corrections_inexact(&self) -> bool {
-        self.solver.corrections_inexact()
-    }
-    fn start_step(&mut self) {
-        self.log.lock().unwrap().push('|');
-    }
-    fn factor_entries(&self) -> usize {
-        usize::MAX
-    }
 }
 
 /// A pass that starts on an earlier step's large factor makes even its

@@ -2,6 +2,11 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use dda_core::assembly::CscPattern;
+use dda_core::solve::{LinearSolver, SparseCholesky};
+use dda_core::DdaError;
 
 use dda::HistoryRow;
 
@@ -280,4 +285,39 @@ pub fn assert_thrown_box_follows_the_parabola(rows: &[dda::HistoryRow3]) {
         assert!(dv < 1e-9 * norm(v), "t = {t}: {:?} vs {v:?}", row.velocity);
     }
     assert_eq!(rows.last().expect("rows").time, 1.0);
+}
+
+/// Sparse Cholesky posing as a large factor, writing down what it is
+/// asked: `F` a factorisation, `S` an exact solve, `C` a correction (on
+/// the single-precision copy where the solver keeps one), `|` a new step.
+pub struct LargeLogged {
+    pub solver: SparseCholesky,
+    pub log: Arc<Mutex<String>>,
+}
+
+impl LinearSolver for LargeLogged {
+    fn analyse(&mut self, pattern: &CscPattern) -> Result<(), DdaError> {
+        self.solver.analyse(pattern)
+    }
+    fn factorize(&mut self, values: &[f64]) -> Result<(), DdaError> {
+        self.log.lock().unwrap().push('F');
+        self.solver.factorize(values)
+    }
+    fn solve(&self, rhs: &mut [f64]) {
+        self.log.lock().unwrap().push('S');
+        self.solver.solve(rhs);
+    }
+    fn solve_correction(&self, rhs: &mut [f64]) {
+        self.log.lock().unwrap().push('C');
+        self.solver.solve_correction(rhs);
+    }
+    fn corrections_inexact(&self) -> bool {
+        self.solver.corrections_inexact()
+    }
+    fn start_step(&mut self) {
+        self.log.lock().unwrap().push('|');
+    }
+    fn factor_entries(&self) -> usize {
+        usize::MAX
+    }
 }
