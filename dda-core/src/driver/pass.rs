@@ -48,17 +48,25 @@ const STALE_FACTOR_MOVES: usize = 5;
 /// the rigid one's step 95 → 165 ms).
 const LARGE_FACTOR_DRIFT: f64 = 1e-4;
 
-/// ... and by more than this; a matrix that changed by no more (of its
-/// largest value) is not factorised again, the factor at hand serving as
-/// its own, its moves tested as a new factor's: their error is the
-/// change against the blocks' inertia (m/dt², which bounds the matrix's
-/// smallest eigenvalue from below), and the residual, not the factor,
-/// decides convergence. A standing rigid 20 × 20 wall's
-/// matrix changes by 1e-19 to 1e-11 a step (most below 1e-16): at dt 1 ms
-/// it factorised 0.94 times a step for nothing. Moves on a factor whose
-/// matrix changed by more are tested as a kept factor's: a cube spinning
-/// for 6,283 steps so ended 1.4e-12 off its spin.
+/// ... and by more than this; a matrix of `ROUND_OFF_FACTOR_ENTRIES` or
+/// more that changed by no more (of its largest value) is not factorised
+/// again, the factor at hand serving as a new one: the error of a move on
+/// it is the change against the blocks' inertia (m/dt², which bounds the
+/// matrix's smallest eigenvalue from below), and a pass's first move on it
+/// is refined by one more before its residual may end the pass. A
+/// standing rigid 20 × 20 wall's matrix changes by 1e-19 to 1e-11 of its
+/// largest value a step (most below 1e-16): at dt 1 ms it factorised 0.94
+/// times a step for nothing. Without the refining move a free cube's
+/// errors of 1e-15 a step add up: spinning for a revolution, its spin
+/// ended 1.4e-12 off.
 const FACTOR_ROUND_OFF: f64 = 1e-12;
+
+/// Factor entries from which a matrix changed by round-off only keeps its
+/// factor (`FACTOR_ROUND_OFF`): below it (a few blocks: a free block has
+/// 36 entries, the 5 × 5 rigid wall 2,187) a factorisation costs no more
+/// than the move that would refine the kept factor, and a linear step
+/// stays one move.
+const ROUND_OFF_FACTOR_ENTRIES: usize = 1 << 12;
 
 /// With more sliding contacts than `SMW_COUPLINGS`, moves on fresh factors
 /// that raise the residual this many times in a row end the symmetric
@@ -566,8 +574,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     }
 
     /// Factorizes the assembled matrix unless its values changed by
-    /// round-off only (`FACTOR_ROUND_OFF`). Returns whether the factor is
-    /// exactly the matrix's.
+    /// round-off only (`FACTOR_ROUND_OFF`, `ROUND_OFF_FACTOR_ENTRIES`).
+    /// Returns whether the factor is exactly the matrix's.
     fn factorize(&mut self) -> Result<bool, DdaError> {
         self.matrix.values_into(&mut self.values);
         if self.values.iter().any(|v| !v.is_finite()) {
@@ -582,6 +590,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             self.stats.times.symbolic += started.elapsed();
         }
         let change = (self.factored.as_ref())
+            .filter(|_| self.solver.factor_entries() >= ROUND_OFF_FACTOR_ENTRIES)
             .and_then(|old| self.matrix.largest_change(old))
             .filter(|(scale, change)| *change <= FACTOR_ROUND_OFF * scale);
         if change.is_none() {
