@@ -67,6 +67,18 @@ fn scaled_add_any(x: &mut [f64], b: &[f64], a: f64, k: f64) {
     x.iter_mut().zip(b).for_each(|(x, &b)| *x += b * a * k);
 }
 
+/// How a matrix's values differ from earlier ones
+/// ([`BlockSparse::change_from`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Change {
+    /// The largest |v| of the earlier values.
+    pub scale: f64,
+    /// The largest |v − m|, m this matrix's value.
+    pub largest: f64,
+    /// Σ |v − m|.
+    pub total: f64,
+}
+
 /// The lower triangle of a symmetric block-sparse matrix.
 #[derive(Debug, Clone, Default)]
 pub struct BlockSparse<const N: usize> {
@@ -298,31 +310,36 @@ impl<const N: usize> BlockSparse<N> {
             });
     }
 
-    /// The largest |v| of `old` (values in the order of
-    /// [`BlockSparse::values_into`]) and the largest |v − m| against this
-    /// matrix's values, on every core without gathering them: a largest
-    /// value is the same in any order. `None` where `old` has another
-    /// length (another pattern).
-    pub fn largest_change(&self, old: &[f64]) -> Option<(f64, f64)> {
+    /// How this matrix's values differ from `old` (values in the order of
+    /// [`BlockSparse::values_into`]), read on every core without gathering
+    /// them; the total is summed column block by column block in order, so
+    /// it is the same to the last bit however the work was shared. `None`
+    /// where `old` has another length (another pattern).
+    pub fn change_from(&self, old: &[f64]) -> Option<Change> {
         let starts = self.value_starts();
         if old.len() != starts[self.block_count()] {
             return None;
         }
-        let largest = |(a, b): (f64, f64), (c, d): (f64, f64)| (a.max(c), b.max(d));
-        let found = (0..self.block_count())
+        let columns: Vec<Change> = (0..self.block_count())
             .into_par_iter()
             .with_min_len(BLOCKS_PER_TASK)
             .map(|cb| {
                 let mut was = old[starts[cb]..starts[cb + 1]].iter();
-                let mut found = (0.0_f64, 0.0_f64);
+                let mut found = Change::default();
                 self.column_values(cb, |v| {
                     let w = *was.next().expect("sized by the count");
-                    found = largest(found, (w.abs(), (w - v).abs()));
+                    found.scale = found.scale.max(w.abs());
+                    found.largest = found.largest.max((w - v).abs());
+                    found.total += (w - v).abs();
                 });
                 found
             })
-            .reduce(|| (0.0, 0.0), largest);
-        Some(found)
+            .collect();
+        Some(columns.iter().fold(Change::default(), |a, b| Change {
+            scale: a.scale.max(b.scale),
+            largest: a.largest.max(b.largest),
+            total: a.total + b.total,
+        }))
     }
 
     /// Where each column block's values start in [`BlockSparse::values_into`]'s
@@ -444,9 +461,9 @@ mod tests {
         assert_eq!(dense[7][0], 1.0 + 1.0);
     }
 
-    /// The largest value and change read off the blocks are those of the
-    /// gathered values, at every kept width; another pattern's values give
-    /// none.
+    /// The largest value and change, and the total change, read off the
+    /// blocks are those of the gathered values, at every kept width;
+    /// another pattern's values give none.
     #[test]
     fn the_largest_change_is_read_off_the_blocks_as_off_the_values() {
         for dofs in [vec![3, 3, 3], vec![3, 2, 1]] {
@@ -464,9 +481,20 @@ mod tests {
             let scale = va.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
             let change = (va.iter().zip(&vb)).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
             assert!(change > 0.0);
-            assert_eq!(b.largest_change(&va), Some((scale, change)));
-            assert_eq!(a.largest_change(&va), Some((scale, 0.0)));
-            assert_eq!(a.largest_change(&va[1..]), None);
+            let total: f64 = (va.iter().zip(&vb)).map(|(x, y)| (x - y).abs()).sum();
+            let found = b.change_from(&va).unwrap();
+            assert_eq!((found.scale, found.largest), (scale, change));
+            assert!(
+                (found.total - total).abs() <= 1e-12 * total,
+                "{found:?}, {total}"
+            );
+            let none = Change {
+                scale,
+                largest: 0.0,
+                total: 0.0,
+            };
+            assert_eq!(a.change_from(&va), Some(none));
+            assert_eq!(a.change_from(&va[1..]), None);
         }
     }
 

@@ -122,6 +122,10 @@ pub struct Driver<S, const N: usize, const T: usize> {
     matrix: BlockSparse<N>,
     values: Vec<f64>,
     factored: Option<Vec<f64>>,
+    /// How far the last step's matrix had moved from the factor's (the sum
+    /// of its values' changes), where it started on it: the matrix stands
+    /// still where the next step's is the same (`Driver::factor_fits`).
+    factor_change: Option<f64>,
     /// Whether the solver holds the symbolic analysis of the matrix pattern.
     analysed: bool,
     /// Each contact's load at the last assembly (kept for its storage).
@@ -273,6 +277,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             solver,
             values: Vec::new(),
             factored: None,
+            factor_change: None,
             analysed: false,
             contact_loads: Vec::new(),
             contact_forces: Vec::new(),

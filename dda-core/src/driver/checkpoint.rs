@@ -41,6 +41,7 @@ struct Saved {
     pattern: Vec<(usize, usize)>,
     /// The matrix values of the factor the next step starts on.
     factored: Option<Vec<f64>>,
+    factor_change: Option<f64>,
     statistics: Statistics,
     system: SystemState,
 }
@@ -123,6 +124,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             contacts,
             pattern: self.matrix.pairs().to_vec(),
             factored: self.factored.clone(),
+            factor_change: self.factor_change,
             statistics: self.stats.clone(),
             system: self.system.save_state()?,
         };
@@ -204,6 +206,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.pattern_reach = saved.pattern_reach;
         self.energy_floor = saved.energy_floor;
         self.first_potential = saved.first_potential;
+        self.factor_change = saved.factor_change;
         self.stats = saved.statistics;
         self.rebuild_pattern(saved.pattern);
         self.find_slots();

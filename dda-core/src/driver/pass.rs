@@ -43,10 +43,27 @@ const STALE_FACTOR_MOVES: usize = 5;
 /// looser limit only kept slow factors longer (the 40 × 40 deformable
 /// wall's simulated second: 510 moves and 20 factorisations at 1e-4, 790
 /// and 24 at 1e-3), so such factors keep the limit they had, and are not
-/// given up after `STALE_FACTOR_MOVES` (the 10,051-block walls take seven
-/// moves a step on the last step's factor; giving it up after five made
-/// the rigid one's step 95 → 165 ms).
+/// given up after `STALE_FACTOR_MOVES` while their matrix moves (the
+/// 10,051-block walls take seven moves a step on the last step's factor;
+/// giving it up after five made the rigid one's step 95 → 165 ms). Once
+/// it stands still (`STILL_MATRIX`) they are: a factor made then serves
+/// every later step as a new one (`FACTOR_ROUND_OFF`).
 const LARGE_FACTOR_DRIFT: f64 = 1e-4;
+
+/// A matrix stands still where the sum of its values' changes from the
+/// factor's differs from the last step's by at most this share. The
+/// 40 × 40 deformable wall at its automatic step stands so from about
+/// 0.3 s on, its sum the same to 3.5e-7, and took seven moves a step on a
+/// factor made while it settled (6.5e-5 off it at most); given up there,
+/// the next factor took two. Over its first second: 7.47 → 5.96 moves a
+/// step, 13.4-13.6 → 11.9-12.8 ms (three runs alternating). Settling walls' sums move by 5-20 % a step. At
+/// 1e-7 the wall did not stand still; at 1e-3 the 3D 60-course rigid wall
+/// at dt 1 ms seemed to and factorised once more in 20 steps, its moves
+/// 8.75 → 9.05 a step (9.80 at 1e-2). The largest change alone, the same
+/// from step to step wherever one spring came or went since the factor,
+/// made the 10,051-block 2D walls at dt 1 ms factorise 0.4 times a step
+/// (the deformable one's step 94 → 161 ms).
+const STILL_MATRIX: f64 = 1e-5;
 
 /// ... and by more than this; a matrix of `ROUND_OFF_FACTOR_ENTRIES` or
 /// more that changed by no more (of its largest value) is not factorised
@@ -238,7 +255,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             !coupled && trial.load_scale == 0.0 && self.analysed && self.factored.is_some();
         let mut kept = false;
         let mut keeping = true;
-        let (give_way, stale, drift) = if self.large_factor() {
+        let (give_way, mut stale, drift) = if self.large_factor() {
             (
                 KEPT_LARGE_FACTOR_CONTRACTION,
                 usize::MAX,
@@ -278,8 +295,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 tangent,
             );
             if iteration == 0 && factored {
-                factored = self.factor_fits(drift);
+                let still;
+                (factored, still) = self.factor_fits(drift);
                 carried = factored;
+                if still {
+                    stale = STALE_FACTOR_MOVES;
+                }
             }
             if residual.iter().any(|v| !v.is_finite()) {
                 return Err(DdaError::NotFinite {
@@ -560,17 +581,23 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// Whether the step may start on the last factor: its matrix changed
     /// (largest change against largest value) by more than round-off and
     /// at most `drift` (`FACTOR_DRIFT`, or `LARGE_FACTOR_DRIFT` for a large
-    /// factor) from the one just assembled.
-    fn factor_fits(&mut self, drift: f64) -> bool {
+    /// factor) from the one just assembled; and whether the matrix stands
+    /// still (`STILL_MATRIX`).
+    fn factor_fits(&mut self, drift: f64) -> (bool, bool) {
         let Some(old) = &self.factored else {
-            return false;
+            return (false, false);
         };
         // Read off the matrix's blocks: the values are gathered only for a
         // factorisation.
-        let Some((scale, change)) = self.matrix.largest_change(old) else {
-            return false;
+        let Some(change) = self.matrix.change_from(old) else {
+            return (false, false);
         };
-        change > FACTOR_ROUND_OFF * scale && change <= drift * scale
+        let still = (self.factor_change)
+            .is_some_and(|last| (change.total - last).abs() <= STILL_MATRIX * change.total);
+        self.factor_change = Some(change.total);
+        let (scale, change) = (change.scale, change.largest);
+        let fits = change > FACTOR_ROUND_OFF * scale && change <= drift * scale;
+        (fits, still)
     }
 
     /// Factorizes the assembled matrix unless its values changed by
@@ -589,20 +616,21 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             self.stats.symbolic_analyses += 1;
             self.stats.times.symbolic += started.elapsed();
         }
+        let large = self.solver.factor_entries() >= ROUND_OFF_FACTOR_ENTRIES;
         let change = (self.factored.as_ref())
-            .filter(|_| self.solver.factor_entries() >= ROUND_OFF_FACTOR_ENTRIES)
-            .and_then(|old| self.matrix.largest_change(old))
-            .filter(|(scale, change)| *change <= FACTOR_ROUND_OFF * scale);
+            .and_then(|old| self.matrix.change_from(old))
+            .filter(|c| c.largest == 0.0 || (large && c.largest <= FACTOR_ROUND_OFF * c.scale));
         if change.is_none() {
             let started = Instant::now();
             self.solver.factorize(&self.values)?;
             self.stats.times.numeric += started.elapsed();
             self.stats.factorizations += 1;
+            self.factor_change = None;
             // The factored values swap places with the buffer the next
             // assembly fills: no copy, no allocation.
             let spare = self.factored.take().unwrap_or_default();
             self.factored = Some(std::mem::replace(&mut self.values, spare));
         }
-        Ok(change.is_none_or(|(_, change)| change == 0.0))
+        Ok(change.is_none_or(|c| c.largest == 0.0))
     }
 }
