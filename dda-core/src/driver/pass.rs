@@ -50,21 +50,6 @@ const STALE_FACTOR_MOVES: usize = 5;
 /// every later step as a new one (`FACTOR_ROUND_OFF`).
 const LARGE_FACTOR_DRIFT: f64 = 1e-4;
 
-/// A matrix stands still where the sum of its values' changes from the
-/// factor's differs from the last step's by at most this share. The
-/// 40 × 40 deformable wall at its automatic step stands so from about
-/// 0.3 s on, its sum the same to 3.5e-7, and took seven moves a step on a
-/// factor made while it settled (6.5e-5 off it at most); given up there,
-/// the next factor took two. Over its first second: 7.47 → 5.96 moves a
-/// step, 13.4-13.6 → 11.9-12.8 ms (three runs alternating). Settling walls' sums move by 5-20 % a step. At
-/// 1e-7 the wall did not stand still; at 1e-3 the 3D 60-course rigid wall
-/// at dt 1 ms seemed to and factorised once more in 20 steps, its moves
-/// 8.75 → 9.05 a step (9.80 at 1e-2). The largest change alone, the same
-/// from step to step wherever one spring came or went since the factor,
-/// made the 10,051-block 2D walls at dt 1 ms factorise 0.4 times a step
-/// (the deformable one's step 94 → 161 ms).
-const STILL_MATRIX: f64 = 1e-5;
-
 /// ... and by more than this; a matrix of `ROUND_OFF_FACTOR_ENTRIES` or
 /// more that changed by no more (of its largest value) is not factorised
 /// again, the factor at hand serving as a new one: the error of a move on
@@ -84,6 +69,22 @@ const FACTOR_ROUND_OFF: f64 = 1e-12;
 /// than the move that would refine the kept factor, and a linear step
 /// stays one move.
 const ROUND_OFF_FACTOR_ENTRIES: usize = 1 << 12;
+
+/// A matrix stands still where the sum of its values' changes from the
+/// factor's differs from the last step's by at most this share. The
+/// 40 × 40 deformable wall at its automatic step stands so from about
+/// 0.3 s on, its sum the same to 3.5e-7, and took seven moves a step on a
+/// factor made while it settled (6.5e-5 off it at most); given up there,
+/// the next factor took two. Over its first second: 7.47 → 5.96 moves a
+/// step, 13.4-13.6 → 11.9-12.8 ms (three runs alternating). Settling
+/// walls' sums move by 5-20 % a step. At 1e-7 the wall did not stand
+/// still; at 1e-3 the 3D 60-course rigid wall at dt 1 ms seemed to and
+/// factorised once more in 20 steps, its moves 8.75 → 9.05 a step (9.80
+/// at 1e-2). The largest change alone, the same from step to step
+/// wherever one spring came or went since the factor, made the
+/// 10,051-block 2D walls at dt 1 ms factorise 0.4 times a step (the
+/// deformable one's step 94 → 161 ms).
+const STILL_MATRIX: f64 = 1e-5;
 
 /// With more sliding contacts than `SMW_COUPLINGS`, moves on fresh factors
 /// that raise the residual this many times in a row end the symmetric
