@@ -9,6 +9,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::anderson::Anderson;
 use super::{gmres, Driver, Trial};
+use crate::assembly::Change;
 use crate::contact::ContactState;
 use crate::contacts::BlockVector;
 use crate::error::DdaError;
@@ -283,6 +284,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut refine = false;
         for iteration in 0..=self.settings.newton_limit {
             couplings.clear();
+            // How the matrix just assembled differs from the factor's, where
+            // already read (a step's first assembly): a factorisation of it
+            // in this iteration need not read it again.
+            let mut measured = None;
             // The tangent is assembled where a new factor is sure to be
             // needed, and at a pass's start to weigh the last step's factor
             // against it; elsewhere only if the kept one falls short.
@@ -297,7 +302,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             );
             if iteration == 0 && factored {
                 let still;
-                (factored, still) = self.factor_fits(drift);
+                (factored, still, measured) = self.factor_fits(drift);
                 carried = factored;
                 if still {
                     stale = STALE_FACTOR_MOVES;
@@ -394,7 +399,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     self.assemble(dt, masses, trial, &mut residual, None, true);
                 }
                 let before = self.stats.factorizations;
-                refine = !self.factorize()? && moves == 0;
+                refine = !self.factorize(measured.filter(|_| tangent))? && moves == 0;
                 if coupled {
                     self.stats.whole_tangent_factorizations += self.stats.factorizations - before;
                 }
@@ -583,28 +588,29 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// (largest change against largest value) by more than round-off and
     /// at most `drift` (`FACTOR_DRIFT`, or `LARGE_FACTOR_DRIFT` for a large
     /// factor) from the one just assembled; and whether the matrix stands
-    /// still (`STILL_MATRIX`).
-    fn factor_fits(&mut self, drift: f64) -> (bool, bool) {
+    /// still (`STILL_MATRIX`); and the change read.
+    fn factor_fits(&mut self, drift: f64) -> (bool, bool, Option<Change>) {
         let Some(old) = &self.factored else {
-            return (false, false);
+            return (false, false, None);
         };
         // Read off the matrix's blocks: the values are gathered only for a
         // factorisation.
         let Some(change) = self.matrix.change_from(old) else {
-            return (false, false);
+            return (false, false, None);
         };
         let still = (self.factor_change)
             .is_some_and(|last| (change.total - last).abs() <= STILL_MATRIX * change.total);
         self.factor_change = Some(change.total);
-        let (scale, change) = (change.scale, change.largest);
-        let fits = change > FACTOR_ROUND_OFF * scale && change <= drift * scale;
-        (fits, still)
+        let fits = change.largest > FACTOR_ROUND_OFF * change.scale
+            && change.largest <= drift * change.scale;
+        (fits, still, Some(change))
     }
 
     /// Factorizes the assembled matrix unless its values changed by
     /// round-off only (`FACTOR_ROUND_OFF`, `ROUND_OFF_FACTOR_ENTRIES`).
-    /// Returns whether the factor is exactly the matrix's.
-    fn factorize(&mut self) -> Result<bool, DdaError> {
+    /// `measured`: the matrix's change from the factor's, where already
+    /// read. Returns whether the factor is exactly the matrix's.
+    fn factorize(&mut self, measured: Option<Change>) -> Result<bool, DdaError> {
         self.matrix.values_into(&mut self.values);
         if self.values.iter().any(|v| !v.is_finite()) {
             return Err(DdaError::NotFinite { time: self.time });
@@ -619,7 +625,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         }
         let large = self.solver.factor_entries() >= ROUND_OFF_FACTOR_ENTRIES;
         let change = (self.factored.as_ref())
-            .and_then(|old| self.matrix.change_from(old))
+            .and_then(|old| measured.or_else(|| self.matrix.change_from(old)))
             .filter(|c| c.largest == 0.0 || (large && c.largest <= FACTOR_ROUND_OFF * c.scale));
         if change.is_none() {
             let started = Instant::now();
