@@ -41,6 +41,11 @@ impl Anderson {
         self.spare.append(&mut self.differences);
     }
 
+    /// Whether no iteration is kept: the next mix leaves its step as it is.
+    pub fn is_empty(&self) -> bool {
+        self.steps.is_empty()
+    }
+
     /// A copy of `x` in a kept vector.
     fn copy(&mut self, x: &[f64]) -> Vec<f64> {
         let mut v = self.spare.pop().unwrap_or_default();
