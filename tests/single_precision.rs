@@ -295,6 +295,24 @@ fn a_large_factor_gives_way_to_a_kept_one() {
     assert!(gap < 1e-10, "centroids {gap} m apart");
 }
 
+/// The 20 × 20 deformable wall at a hundredth of the default contact
+/// tolerance for 0.3 s at its automatic step, on the scene's own solver
+/// and on one posing as large with a single-precision copy: both runs'
+/// statistics, and how far apart their centroids end, m.
+fn fine_tolerance_wall() -> (Statistics, Statistics, f64) {
+    let mut scene = wall(20, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
+    scene.analysis.contact_tolerance = 1e-8;
+    let (small, at) = run_on(&scene, 300, None);
+    let mut solver = SparseCholesky::default();
+    solver.single_from = 0;
+    let logged = LargeLogged {
+        solver,
+        log: Arc::new(Mutex::new(String::new())),
+    };
+    let (large, at_large) = run_on(&scene, 300, Some(Box::new(logged)));
+    (small, large, apart(&at, &at_large))
+}
+
 /// A large factor's whole-tangent moves are GMRES's on the whole tangent,
 /// the factor at hand only preconditioning it, so most such moves make no
 /// factor of their own, where a small one's nearly each make one. At a
@@ -305,18 +323,7 @@ fn a_large_factor_gives_way_to_a_kept_one() {
 /// and stands where the exact solver leaves it.
 #[test]
 fn a_large_factor_preconditions_whole_tangent_moves() {
-    let mut scene = wall(20, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
-    scene.analysis.contact_tolerance = 1e-8;
-    // 0.3 s, at the automatic step.
-    let (small, at) = run_on(&scene, 300, None);
-    let mut solver = SparseCholesky::default();
-    solver.single_from = 0;
-    let logged = LargeLogged {
-        solver,
-        log: Arc::new(Mutex::new(String::new())),
-    };
-    let (large, at_large) = run_on(&scene, 300, Some(Box::new(logged)));
-    let gap = apart(&at, &at_large);
+    let (small, large, gap) = fine_tolerance_wall();
     for (name, s) in [("small", &small), ("large", &large)] {
         println!(
             "{name}: {} steps, {} whole-tangent moves, {} factorisations among them, {} passes solved so, {} left at their best iterate",
@@ -351,17 +358,7 @@ fn a_large_factor_preconditions_whole_tangent_moves() {
 /// moves and stands where the exact solver leaves it.
 #[test]
 fn a_pass_back_at_its_best_iterate_does_not_repeat_its_moves() {
-    let mut scene = wall(20, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
-    scene.analysis.contact_tolerance = 1e-8;
-    let (_, at) = run_on(&scene, 300, None);
-    let mut solver = SparseCholesky::default();
-    solver.single_from = 0;
-    let logged = LargeLogged {
-        solver,
-        log: Arc::new(Mutex::new(String::new())),
-    };
-    let (large, at_large) = run_on(&scene, 300, Some(Box::new(logged)));
-    let gap = apart(&at, &at_large);
+    let (_, large, gap) = fine_tolerance_wall();
     println!(
         "{} steps, {} moves, {} factorisations, {} whole-tangent moves; centroids {gap:.2e} m from the exact solver's",
         large.steps, large.newton_iterations, large.factorizations, large.whole_tangent_moves
