@@ -45,8 +45,10 @@ mod impact;
 mod pass;
 mod pattern;
 mod predict;
+mod springs;
 mod terms;
 mod touching;
+mod woodbury;
 
 /// The automatic step's ceiling is sqrt(block size / g) over this: a block
 /// starting from rest moves 1/800 of its size in such a step.
@@ -126,6 +128,11 @@ pub struct Driver<S, const N: usize, const T: usize> {
     /// of its values' changes), where it started on it: the matrix stands
     /// still where the next step's is the same (`Driver::factor_fits`).
     factor_change: Option<f64>,
+    /// The contact springs in the factor's matrix, within a step attempt.
+    factor_springs: springs::FactorSprings<T>,
+    /// The most rank-one terms a later pass applies to a large factor for
+    /// the springs changed since it was made (`pass::CHANGED_SPRINGS`).
+    changed_springs: usize,
     /// Whether the solver holds the symbolic analysis of the matrix pattern.
     analysed: bool,
     /// Each contact's load at the last assembly (kept for its storage).
@@ -278,6 +285,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             values: Vec::new(),
             factored: None,
             factor_change: None,
+            factor_springs: Default::default(),
+            changed_springs: pass::CHANGED_SPRINGS,
             analysed: false,
             contact_loads: Vec::new(),
             contact_forces: Vec::new(),
@@ -348,6 +357,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     #[doc(hidden)]
     pub fn assemble_on_one_thread(&mut self, on: bool) {
         self.one_thread_assembly = on;
+    }
+
+    /// The most rank-one terms a later open-close pass applies to a large
+    /// factor for the springs changed since it was made, instead of
+    /// factorising (default 32); 0 factorises at every later pass. For
+    /// tests and studies of the solve.
+    #[doc(hidden)]
+    pub fn set_changed_springs(&mut self, limit: usize) {
+        self.changed_springs = limit;
     }
 
     pub fn statistics(&self) -> &Statistics {
@@ -543,6 +561,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let nb = self.system.block_count();
         self.striking.clear();
         self.sliding_impact.clear();
+        self.factor_springs.forget();
         let mut trial = Trial {
             converged: false,
             ..self.at_rest()

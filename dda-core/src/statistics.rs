@@ -50,6 +50,10 @@ pub struct Statistics {
     /// among them: a large factor preconditions several such moves.
     pub whole_tangent_moves: usize,
     pub whole_tangent_factorizations: usize,
+    /// Open-close passes that moved on the factor at hand with the
+    /// springs changed since it was made as rank-one terms, instead of a
+    /// new factorisation.
+    pub changed_spring_passes: usize,
     /// Accepted steps that ended with a penetration deeper than the limit.
     pub deep_penetration_steps: usize,
     /// The deepest penetration of any accepted step.

@@ -289,7 +289,8 @@ pub fn assert_thrown_box_follows_the_parabola(rows: &[dda::HistoryRow3]) {
 
 /// Sparse Cholesky posing as a large factor, writing down what it is
 /// asked: `F` a factorisation, `S` an exact solve, `C` a correction (on
-/// the single-precision copy where the solver keeps one), `|` a new step.
+/// the single-precision copy where the solver keeps one), `M` solves side
+/// by side, `|` a new step.
 pub struct LargeLogged {
     pub solver: SparseCholesky,
     pub log: Arc<Mutex<String>>,
@@ -310,6 +311,10 @@ impl LinearSolver for LargeLogged {
     fn solve_correction(&self, rhs: &mut [f64]) {
         self.log.lock().unwrap().push('C');
         self.solver.solve_correction(rhs);
+    }
+    fn solve_many(&self, rhs: &mut [f64], columns: usize) {
+        self.log.lock().unwrap().push('M');
+        self.solver.solve_many(rhs, columns);
     }
     fn corrections_inexact(&self) -> bool {
         self.solver.corrections_inexact()

@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::pass::FrictionCoupling;
 use super::terms::ContactLoad;
+use super::woodbury::RankOne;
 use super::{block, Driver, Motion, Trial};
 use crate::assembly::{add_outer_into, BlockSparse};
 use crate::contacts::{BlockVector, Entrance};
@@ -22,7 +22,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         masses: &[BlockMatrix<N>],
         trial: &Trial<T>,
         residual: &mut [f64],
-        couplings: Option<&mut Vec<FrictionCoupling<N>>>,
+        couplings: Option<&mut Vec<RankOne<N>>>,
         tangent: bool,
     ) {
         let motion = if tangent {
@@ -42,7 +42,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         masses: &[BlockMatrix<N>],
         trial: &Trial<T>,
         residual: &mut [f64],
-        mut couplings: Option<&mut Vec<FrictionCoupling<N>>>,
+        mut couplings: Option<&mut Vec<RankOne<N>>>,
         motion: Motion<'_>,
     ) {
         let started = Instant::now();
@@ -213,7 +213,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     u[0] += ta * load.direction[k];
                     u[1] += tb * load.direction[k];
                 }
-                couplings.push(FrictionCoupling {
+                couplings.push(RankOne {
                     blocks: [a, b],
                     u,
                     v: [*na, *nb],
@@ -260,7 +260,7 @@ fn contacts_by_slot<L>(
 /// gb]), in the order the matrix adds them: the normal spring, each shear
 /// spring, then the turning of a sliding contact's friction (3D). Terms of
 /// no stiffness are left out.
-fn spring_terms<const N: usize, const T: usize>(
+pub(super) fn spring_terms<const N: usize, const T: usize>(
     load: &ContactLoad<N, T>,
     entrance: &Entrance<N, T>,
     mut term: impl FnMut(&[BlockVector<N>; 2], &[BlockVector<N>; 2], f64),
