@@ -115,10 +115,28 @@ const PRECONDITIONED_TOLERANCE: f64 = 1e-3;
 /// A later pass on a large factor moves on it with at most this many
 /// rank-one terms for the springs that changed since it was made
 /// (`Woodbury`), where more would factorise anew. The terms' solves are
-/// made side by side, reading the factor once: at 10,051 deformable blocks
-/// one correction solve took 12 ms, 32 side by side 52 ms, a factorisation
-/// 160 ms.
-pub(super) const CHANGED_SPRINGS: usize = 32;
+/// made side by side in double precision, each core taking half of the
+/// columns: 20 on the 10,051-block deformable wall's factor took 35 ms, a
+/// factorisation 160. That wall's first 0.1 s at dt 1 ms (two passes a
+/// step, one run each, with `SPRING_FLOOR_ENTRIES`'s floor): 0.17
+/// factorisations a step and 292 ms at 32 terms, 0.09 and 286 ms at 48,
+/// 0.01 and 267 ms at 64, the same counts and 279 ms at 96.
+pub(super) const CHANGED_SPRINGS: usize = 64;
+
+/// Factor entries from which a later pass's springs count as the factor's
+/// where they changed no matrix entry by more than `LARGE_FACTOR_DRIFT` of
+/// its largest (the share a step's first pass leaves to the moves on an
+/// earlier step's factor); below it, only where they are the same. Some
+/// 600 sliding contacts of the 10,051-block deformable wall at dt 1 ms
+/// change their shear stiffness from one pass to the next with the return
+/// map, so few of its later passes had as few as `CHANGED_SPRINGS` terms
+/// compared exactly; with the floor, its first 0.1 s took 0.01
+/// factorisations a step instead of 0.85 (11.6 million entries, 160 ms
+/// each) and 19.45 moves instead of 15.15 (the later passes on the
+/// factor: 8.3 moves against 3.8). The rigid one (3.0 million entries)
+/// went from 0.09 factorisations and 7.89 moves a step to none and 9.10,
+/// 72.7 → 77.2 ms: there the factor, refreshed by no later pass, ages.
+const SPRING_FLOOR_ENTRIES: usize = 1 << 23;
 
 /// The most halvings of a coupled Newton-Raphson step.
 const LINE_SEARCH_HALVINGS: usize = 12;
@@ -599,7 +617,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// The springs by which the tangent just assembled differs from the
     /// factor's matrix, ready to apply to its moves, where the factor is
-    /// large and they are few (`CHANGED_SPRINGS`).
+    /// large and they are few (`CHANGED_SPRINGS`): those that changed a
+    /// matrix entry by more than `LARGE_FACTOR_DRIFT` of the factor's
+    /// largest, the share a step's first pass leaves to the moves on an
+    /// earlier step's factor.
     fn changed_springs(&mut self, trial: &Trial<T>) -> Option<Woodbury<N>> {
         if !self.large_factor() || self.changed_springs == 0 {
             return None;
@@ -611,11 +632,25 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             &self.contacts,
             &self.chosen,
             self.changed_springs,
+            self.changed_floor(),
         )?;
         self.stats.changed_spring_passes += 1;
         let woodbury = Woodbury::new(terms, &self.matrix, &*self.solver, true);
         self.stats.times.solve += started.elapsed();
         Some(woodbury)
+    }
+
+    /// How far a spring may change a matrix entry and still count as the
+    /// factor's (`SPRING_FLOOR_ENTRIES`), of the factor's matrix's largest
+    /// value (read off its values once a later pass: 1.4 million at
+    /// 10,051 deformable blocks).
+    fn changed_floor(&self) -> f64 {
+        match &self.factored {
+            Some(values) if self.solver.factor_entries() >= SPRING_FLOOR_ENTRIES => {
+                LARGE_FACTOR_DRIFT * values.iter().fold(0.0, |m: f64, v| m.max(v.abs()))
+            }
+            _ => 0.0,
+        }
     }
 
     /// Whether the solver's factor is large (`LARGE_FACTOR_ENTRIES`), read

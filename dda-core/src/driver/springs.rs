@@ -9,7 +9,7 @@ use super::assemble::spring_terms;
 use super::chosen::Chosen;
 use super::terms::ContactLoad;
 use super::woodbury::RankOne;
-use crate::contacts::{BlockVector, Contact};
+use crate::contacts::{BlockVector, Contact, Entrance};
 
 /// One closed contact's springs as a matrix holds them.
 #[derive(Clone, Copy)]
@@ -32,14 +32,17 @@ impl<const T: usize> Springs<T> {
         }
     }
 
-    /// Whether the two add the same terms (the slip direction counts only
-    /// where the friction turns with it).
-    fn same(&self, other: &Self) -> bool {
+    /// Whether the two hold the same springs, but for changes that move no
+    /// matrix entry by more than `floor` (on the entrance's rows `rows`):
+    /// those are left to the moves, as on a carried factor.
+    fn same<const N: usize>(&self, other: &Self, rows: &Entrance<N, T>, floor: f64) -> bool {
+        let size = |g: &[BlockVector<N>; 2]| g[0].amax().max(g[1].amax()).powi(2);
+        let near = |a: f64, b: f64, size: f64| (a - b).abs() * size <= floor;
+        let tangents = rows.tangents.iter().map(size).fold(0.0, f64::max);
         self.entrance == other.entrance
-            && self.normal == other.normal
-            && self.shear == other.shear
-            && self.turning == other.turning
-            && (self.turning == 0.0 || self.direction == other.direction)
+            && near(self.normal, other.normal, size(&rows.normal))
+            && (self.shear.iter().zip(&other.shear)).all(|(a, b)| near(*a, *b, tangents))
+            && near(self.turning, other.turning, tangents)
     }
 
     /// The load that adds these terms.
@@ -85,9 +88,9 @@ impl<const T: usize> FactorSprings<T> {
     }
 
     /// The terms by which the matrix of `loads` at `entrances` differs
-    /// from the factor's, if known and at most `limit`: each changed
-    /// contact's springs as the factor holds them, taken away, and its
-    /// springs now, added.
+    /// from the factor's, if known and at most `limit`: each contact whose
+    /// springs changed a matrix entry by more than `floor`, its springs as
+    /// the factor holds them taken away, and its springs now added.
     pub fn changed<const N: usize>(
         &self,
         loads: &[Option<ContactLoad<N, T>>],
@@ -95,13 +98,14 @@ impl<const T: usize> FactorSprings<T> {
         contacts: &[Contact<N, T>],
         chosen: &Chosen<N, T>,
         limit: usize,
+        floor: f64,
     ) -> Option<Vec<RankOne<N>>> {
         let held = self.held.as_ref().filter(|h| h.len() == loads.len())?;
         let mut terms = Vec::new();
         for (i, (was, load)) in held.iter().zip(loads).enumerate() {
             let now = load.as_ref().map(|l| Springs::of(l, entrances[i]));
             if match (was, &now) {
-                (Some(a), Some(b)) => a.same(b),
+                (Some(a), Some(b)) => a.same(b, chosen.of(contacts, i, b.entrance), floor),
                 (None, None) => true,
                 _ => false,
             } {

@@ -73,6 +73,10 @@ impl<const N: usize> Woodbury<N> {
     /// capacitance matrix is singular.
     pub fn apply(&self, matrix: &BlockSparse<N>, y: &mut [f64]) {
         let m = self.terms.len();
+        if m == 0 {
+            // nalgebra's LU of an empty matrix does not solve.
+            return;
+        }
         let rhs = DVector::from_fn(m, |i, _| self.terms[i].slope * self.terms[i].dot(matrix, y));
         let Some(c) = self.capacitance.solve(&rhs) else {
             return;
