@@ -121,6 +121,40 @@ fn alike(on: &Statistics, off: &Statistics, steps: usize) {
     assert_eq!(on.open_close_iterations, off.open_close_iterations);
 }
 
+/// Prints two runs' counts (`a` named `names[0]`, `b` `names[1]`) and how
+/// far apart their centroids end, and checks they ran alike.
+fn report(names: [&str; 2], a: &Statistics, b: &Statistics, gap: f64, steps: usize) {
+    println!(
+        "{}: {} passes on the factor with changed springs, {} factorisations, {} moves; {}: {}, {} and {}; centroids {gap:.2e} m apart",
+        names[0],
+        a.changed_spring_passes,
+        a.factorizations,
+        a.newton_iterations,
+        names[1],
+        b.changed_spring_passes,
+        b.factorizations,
+        b.newton_iterations
+    );
+    alike(a, b, steps);
+}
+
+/// `a` made at least `fewer` factorisations fewer than `b`, in at most
+/// `more` moves more.
+fn fewer_factorisations(a: &Statistics, b: &Statistics, fewer: usize, more: usize) {
+    assert!(
+        a.factorizations + fewer <= b.factorizations,
+        "{} factorisations against {}",
+        a.factorizations,
+        b.factorizations
+    );
+    assert!(
+        a.newton_iterations <= b.newton_iterations + more,
+        "{} moves against {}",
+        a.newton_iterations,
+        b.newton_iterations
+    );
+}
+
 /// The 10 × 10 deformable wall settling at dt 1 ms for 0.3 s, posing as a
 /// large factor under the floor (springs compared exactly): of its 77
 /// later passes, 63 start with at most 64 rank-one terms. Those make no
@@ -135,31 +169,13 @@ fn a_later_pass_moves_on_the_factor_with_the_changed_springs() {
     let (on, at_on, log) = run_on(&scene, steps, false, 64, true);
     let (off, at_off, _) = run_on(&scene, steps, false, 0, true);
     let gap = apart(&at_on, &at_off);
-    println!(
-        "with the terms: {} passes so, {} factorisations, {} moves; without: {} and {}; centroids {gap:.2e} m apart",
-        on.changed_spring_passes,
-        on.factorizations,
-        on.newton_iterations,
-        off.factorizations,
-        off.newton_iterations
-    );
-    alike(&on, &off, steps);
+    report(["with the terms", "without"], &on, &off, gap, steps);
     assert_eq!(off.changed_spring_passes, 0);
     assert!(on.changed_spring_passes >= 50, "{on:?}");
     // Each such pass's terms solved side by side, once.
     assert_eq!(log.matches('M').count(), on.changed_spring_passes);
-    assert!(
-        on.factorizations + on.changed_spring_passes * 9 / 10 <= off.factorizations,
-        "{} factorisations with the terms, {} without",
-        on.factorizations,
-        off.factorizations
-    );
-    assert!(
-        on.newton_iterations <= off.newton_iterations + off.newton_iterations / 100,
-        "{} moves with the terms, {} without",
-        on.newton_iterations,
-        off.newton_iterations
-    );
+    let fewer = on.changed_spring_passes * 9 / 10;
+    fewer_factorisations(&on, &off, fewer, off.newton_iterations / 100);
     // Both solve each step to a residual of 1e-10 of its first.
     assert!(gap < 1e-12, "centroids {gap} m apart");
 }
@@ -177,18 +193,9 @@ fn a_later_pass_in_3d_moves_on_the_factor_with_the_changed_springs() {
     let (on, at_on, _) = run(&scene, steps, true, 64);
     let (off, at_off, _) = run(&scene, steps, true, 0);
     let gap = apart(&at_on, &at_off);
-    println!(
-        "with the terms: {} passes so, {} factorisations, {} moves; without: {} and {}; centroids {gap:.2e} m apart",
-        on.changed_spring_passes,
-        on.factorizations,
-        on.newton_iterations,
-        off.factorizations,
-        off.newton_iterations
-    );
-    alike(&on, &off, steps);
+    report(["with the terms", "without"], &on, &off, gap, steps);
     assert!(on.changed_spring_passes >= 20, "{on:?}");
-    assert!(on.factorizations + 20 <= off.factorizations);
-    assert!(on.newton_iterations <= off.newton_iterations + 30);
+    fewer_factorisations(&on, &off, 20, 30);
     assert!(gap < 1e-12, "centroids {gap} m apart");
 }
 
@@ -207,29 +214,15 @@ fn beyond_the_floor_small_changes_are_left_to_the_moves() {
     let (beyond, at_beyond, _) = run_on(&scene, steps, false, 64, false);
     let (under, at_under, _) = run_on(&scene, steps, false, 64, true);
     let gap = apart(&at_beyond, &at_under);
-    println!(
-        "beyond the floor: {} passes so, {} factorisations, {} moves; under it: {}, {} and {}; centroids {gap:.2e} m apart",
-        beyond.changed_spring_passes,
-        beyond.factorizations,
-        beyond.newton_iterations,
-        under.changed_spring_passes,
-        under.factorizations,
-        under.newton_iterations
+    report(
+        ["beyond the floor", "under it"],
+        &beyond,
+        &under,
+        gap,
+        steps,
     );
-    alike(&beyond, &under, steps);
     assert!(beyond.changed_spring_passes >= under.changed_spring_passes + 60);
-    assert!(
-        beyond.factorizations + 60 <= under.factorizations,
-        "{} factorisations beyond the floor, {} under it",
-        beyond.factorizations,
-        under.factorizations
-    );
-    assert!(
-        beyond.newton_iterations <= under.newton_iterations + under.newton_iterations / 10,
-        "{} moves beyond the floor, {} under it",
-        beyond.newton_iterations,
-        under.newton_iterations
-    );
+    fewer_factorisations(&beyond, &under, 60, under.newton_iterations / 10);
     assert!(gap < 1e-11, "centroids {gap} m apart");
 }
 
