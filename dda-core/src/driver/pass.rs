@@ -283,7 +283,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // it does not (a checkpoint keeps its values, so a resumed run
         // starts on the same one). A later pass starts on its
         // own: the springs that came or went drive its first residual, and
-        // an earlier pass's factor left 98-107 % of it.
+        // an earlier pass's factor left 98-107 % of it; but on a large
+        // factor, with those springs as rank-one terms where they are few
+        // (`changed_springs`).
         let later = trial.load_scale > 0.0;
         let mut factored = !coupled && !later && self.analysed && self.factored.is_some();
         let mut kept = false;
@@ -345,7 +347,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     stale = STALE_FACTOR_MOVES;
                 }
                 if factored {
-                    (self.factor_springs).record(&self.contact_loads, &trial.entrances);
+                    self.record_springs(trial);
                 }
             }
             if iteration == 0 && later && !coupled && self.analysed && self.factored.is_some() {
@@ -460,7 +462,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 }
                 let before = self.stats.factorizations;
                 refine = !self.factorize(measured.filter(|_| tangent))? && moves == 0;
-                (self.factor_springs).record(&self.contact_loads, &trial.entrances);
+                self.record_springs(trial);
                 changed = None;
                 if coupled {
                     self.stats.whole_tangent_factorizations += self.stats.factorizations - before;
@@ -617,10 +619,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// The springs by which the tangent just assembled differs from the
     /// factor's matrix, ready to apply to its moves, where the factor is
-    /// large and they are few (`CHANGED_SPRINGS`): those that changed a
-    /// matrix entry by more than `LARGE_FACTOR_DRIFT` of the factor's
-    /// largest, the share a step's first pass leaves to the moves on an
-    /// earlier step's factor.
+    /// large and they are few (`CHANGED_SPRINGS`); on a factor of
+    /// `SPRING_FLOOR_ENTRIES` or more, only those that changed a matrix
+    /// entry by more than `LARGE_FACTOR_DRIFT` of the factor's largest,
+    /// the share a step's first pass leaves to the moves on an earlier
+    /// step's factor.
     fn changed_springs(&mut self, trial: &Trial<T>) -> Option<Woodbury<N>> {
         if !self.large_factor() || self.changed_springs == 0 {
             return None;
@@ -638,6 +641,17 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let woodbury = Woodbury::new(terms, &self.matrix, &*self.solver, true);
         self.stats.times.solve += started.elapsed();
         Some(woodbury)
+    }
+
+    /// The factor now holds the springs of the last tangent assembly; kept
+    /// only where later passes may move on it (a large factor), as the
+    /// record copies every contact's springs.
+    fn record_springs(&mut self, trial: &Trial<T>) {
+        if self.large_factor() && self.changed_springs > 0 {
+            (self.factor_springs).record(&self.contact_loads, &trial.entrances);
+        } else {
+            self.factor_springs.forget();
+        }
     }
 
     /// How far a spring may change a matrix entry and still count as the
