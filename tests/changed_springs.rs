@@ -7,16 +7,15 @@
 
 use dda::bench::{wall, Stepping};
 use dda::Scene;
-use dda_core::assembly::CscPattern;
 use dda_core::solve::{LinearSolver, SparseCholesky};
-use dda_core::{BlockKind, DdaError, Statistics};
+use dda_core::{BlockKind, Statistics};
 use std::sync::{Arc, Mutex};
 
 mod common;
-use common::LargeLogged;
+use common::{LargeLogged, Posing};
 
 /// A solver posing as large (beyond the floor of changes left to the
-/// moves, or with `below` just under it), writing down what it is asked.
+/// moves), writing down what it is asked.
 fn large() -> (Box<LargeLogged>, Arc<Mutex<String>>) {
     let log = Arc::new(Mutex::new(String::new()));
     let solver = LargeLogged {
@@ -24,34 +23,6 @@ fn large() -> (Box<LargeLogged>, Arc<Mutex<String>>) {
         log: log.clone(),
     };
     (Box::new(solver), log)
-}
-
-/// [`LargeLogged`] posing as a factor of 2²² entries: large, but below the
-/// factors whose later passes leave small changes to the moves.
-struct UnderTheFloor(LargeLogged);
-
-impl LinearSolver for UnderTheFloor {
-    fn analyse(&mut self, pattern: &CscPattern) -> Result<(), DdaError> {
-        self.0.analyse(pattern)
-    }
-    fn factorize(&mut self, values: &[f64]) -> Result<(), DdaError> {
-        self.0.factorize(values)
-    }
-    fn solve(&self, rhs: &mut [f64]) {
-        self.0.solve(rhs);
-    }
-    fn solve_correction(&self, rhs: &mut [f64]) {
-        self.0.solve_correction(rhs);
-    }
-    fn solve_many(&self, rhs: &mut [f64], columns: usize) {
-        self.0.solve_many(rhs, columns);
-    }
-    fn corrections_inexact(&self) -> bool {
-        self.0.corrections_inexact()
-    }
-    fn factor_entries(&self) -> usize {
-        1 << 22
-    }
 }
 
 /// `scene` (2D, or 3D with `three`) for `steps` steps of 1 ms on a solver
@@ -75,8 +46,13 @@ fn run_on(
     under: bool,
 ) -> (Statistics, Vec<[f64; 3]>, String) {
     let (logged, log) = large();
+    // 2²² entries: large, but below the factors whose later passes leave
+    // small changes to the moves.
     let solver: Box<dyn LinearSolver> = if under {
-        Box::new(UnderTheFloor(*logged))
+        Box::new(Posing {
+            solver: *logged,
+            entries: 1 << 22,
+        })
     } else {
         logged
     };

@@ -326,3 +326,37 @@ impl LinearSolver for LargeLogged {
         usize::MAX
     }
 }
+
+/// A solver posing as a factor of `entries` entries (which decides the
+/// driver's large-factor rules), otherwise `solver` itself.
+pub struct Posing<S> {
+    pub solver: S,
+    pub entries: usize,
+}
+
+impl<S: LinearSolver> LinearSolver for Posing<S> {
+    fn analyse(&mut self, pattern: &CscPattern) -> Result<(), DdaError> {
+        self.solver.analyse(pattern)
+    }
+    fn factorize(&mut self, values: &[f64]) -> Result<(), DdaError> {
+        self.solver.factorize(values)
+    }
+    fn solve(&self, rhs: &mut [f64]) {
+        self.solver.solve(rhs);
+    }
+    fn solve_correction(&self, rhs: &mut [f64]) {
+        self.solver.solve_correction(rhs);
+    }
+    fn solve_many(&self, rhs: &mut [f64], columns: usize) {
+        self.solver.solve_many(rhs, columns);
+    }
+    fn corrections_inexact(&self) -> bool {
+        self.solver.corrections_inexact()
+    }
+    fn start_step(&mut self) {
+        self.solver.start_step();
+    }
+    fn factor_entries(&self) -> usize {
+        self.entries
+    }
+}
