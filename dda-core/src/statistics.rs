@@ -54,6 +54,9 @@ pub struct Statistics {
     /// springs changed since it was made as rank-one terms, instead of a
     /// new factorisation.
     pub changed_spring_passes: usize,
+    /// Open-close passes ended before their tolerance because a contact's
+    /// decision read on the way would change (`EARLY_DECISION`).
+    pub early_decisions: usize,
     /// Accepted steps that ended with a penetration deeper than the limit.
     pub deep_penetration_steps: usize,
     /// The deepest penetration of any accepted step.

@@ -31,6 +31,7 @@ struct Saved {
     last_dt: Option<f64>,
     penalty: f64,
     last_moved: f64,
+    passes_before: f64,
     pattern_reach: f64,
     energy_floor: Option<f64>,
     first_potential: Option<f64>,
@@ -109,6 +110,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             last_dt: self.last_dt,
             penalty: self.penalty,
             last_moved: self.last_moved,
+            passes_before: self.passes_before,
             pattern_reach: self.pattern_reach,
             energy_floor: self.energy_floor,
             first_potential: self.first_potential,
@@ -203,6 +205,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.last_dt = saved.last_dt;
         self.penalty = saved.penalty;
         self.last_moved = saved.last_moved;
+        self.passes_before = saved.passes_before;
         self.pattern_reach = saved.pattern_reach;
         self.energy_floor = saved.energy_floor;
         self.first_potential = saved.first_potential;
