@@ -178,6 +178,9 @@ pub struct Driver<S, const N: usize, const T: usize> {
     passes_before: f64,
     /// Whether the pass at hand reads its decisions early.
     decide_early: pass::EarlyDecision,
+    /// Whether `decisions` holds those read early at the trial where the
+    /// pass ended, for the `decide` that follows.
+    decisions_read: bool,
     /// The median block size (m).
     block_size: f64,
     /// Inverse mass matrices of the blocks in the current step.
@@ -317,6 +320,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             last_moved: 0.0,
             passes_before: 0.0,
             decide_early: pass::EarlyDecision::Never,
+            decisions_read: false,
             block_size,
             inverse_masses: Vec::new(),
             supports: Vec::new(),
@@ -590,6 +594,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.striking.clear();
         self.sliding_impact.clear();
         self.factor_springs.forget();
+        self.decisions_read = false;
         let mut trial = Trial {
             converged: false,
             ..self.at_rest()
@@ -739,7 +744,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     fn decide(&mut self, trial: &mut Trial<T>, dt: f64, approach: Option<&[f64]>) -> bool {
         let moving = approach.unwrap_or(&trial.d);
         let deciding = Instant::now();
-        let decisions = self.decisions_at(trial, dt, moving);
+        let decisions = if std::mem::take(&mut self.decisions_read) && approach.is_none() {
+            std::mem::take(&mut self.decisions)
+        } else {
+            self.decisions_at(trial, dt, moving)
+        };
         let mut changed = false;
         trial.unsettled.clear();
         for (i, decision) in decisions.iter().enumerate() {

@@ -671,12 +671,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     }
 
     /// Whether any contact's decision at the trial would change its state
-    /// or entrance.
+    /// or entrance; if so the decisions stay read for the pass's
+    /// `decide`, which follows at the same trial.
     fn decisions_change(&mut self, trial: &Trial<T>, dt: f64) -> bool {
         let deciding = Instant::now();
         let decisions = self.decisions_at(trial, dt, &trial.d);
         let change = decisions.iter().any(|d| d.changed);
         self.decisions = decisions;
+        self.decisions_read = change;
         self.stats.times.open_close += deciding.elapsed();
         change
     }
