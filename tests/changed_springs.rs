@@ -12,7 +12,7 @@ use dda_core::{BlockKind, Statistics};
 use std::sync::{Arc, Mutex};
 
 mod common;
-use common::{LargeLogged, Posing};
+use common::{apart, LargeLogged, Posing};
 
 /// A solver posing as large (beyond the floor of changes left to the
 /// moves), writing down what it is asked.
@@ -76,13 +76,6 @@ fn run_on(
     };
     let log = log.lock().unwrap().clone();
     (stats, centroids, log)
-}
-
-/// The largest distance between two runs' centroids, m.
-fn apart(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    (a.iter().zip(b))
-        .map(|(a, b)| (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt())
-        .fold(0.0, f64::max)
 }
 
 /// Both runs took every step, none cut or accepted unconverged, in the

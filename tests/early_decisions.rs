@@ -12,7 +12,7 @@ use dda_core::{BlockKind, Statistics};
 use std::sync::{Arc, Mutex};
 
 mod common;
-use common::LargeLogged;
+use common::{apart, LargeLogged};
 
 /// `scene` (2D, or 3D with `three`) for `steps` steps of 1 ms, on a solver
 /// posing as large where `large` (its kept factors converge linearly),
@@ -47,13 +47,6 @@ fn run(
         let at = (driver.system.blocks.iter()).map(|b| [b.centroid().x, b.centroid().y, 0.0]);
         (driver.statistics().clone(), at.collect())
     }
-}
-
-/// The largest distance between two runs' centroids, m.
-fn apart(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    (a.iter().zip(b))
-        .map(|(a, b)| (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt())
-        .fold(0.0, f64::max)
 }
 
 /// Runs `scene` with the rule and without, prints both, and checks that

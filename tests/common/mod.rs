@@ -360,3 +360,10 @@ impl<S: LinearSolver> LinearSolver for Posing<S> {
         self.entries
     }
 }
+
+/// The largest distance between two runs' centroids (x, y, z), m.
+pub fn apart(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    (a.iter().zip(b))
+        .map(|(a, b)| (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt())
+        .fold(0.0, f64::max)
+}
