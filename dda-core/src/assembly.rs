@@ -154,6 +154,16 @@ impl<const N: usize> BlockSparse<N> {
         }
     }
 
+    /// Block `i`'s vector `v` over the DOF the block keeps, as (global
+    /// unknown, value) pairs.
+    pub fn entries<'a>(
+        &'a self,
+        i: usize,
+        v: &'a BlockVector<N>,
+    ) -> impl Iterator<Item = (usize, f64)> + 'a {
+        (self.offsets[i]..self.offsets[i + 1]).zip(v.iter().copied())
+    }
+
     /// The global vector `x` cut into each block's kept DOF, block by
     /// block (so blocks can be filled in parallel).
     pub fn split_blocks<'a>(&self, mut x: &'a mut [f64]) -> Vec<&'a mut [f64]> {

@@ -18,8 +18,10 @@ use crate::settings::Solver;
 
 mod pcg;
 mod split;
+mod update;
 
 pub use pcg::ConjugateGradient;
+pub use update::{FactorUpdate, UpdateTerm};
 
 /// Solves symmetric positive definite systems given by their lower triangle.
 pub trait LinearSolver: Send {
@@ -41,13 +43,6 @@ pub trait LinearSolver: Send {
         self.solve(rhs);
     }
 
-    /// `solve` for `columns` right-hand sides, `rhs` holding them one after
-    /// another; a direct solver reads its factor once for several of them.
-    /// Default: one by one.
-    fn solve_many(&self, rhs: &mut [f64], columns: usize) {
-        solve_one_by_one(self, rhs, columns);
-    }
-
     /// Whether `solve_correction` solves less exactly than `solve` on the
     /// same factor (a single-precision copy), so a correction that falls
     /// short may be the copy's and not the factor's. Default: no.
@@ -66,22 +61,24 @@ pub trait LinearSolver: Send {
         SolveCounts::default()
     }
 
+    /// The factored matrix plus the terms Σ sⱼuⱼvⱼᵀ, made ready to solve
+    /// with (`solve_updated`): `None` where the solver cannot.
+    fn update(&self, _terms: &[UpdateTerm]) -> Option<FactorUpdate> {
+        None
+    }
+
+    /// `solve` (with `exact`) or `solve_correction` of the factored matrix
+    /// plus `update`'s terms. Only the solver that made `update` (or one
+    /// that passes it on) solves with it.
+    fn solve_updated(&self, _update: &FactorUpdate, _rhs: &mut [f64], _exact: bool) {
+        unreachable!("solve_updated without update");
+    }
+
     /// Entries of the factor a factorisation makes, the measure of its cost
     /// against a solve's; 0 where there is none to speak of (an iterative
     /// solver's block inverses).
     fn factor_entries(&self) -> usize {
         0
-    }
-}
-
-/// [`LinearSolver::solve_many`] column by column.
-fn solve_one_by_one<S: LinearSolver + ?Sized>(solver: &S, rhs: &mut [f64], columns: usize) {
-    if columns == 0 {
-        return;
-    }
-    let n = rhs.len() / columns;
-    for column in rhs.chunks_exact_mut(n) {
-        solver.solve(column);
     }
 }
 
@@ -287,7 +284,7 @@ impl LinearSolver for SparseCholesky {
             let (x, work) = &mut *self.split_work.borrow_mut();
             x.clear();
             x.extend(forward.iter().map(|&f| rhs[f]));
-            split.solve(tree, &self.factor, x, work);
+            split.solve(tree, &self.factor, x, work, None);
             for (r, &i) in rhs.iter_mut().zip(inverse) {
                 *r = x[i];
             }
@@ -307,35 +304,16 @@ impl LinearSolver for SparseCholesky {
         self.factor.len()
     }
 
-    /// In double precision: a single-precision solve of a right-hand side
-    /// on a few blocks ends in subnormal numbers over the far blocks, which
-    /// the processor handles hundreds of times slower (20 such columns on
-    /// the 10,051-block deformable wall's factor took 208 ms, against 60).
-    /// Each core takes half of the columns.
-    fn solve_many(&self, rhs: &mut [f64], columns: usize) {
-        assert!(self.factored, "solve before factorize");
-        let symbolic = self.symbolic.as_ref().expect("analysed");
-        if columns < 2 {
-            return solve_one_by_one(self, rhs, columns);
-        }
-        let n = rhs.len() / columns;
-        let factor = &self.factor;
-        let solve = |x: &mut [f64]| {
-            let k = x.len() / n;
-            let mut stack = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(k, Par::Seq));
-            LltRef::new(symbolic, factor).solve_in_place_with_conj(
-                Conj::No,
-                MatMut::from_column_major_slice_mut(x, n, k),
-                Par::Seq,
-                MemStack::new(&mut stack),
-            );
-        };
-        let (first, second) = rhs.split_at_mut(columns / 2 * n);
-        rayon::join(|| solve(first), || solve(second));
-    }
-
     fn corrections_inexact(&self) -> bool {
         !self.single.is_empty()
+    }
+
+    fn update(&self, terms: &[UpdateTerm]) -> Option<FactorUpdate> {
+        self.make_update(terms)
+    }
+
+    fn solve_updated(&self, update: &FactorUpdate, rhs: &mut [f64], exact: bool) {
+        self.solve_with_update(update, rhs, exact);
     }
 
     fn solve_correction(&self, rhs: &mut [f64]) {
@@ -355,7 +333,7 @@ impl LinearSolver for SparseCholesky {
                 *s = (rhs[f] / scale) as f32;
             }
             let work = &mut self.single_split_work.borrow_mut();
-            split.solve(tree, &self.single, single, work);
+            split.solve(tree, &self.single, single, work, None);
             for (r, &i) in rhs.iter_mut().zip(inverse) {
                 *r = f64::from(single[i]) * scale;
             }
@@ -475,7 +453,7 @@ mod tests {
     /// A g × g grid of blocks of `b` unknowns, each coupled to its right
     /// and upper neighbours, diagonally dominant: the lower triangle's
     /// pattern and values.
-    fn grid(g: usize, b: usize) -> (CscPattern, Vec<f64>) {
+    pub(super) fn grid(g: usize, b: usize) -> (CscPattern, Vec<f64>) {
         let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
         for block in 0..g * g {
             for k in 0..b {
@@ -558,39 +536,5 @@ mod tests {
             assert!((x - z).abs() <= 1e-5 * largest, "{x} against {z}");
         }
         assert_eq!(correction, solved(0, 1, true).0);
-    }
-
-    /// Several right-hand sides solved side by side (split between the
-    /// cores, odd counts too) give each one's own solve, to round-off, and
-    /// the same on one core.
-    #[test]
-    fn many_right_hand_sides_solve_as_one_each() {
-        let (pattern, values) = grid(20, 3);
-        let n = pattern.dim;
-        for columns in [1, 2, 5] {
-            let b: Vec<f64> = (0..n * columns).map(|i| (i as f64 * 0.37).cos()).collect();
-            let solved = |threads: usize| {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .unwrap();
-                pool.install(|| {
-                    let mut s = SparseCholesky::default();
-                    s.analyse(&pattern).unwrap();
-                    s.factorize(&values).unwrap();
-                    let mut each = b.clone();
-                    each.chunks_exact_mut(n).for_each(|c| s.solve(c));
-                    let mut many = b.clone();
-                    s.solve_many(&mut many, columns);
-                    (each, many)
-                })
-            };
-            let (each, many) = solved(2);
-            let largest = each.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-            for (x, y) in many.iter().zip(&each) {
-                assert!((x - y).abs() <= 1e-13 * largest, "{x} against {y}");
-            }
-            assert_eq!(many, solved(1).1);
-        }
     }
 }

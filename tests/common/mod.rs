@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use dda_core::assembly::CscPattern;
-use dda_core::solve::{LinearSolver, SparseCholesky};
+use dda_core::solve::{FactorUpdate, LinearSolver, SparseCholesky, UpdateTerm};
 use dda_core::DdaError;
 
 use dda::HistoryRow;
@@ -289,8 +289,8 @@ pub fn assert_thrown_box_follows_the_parabola(rows: &[dda::HistoryRow3]) {
 
 /// Sparse Cholesky posing as a large factor, writing down what it is
 /// asked: `F` a factorisation, `S` an exact solve, `C` a correction (on
-/// the single-precision copy where the solver keeps one), `M` solves side
-/// by side, `|` a new step.
+/// the single-precision copy where the solver keeps one), `U` an update
+/// of the factor by rank-one terms, `|` a new step.
 pub struct LargeLogged {
     pub solver: SparseCholesky,
     pub log: Arc<Mutex<String>>,
@@ -312,9 +312,13 @@ impl LinearSolver for LargeLogged {
         self.log.lock().unwrap().push('C');
         self.solver.solve_correction(rhs);
     }
-    fn solve_many(&self, rhs: &mut [f64], columns: usize) {
-        self.log.lock().unwrap().push('M');
-        self.solver.solve_many(rhs, columns);
+    fn update(&self, terms: &[UpdateTerm]) -> Option<FactorUpdate> {
+        self.log.lock().unwrap().push('U');
+        self.solver.update(terms)
+    }
+    fn solve_updated(&self, update: &FactorUpdate, rhs: &mut [f64], exact: bool) {
+        self.log.lock().unwrap().push(if exact { 'S' } else { 'C' });
+        self.solver.solve_updated(update, rhs, exact);
     }
     fn corrections_inexact(&self) -> bool {
         self.solver.corrections_inexact()
@@ -347,8 +351,11 @@ impl<S: LinearSolver> LinearSolver for Posing<S> {
     fn solve_correction(&self, rhs: &mut [f64]) {
         self.solver.solve_correction(rhs);
     }
-    fn solve_many(&self, rhs: &mut [f64], columns: usize) {
-        self.solver.solve_many(rhs, columns);
+    fn update(&self, terms: &[UpdateTerm]) -> Option<FactorUpdate> {
+        self.solver.update(terms)
+    }
+    fn solve_updated(&self, update: &FactorUpdate, rhs: &mut [f64], exact: bool) {
+        self.solver.solve_updated(update, rhs, exact);
     }
     fn corrections_inexact(&self) -> bool {
         self.solver.corrections_inexact()

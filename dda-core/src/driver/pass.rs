@@ -6,11 +6,12 @@
 use std::time::Instant;
 
 use super::anderson::Anderson;
-use super::woodbury::{RankOne, Woodbury};
+use super::woodbury::{update_terms, RankOne, Woodbury};
 use super::{gmres, Driver, Trial};
 use crate::assembly::Change;
 use crate::contact::ContactState;
 use crate::error::DdaError;
+use crate::solve::FactorUpdate;
 use crate::system::{BlockMatrix, BlockSystem};
 
 /// Couplings (sliding contacts) up to this many are applied by the
@@ -114,10 +115,10 @@ const PRECONDITIONED_TOLERANCE: f64 = 1e-3;
 
 /// A later pass on a large factor moves on it with at most this many
 /// rank-one terms for the springs that changed since it was made
-/// (`Woodbury`), where more would factorise anew. The terms' solves are
-/// made side by side in double precision, each core taking half of the
-/// columns: 20 on the 10,051-block deformable wall's factor took 35 ms, a
-/// factorisation 160. That wall's first 0.1 s at dt 1 ms (two passes a
+/// (`LinearSolver::update`), where more would factorise anew. Each term
+/// costs a forward sweep over its blocks' path to the root of the
+/// elimination tree; the 10,051-block deformable wall's factorisation
+/// costs 160 ms. That wall's first 0.1 s at dt 1 ms (two passes a
 /// step, one run each, with `SPRING_FLOOR_ENTRIES`'s floor): 0.17
 /// factorisations a step and 292 ms at 32 terms, 0.09 and 286 ms at 48,
 /// 0.01 and 267 ms at 64, the same counts and 279 ms at 96.
@@ -350,7 +351,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut fresh_from = None;
         // The springs changed since the factor was made, applied to its
         // moves (a later pass's, see `CHANGED_SPRINGS`).
-        let mut changed: Option<Woodbury<N>> = None;
+        let mut changed: Option<FactorUpdate> = None;
         // Whether the pass has read its decisions (`EARLY_DECISION`), or
         // will not.
         let mut decided = coupled || self.early_decision == 0.0;
@@ -550,13 +551,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 exact || (moves == 0 && first_exact)
             };
             inexact = !precise && self.solver.corrections_inexact();
-            if precise {
-                self.solver.solve(&mut residual);
-            } else {
-                self.solver.solve_correction(&mut residual);
-            }
-            if let Some(changed) = &changed {
-                changed.apply(&self.matrix, &mut residual);
+            match &changed {
+                Some(update) => self.solver.solve_updated(update, &mut residual, precise),
+                None if precise => self.solver.solve(&mut residual),
+                None => self.solver.solve_correction(&mut residual),
             }
             moves += 1;
             if coupled {
@@ -665,8 +663,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             gmres::gmres(apply, &rhs, y, 1e-6, 60);
             return true;
         }
-        Woodbury::new(couplings.to_vec(), &self.matrix, &*self.solver, false)
-            .apply(&self.matrix, y);
+        Woodbury::new(couplings.to_vec(), &self.matrix, &*self.solver).apply(&self.matrix, y);
         true
     }
 
@@ -690,7 +687,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// entry by more than `LARGE_FACTOR_DRIFT` of the factor's largest,
     /// the share a step's first pass leaves to the moves on an earlier
     /// step's factor.
-    fn changed_springs(&mut self, trial: &Trial<T>) -> Option<Woodbury<N>> {
+    fn changed_springs(&mut self, trial: &Trial<T>) -> Option<FactorUpdate> {
         if !self.large_factor() || self.changed_springs == 0 {
             return None;
         }
@@ -703,10 +700,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             self.changed_springs,
             self.changed_floor(),
         )?;
-        self.stats.changed_spring_passes += 1;
-        let woodbury = Woodbury::new(terms, &self.matrix, &*self.solver, true);
+        let update = self.solver.update(&update_terms(&terms, &self.matrix));
         self.stats.times.solve += started.elapsed();
-        Some(woodbury)
+        self.stats.changed_spring_passes += usize::from(update.is_some());
+        update
     }
 
     /// The factor now holds the springs of the last tangent assembly; kept

@@ -6,7 +6,7 @@ use nalgebra::{DMatrix, DVector, LU};
 
 use crate::assembly::BlockSparse;
 use crate::contacts::BlockVector;
-use crate::solve::LinearSolver;
+use crate::solve::{LinearSolver, UpdateTerm};
 
 /// A rank-one term `slope`·u·vᵀ of the tangent, u and v on blocks `blocks`:
 /// how a sliding contact's friction changes with its normal gap, or a
@@ -36,25 +36,14 @@ pub(super) struct Woodbury<const N: usize> {
 }
 
 impl<const N: usize> Woodbury<N> {
-    /// Makes Z on the solver's factor: column by column, or all at once
-    /// (`LinearSolver::solve_many`, `together`).
-    pub fn new(
-        terms: Vec<RankOne<N>>,
-        matrix: &BlockSparse<N>,
-        solver: &dyn LinearSolver,
-        together: bool,
-    ) -> Self {
+    /// Makes Z on the solver's factor, column by column.
+    pub fn new(terms: Vec<RankOne<N>>, matrix: &BlockSparse<N>, solver: &dyn LinearSolver) -> Self {
         let (m, size) = (terms.len(), matrix.dim());
         let mut z = vec![0.0; m * size];
         for (t, column) in terms.iter().zip(z.chunks_exact_mut(size.max(1))) {
             matrix.add_block(column, t.blocks[0], &t.u[0]);
             matrix.add_block(column, t.blocks[1], &t.u[1]);
-            if !together {
-                solver.solve(column);
-            }
-        }
-        if together {
-            solver.solve_many(&mut z, m);
+            solver.solve(column);
         }
         let column = |j: usize| &z[j * size..(j + 1) * size];
         let capacitance = DMatrix::from_fn(m, m, |i, j| {
@@ -87,4 +76,24 @@ impl<const N: usize> Woodbury<N> {
             }
         }
     }
+}
+
+/// The terms as the solver's updates of its factor
+/// (`LinearSolver::update`), u and v over the unknowns.
+pub(super) fn update_terms<const N: usize>(
+    terms: &[RankOne<N>],
+    matrix: &BlockSparse<N>,
+) -> Vec<UpdateTerm> {
+    let on = |blocks: [usize; 2], x: &[BlockVector<N>; 2]| -> Vec<(usize, f64)> {
+        (matrix.entries(blocks[0], &x[0]))
+            .chain(matrix.entries(blocks[1], &x[1]))
+            .collect()
+    };
+    (terms.iter())
+        .map(|t| UpdateTerm {
+            u: on(t.blocks, &t.u),
+            v: on(t.blocks, &t.v),
+            slope: t.slope,
+        })
+        .collect()
 }

@@ -32,9 +32,28 @@ pub(crate) trait Scalar:
     + std::ops::SubAssign
     + std::ops::Neg<Output = Self>
 {
+    fn widen(self) -> f64;
+    fn narrow(value: f64) -> Self;
 }
-impl Scalar for f64 {}
-impl Scalar for f32 {}
+impl Scalar for f64 {
+    fn widen(self) -> f64 {
+        self
+    }
+    fn narrow(value: f64) -> Self {
+        value
+    }
+}
+impl Scalar for f32 {
+    fn widen(self) -> f64 {
+        f64::from(self)
+    }
+    fn narrow(value: f64) -> Self {
+        value as f32
+    }
+}
+
+/// What a solve applies to L⁻¹b between its two sweeps.
+pub(super) type Between<'a, T> = &'a dyn Fn(&mut [T]);
 
 /// Supernodes `first..=root`, whose unknowns are `begin..end`.
 #[derive(Debug, Clone, Copy)]
@@ -158,13 +177,15 @@ impl Split {
         })
     }
 
-    /// Solves L Lᵀ x = b in place, `x` in the factor's ordering.
+    /// Solves L Lᵀ x = b in place, `x` in the factor's ordering; with
+    /// `between`, applied to L⁻¹b between the two sweeps.
     pub fn solve<T: Scalar>(
         &self,
         symbolic: &SymbolicSupernodalCholesky<usize>,
         values: &[T],
         x: &mut [T],
         work: &mut Work<T>,
+        between: Option<Between<'_, T>>,
     ) {
         let factor = SupernodalLltRef::new(symbolic, values);
         let n = x.len();
@@ -197,6 +218,9 @@ impl Split {
         };
         for &s in &self.top {
             forward_node(factor, s, &mut all, &mut [], b0);
+        }
+        if let Some(between) = between {
+            between(all.values);
         }
         // Back: the top, then each core its subtrees, reading the top's
         // unknowns from a copy.
@@ -279,12 +303,46 @@ fn back_subtrees<T: Scalar>(
     }
 }
 
+/// Solves L Lᵀ x = b in place on one core, supernode by supernode, `x`
+/// in the factor's ordering, with `between` applied to L⁻¹b between the
+/// sweeps. `below` holds a supernode's rows below its diagonal.
+pub(super) fn solve_sequential<T: Scalar>(
+    symbolic: &SymbolicSupernodalCholesky<usize>,
+    values: &[T],
+    x: &mut [T],
+    below: &mut [T],
+    between: Between<'_, T>,
+) {
+    let factor = SupernodalLltRef::new(symbolic, values);
+    let count = symbolic.n_supernodes();
+    let mut all = Own::whole(x);
+    for s in 0..count {
+        forward_node(factor, s, &mut all, &mut [], below);
+    }
+    between(all.values);
+    for s in (0..count).rev() {
+        back_node(factor, s, &mut all, &[], below);
+    }
+}
+
 /// Unknowns `offset..end`, which a sweep over a subtree (or the top, with
 /// all of them) writes.
-struct Own<'a, T> {
+pub(super) struct Own<'a, T> {
     values: &'a mut [T],
     offset: usize,
     end: usize,
+}
+
+impl<'a, T> Own<'a, T> {
+    /// All of the unknowns.
+    pub(super) fn whole(values: &'a mut [T]) -> Self {
+        let end = values.len();
+        Self {
+            values,
+            offset: 0,
+            end,
+        }
+    }
 }
 
 /// Supernode `s`: its diagonal block, the rows below it and their indices,
@@ -309,7 +367,7 @@ fn supernode<'f, T>(
 /// Supernode `s`'s forward substitution: its unknowns solved, its products
 /// subtracted from the rows below within `own` and added to `gathered`
 /// beyond it.
-fn forward_node<T: Scalar>(
+pub(super) fn forward_node<T: Scalar>(
     factor: SupernodalLltRef<'_, usize, T>,
     s: usize,
     own: &mut Own<'_, T>,
