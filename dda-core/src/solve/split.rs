@@ -327,7 +327,7 @@ pub(super) fn solve_sequential<T: Scalar>(
 
 /// Unknowns `offset..end`, which a sweep over a subtree (or the top, with
 /// all of them) writes.
-pub(super) struct Own<'a, T> {
+struct Own<'a, T> {
     values: &'a mut [T],
     offset: usize,
     end: usize,
@@ -335,7 +335,7 @@ pub(super) struct Own<'a, T> {
 
 impl<'a, T> Own<'a, T> {
     /// All of the unknowns.
-    pub(super) fn whole(values: &'a mut [T]) -> Self {
+    fn whole(values: &'a mut [T]) -> Self {
         let end = values.len();
         Self {
             values,
@@ -367,7 +367,7 @@ fn supernode<'f, T>(
 /// Supernode `s`'s forward substitution: its unknowns solved, its products
 /// subtracted from the rows below within `own` and added to `gathered`
 /// beyond it.
-pub(super) fn forward_node<T: Scalar>(
+fn forward_node<T: Scalar>(
     factor: SupernodalLltRef<'_, usize, T>,
     s: usize,
     own: &mut Own<'_, T>,

@@ -11,11 +11,13 @@
 
 use nalgebra::{DMatrix, DVector, LU};
 
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSupernodalCholesky};
-
 use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
+use faer::{Accum, MatMut, MatRef, Par};
 
-use super::split::{forward_node, solve_sequential, Own, Scalar};
+use super::split::{solve_sequential, Scalar};
 use super::SparseCholesky;
 
 /// A rank-one term `slope`·u·vᵀ, u and v as (unknown, value) pairs.
@@ -102,22 +104,45 @@ impl FactorUpdate {
             }
         }
         let factor = SupernodalLltRef::new(symbolic, values);
-        let sweep = |part: &[&[(usize, f64)]]| {
-            let n = symbolic.nrows();
-            let mut x = vec![0.0; n];
-            let mut below = vec![0.0; tree.widest];
+        let n = symbolic.nrows();
+        // Vectors on the same unknowns (a contact's springs, the old and
+        // the new) share their path to the root: each such group is swept
+        // once, its vectors side by side, and the cores take half of the
+        // vectors each.
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for (j, x) in vectors.iter().enumerate() {
+            let rows = |x: &[(usize, f64)]| x.iter().map(|e| e.0).collect::<Vec<_>>();
+            match groups.iter_mut().find(|g| rows(vectors[g[0]]) == rows(x)) {
+                Some(group) => group.push(j),
+                None => groups.push(vec![j]),
+            }
+        }
+        let widest_group = groups.iter().map(Vec::len).max().unwrap_or(0);
+        let sweep = |part: &[Vec<usize>]| {
+            let mut x = vec![0.0; n * widest_group];
+            let mut below = vec![0.0; tree.widest * widest_group];
             let mut marked = vec![false; tree.parent.len()];
-            (part.iter())
-                .map(|seeds| {
-                    let seeds: Vec<(usize, f64)> =
-                        seeds.iter().map(|&(r, w)| (order(r), w)).collect();
-                    tree.forward(factor, &seeds, &mut x, &mut below, &mut marked)
-                })
-                .collect::<Vec<_>>()
+            let mut made = Vec::new();
+            for group in part {
+                let seeds: Vec<Vec<(usize, f64)>> = (group.iter())
+                    .map(|&j| vectors[j].iter().map(|&(r, w)| (order(r), w)).collect())
+                    .collect();
+                let reached = tree.forward(factor, &seeds, &mut x, &mut below, &mut marked);
+                made.extend(group.iter().copied().zip(reached));
+            }
+            made
         };
-        let (first, second) = vectors.split_at(vectors.len() / 2);
-        let (mut reached, rest) = rayon::join(|| sweep(first), || sweep(second));
-        reached.extend(rest);
+        let mut half = 0;
+        let mut count = 0;
+        while half < groups.len() && 2 * count < vectors.len() {
+            count += groups[half].len();
+            half += 1;
+        }
+        let (first, second) = groups.split_at(half);
+        let (mut made, rest) = rayon::join(|| sweep(first), || sweep(second));
+        made.extend(rest);
+        made.sort_unstable_by_key(|(j, _)| *j);
+        let reached: Vec<Reached> = made.into_iter().map(|(_, r)| r).collect();
         let m = terms.len();
         let slopes: Vec<f64> = terms.iter().map(|t| t.slope).collect();
         let mut dense = vec![0.0; symbolic.nrows()];
@@ -203,42 +228,70 @@ impl Tree {
         })
     }
 
-    /// L⁻¹ of the vector `seeds` (in the factor's ordering): a forward
-    /// sweep over the supernodes from the seeds' up to the root, children
-    /// first. `x` is zero on entry and left so; `marked` is all false.
+    /// L⁻¹ of each of the vectors `seeds` (in the factor's ordering), all
+    /// on the same unknowns: a forward sweep over the supernodes from
+    /// theirs up to the root, children first, the vectors side by side in
+    /// `x` (n unknowns each). `x` is zero on entry and left so; `marked`
+    /// is all false.
     fn forward(
         &self,
         factor: SupernodalLltRef<'_, usize, f64>,
-        seeds: &[(usize, f64)],
+        seeds: &[Vec<(usize, f64)>],
         x: &mut [f64],
         below: &mut [f64],
         marked: &mut [bool],
-    ) -> Reached {
+    ) -> Vec<Reached> {
+        let (n, k) = (self.supernode_of.len(), seeds.len());
         let mut path = Vec::new();
-        for &(r, w) in seeds {
-            x[r] += w;
-            let mut s = Some(self.supernode_of[r]);
-            while let Some(at) = s.filter(|&at| !marked[at]) {
-                marked[at] = true;
-                path.push(at);
-                s = self.parent[at];
+        for (c, seeds) in seeds.iter().enumerate() {
+            for &(r, w) in seeds {
+                x[c * n + r] += w;
+                let mut s = Some(self.supernode_of[r]);
+                while let Some(at) = s.filter(|&at| !marked[at]) {
+                    marked[at] = true;
+                    path.push(at);
+                    s = self.parent[at];
+                }
             }
         }
         path.sort_unstable();
-        let mut own = Own::whole(x);
         for &s in &path {
-            forward_node(factor, s, &mut own, &mut [], below);
+            let node = factor.supernode(s);
+            let (start, width, rows) = (node.start(), node.val().ncols(), node.pattern());
+            let (diagonal, lower) = node.val().split_at_row(width);
+            solve_lower_triangular_in_place(
+                diagonal,
+                MatMut::from_column_major_slice_with_stride_mut(&mut x[start..], width, k, n),
+                Par::Seq,
+            );
+            let below = &mut below[..rows.len() * k];
+            matmul(
+                MatMut::from_column_major_slice_mut(below, rows.len(), k),
+                Accum::Replace,
+                lower,
+                MatRef::from_column_major_slice_with_stride(&x[start..], width, k, n),
+                1.0,
+                Par::Seq,
+            );
+            for (c, below) in below.chunks_exact(rows.len().max(1)).enumerate() {
+                for (&r, v) in rows.iter().zip(below) {
+                    x[c * n + r] -= v;
+                }
+            }
         }
-        let mut reached = Reached::default();
+        let mut reached: Vec<Reached> = (0..k).map(|_| Reached::default()).collect();
         for &s in &path {
             marked[s] = false;
             let node = factor.supernode(s);
             let (start, end) = (node.start(), node.start() + node.val().ncols());
-            reached.values.extend_from_slice(&x[start..end]);
-            x[start..end].fill(0.0);
-            match reached.runs.last_mut() {
-                Some(last) if last.1 == start => last.1 = end,
-                _ => reached.runs.push((start, end)),
+            for (c, reached) in reached.iter_mut().enumerate() {
+                let column = &mut x[c * n + start..c * n + end];
+                reached.values.extend_from_slice(column);
+                column.fill(0.0);
+                match reached.runs.last_mut() {
+                    Some(last) if last.1 == start => last.1 = end,
+                    _ => reached.runs.push((start, end)),
+                }
             }
         }
         reached
@@ -346,10 +399,10 @@ mod tests {
         y
     }
 
-    /// Springs on pairs of blocks come and go (slopes of both signs, u = v),
-    /// and one term has u ≠ v: the updated solve is the updated matrix's,
-    /// to round-off exactly and to single precision's as a correction,
-    /// split between two cores or not.
+    /// Springs on pairs of blocks come and go (slopes of both signs, u = v,
+    /// some on the same blocks), and one term has u ≠ v: the updated solve
+    /// is the updated matrix's, to round-off exactly and to single
+    /// precision's as a correction, split between two cores or not.
     #[test]
     fn an_updated_solve_solves_the_matrix_with_the_terms() {
         let (pattern, values) = grid(30, 3);
@@ -360,11 +413,14 @@ mod tests {
                 .chain((0..3).map(|k| (3 * b + k, -(phase + k as f64).cos())))
                 .collect()
         };
+        // Two pairs of terms on the same blocks, swept side by side.
         let mut terms: Vec<UpdateTerm> = [
             (0, 1, 2.0),
             (95, 125, -1.5),
             (400, 401, 3.0),
             (899, 869, 0.7),
+            (95, 125, 0.8),
+            (400, 401, -0.4),
         ]
         .iter()
         .enumerate()
