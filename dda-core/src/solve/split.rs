@@ -32,7 +32,9 @@ pub(crate) trait Scalar:
     + std::ops::SubAssign
     + std::ops::Neg<Output = Self>
 {
+    /// The value in double precision.
     fn widen(self) -> f64;
+    /// A double-precision value rounded to this scalar.
     fn narrow(value: f64) -> Self;
 }
 impl Scalar for f64 {

@@ -89,78 +89,27 @@ impl FactorUpdate {
         terms: &[UpdateTerm],
     ) -> Option<Self> {
         let tree = Tree::new(symbolic)?;
-        let order = |r: usize| inverse.map_or(r, |p| p[r]);
         // Distinct vectors: a spring's u is its v.
-        let mut vectors: Vec<&[(usize, f64)]> = Vec::new();
+        let mut vectors: Vec<Vec<(usize, f64)>> = Vec::new();
         let mut u = Vec::with_capacity(terms.len());
         let mut v = Vec::with_capacity(terms.len());
         for t in terms {
             for (x, to) in [(&t.u, &mut u), (&t.v, &mut v)] {
-                let at = vectors.iter().position(|w| *w == x.as_slice());
+                let at = vectors.iter().position(|w| w == x);
                 to.push(at.unwrap_or_else(|| {
-                    vectors.push(x);
+                    vectors.push(x.clone());
                     vectors.len() - 1
                 }));
             }
         }
+        // Into the factor's ordering.
+        for (r, _) in vectors.iter_mut().flatten() {
+            *r = inverse.map_or(*r, |p| p[*r]);
+        }
         let factor = SupernodalLltRef::new(symbolic, values);
-        let n = symbolic.nrows();
-        // Vectors on the same unknowns (a contact's springs, the old and
-        // the new) share their path to the root: each such group is swept
-        // once, its vectors side by side, and the cores take half of the
-        // vectors each.
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        for (j, x) in vectors.iter().enumerate() {
-            let rows = |x: &[(usize, f64)]| x.iter().map(|e| e.0).collect::<Vec<_>>();
-            match groups.iter_mut().find(|g| rows(vectors[g[0]]) == rows(x)) {
-                Some(group) => group.push(j),
-                None => groups.push(vec![j]),
-            }
-        }
-        let widest_group = groups.iter().map(Vec::len).max().unwrap_or(0);
-        let sweep = |part: &[Vec<usize>]| {
-            let mut x = vec![0.0; n * widest_group];
-            let mut below = vec![0.0; tree.widest * widest_group];
-            let mut marked = vec![false; tree.parent.len()];
-            let mut made = Vec::new();
-            for group in part {
-                let seeds: Vec<Vec<(usize, f64)>> = (group.iter())
-                    .map(|&j| vectors[j].iter().map(|&(r, w)| (order(r), w)).collect())
-                    .collect();
-                let reached = tree.forward(factor, &seeds, &mut x, &mut below, &mut marked);
-                made.extend(group.iter().copied().zip(reached));
-            }
-            made
-        };
-        let mut half = 0;
-        let mut count = 0;
-        while half < groups.len() && 2 * count < vectors.len() {
-            count += groups[half].len();
-            half += 1;
-        }
-        let (first, second) = groups.split_at(half);
-        let (mut made, rest) = rayon::join(|| sweep(first), || sweep(second));
-        made.extend(rest);
-        made.sort_unstable_by_key(|(j, _)| *j);
-        let reached: Vec<Reached> = made.into_iter().map(|(_, r)| r).collect();
-        let m = terms.len();
+        let reached = tree.sweep_all(factor, &vectors);
         let slopes: Vec<f64> = terms.iter().map(|t| t.slope).collect();
-        let mut dense = vec![0.0; symbolic.nrows()];
-        let mut products = DMatrix::zeros(m, m);
-        for j in 0..m {
-            reached[u[j]].subtract_from(-1.0, &mut dense);
-            for i in 0..m {
-                products[(i, j)] = reached[v[i]].dot(&dense);
-            }
-            for &(start, end) in &reached[u[j]].runs {
-                dense[start..end].fill(0.0);
-            }
-        }
-        let capacitance = DMatrix::from_fn(m, m, |i, j| {
-            let identity = if i == j { 1.0 } else { 0.0 };
-            identity + slopes[i] * products[(i, j)]
-        })
-        .lu();
+        let capacitance = capacitance(&reached, &u, &v, &slopes, symbolic.nrows());
         Some(Self {
             reached,
             u,
@@ -187,6 +136,34 @@ impl FactorUpdate {
             self.reached[self.u[j]].subtract_from(*c, y);
         }
     }
+}
+
+/// The LU factors of I + S WᵥᵀWᵤ, with W's columns `reached` and `u`, `v`
+/// each term's.
+fn capacitance(
+    reached: &[Reached],
+    u: &[usize],
+    v: &[usize],
+    slopes: &[f64],
+    n: usize,
+) -> LU<f64, nalgebra::Dyn, nalgebra::Dyn> {
+    let m = slopes.len();
+    let mut dense = vec![0.0; n];
+    let mut products = DMatrix::zeros(m, m);
+    for j in 0..m {
+        reached[u[j]].subtract_from(-1.0, &mut dense);
+        for i in 0..m {
+            products[(i, j)] = reached[v[i]].dot(&dense);
+        }
+        for &(start, end) in &reached[u[j]].runs {
+            dense[start..end].fill(0.0);
+        }
+    }
+    DMatrix::from_fn(m, m, |i, j| {
+        let identity = if i == j { 1.0 } else { 0.0 };
+        identity + slopes[i] * products[(i, j)]
+    })
+    .lu()
 }
 
 /// The supernodal elimination tree: each unknown's supernode and each
@@ -228,6 +205,49 @@ impl Tree {
         })
     }
 
+    /// L⁻¹ of each of `vectors` (in the factor's ordering). Vectors on the
+    /// same unknowns (a contact's springs, the old and the new) share their
+    /// path to the root: each such group is swept once, its vectors side
+    /// by side, and the cores take half of the vectors each.
+    fn sweep_all(
+        &self,
+        factor: SupernodalLltRef<'_, usize, f64>,
+        vectors: &[Vec<(usize, f64)>],
+    ) -> Vec<Reached> {
+        let rows = |x: &[(usize, f64)]| x.iter().map(|e| e.0).collect::<Vec<_>>();
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for (j, x) in vectors.iter().enumerate() {
+            match groups.iter_mut().find(|g| rows(&vectors[g[0]]) == rows(x)) {
+                Some(group) => group.push(j),
+                None => groups.push(vec![j]),
+            }
+        }
+        let widest_group = groups.iter().map(Vec::len).max().unwrap_or(0);
+        let sweep = |part: &[Vec<usize>]| {
+            let n = self.supernode_of.len();
+            let mut x = vec![0.0; n * widest_group];
+            let mut below = vec![0.0; self.widest * widest_group];
+            let mut marked = vec![false; self.parent.len()];
+            let mut made = Vec::new();
+            for group in part {
+                let seeds: Vec<&[(usize, f64)]> = group.iter().map(|&j| &vectors[j][..]).collect();
+                let reached = self.forward(factor, &seeds, &mut x, &mut below, &mut marked);
+                made.extend(group.iter().copied().zip(reached));
+            }
+            made
+        };
+        let (mut half, mut count) = (0, 0);
+        while half < groups.len() && 2 * count < vectors.len() {
+            count += groups[half].len();
+            half += 1;
+        }
+        let (first, second) = groups.split_at(half);
+        let (mut made, rest) = rayon::join(|| sweep(first), || sweep(second));
+        made.extend(rest);
+        made.sort_unstable_by_key(|(j, _)| *j);
+        made.into_iter().map(|(_, r)| r).collect()
+    }
+
     /// L⁻¹ of each of the vectors `seeds` (in the factor's ordering), all
     /// on the same unknowns: a forward sweep over the supernodes from
     /// theirs up to the root, children first, the vectors side by side in
@@ -236,7 +256,7 @@ impl Tree {
     fn forward(
         &self,
         factor: SupernodalLltRef<'_, usize, f64>,
-        seeds: &[Vec<(usize, f64)>],
+        seeds: &[&[(usize, f64)]],
         x: &mut [f64],
         below: &mut [f64],
         marked: &mut [bool],
@@ -244,7 +264,7 @@ impl Tree {
         let (n, k) = (self.supernode_of.len(), seeds.len());
         let mut path = Vec::new();
         for (c, seeds) in seeds.iter().enumerate() {
-            for &(r, w) in seeds {
+            for &(r, w) in seeds.iter() {
                 x[c * n + r] += w;
                 let mut s = Some(self.supernode_of[r]);
                 while let Some(at) = s.filter(|&at| !marked[at]) {
