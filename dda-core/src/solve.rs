@@ -450,6 +450,23 @@ mod tests {
         assert!(s.factorize(&[1.0, 2.0, 1.0]).is_err());
     }
 
+    /// `values` factorised, with a single-precision copy, split between
+    /// the cores from `split_from` entries.
+    pub(super) fn factored(
+        pattern: &CscPattern,
+        values: &[f64],
+        split_from: usize,
+    ) -> SparseCholesky {
+        let mut s = SparseCholesky {
+            split_from,
+            single_from: 0,
+            ..Default::default()
+        };
+        s.analyse(pattern).unwrap();
+        s.factorize(values).unwrap();
+        s
+    }
+
     /// A g × g grid of blocks of `b` unknowns, each coupled to its right
     /// and upper neighbours, diagonally dominant: the lower triangle's
     /// pattern and values.
@@ -502,13 +519,7 @@ mod tests {
                 .build()
                 .unwrap();
             pool.install(|| {
-                let mut s = SparseCholesky {
-                    split_from,
-                    single_from: 0,
-                    ..Default::default()
-                };
-                s.analyse(&pattern).unwrap();
-                s.factorize(&values).unwrap();
+                let s = factored(&pattern, &values, split_from);
                 let mut x = b.clone();
                 if correction {
                     s.solve_correction(&mut x);

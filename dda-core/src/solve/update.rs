@@ -392,7 +392,7 @@ fn permute_out<T: Copy>(x: &[T], inverse: Option<&[usize]>, rhs: &mut [f64], f: 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solve::tests::grid;
+    use crate::solve::tests::{factored, grid};
     use crate::solve::LinearSolver;
 
     /// K x + Σ sⱼuⱼ(vⱼᵀx), K given by its lower triangle.
@@ -461,13 +461,7 @@ mod tests {
         let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).cos()).collect();
         let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         for split_from in [0, usize::MAX] {
-            let mut s = SparseCholesky {
-                split_from,
-                single_from: 0,
-                ..Default::default()
-            };
-            s.analyse(&pattern).unwrap();
-            s.factorize(&values).unwrap();
+            let s = factored(&pattern, &values, split_from);
             assert_eq!(s.split.is_some(), split_from == 0);
             let update = s.update(&terms).expect("a supernodal factor");
             for (exact, tolerance) in [(true, 1e-12), (false, 1e-5)] {
