@@ -3,6 +3,8 @@
 
 use std::cell::RefCell;
 
+use rayon::prelude::*;
+
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, supernodal::SymbolicSupernodalCholesky, CholeskySymbolicParams,
@@ -16,6 +18,7 @@ use crate::assembly::CscPattern;
 use crate::error::DdaError;
 use crate::settings::Solver;
 
+mod factor;
 mod pcg;
 mod split;
 mod update;
@@ -147,6 +150,8 @@ pub struct SparseCholesky {
     pub split_from: usize,
     /// The split of the analysed factor's tree, if it has one.
     split: Option<split::Split>,
+    /// Where the factor is made on two cores, its layout (with `split`).
+    numeric: Option<factor::Numeric>,
     /// A split solve's unknowns in the factor's ordering, and its buffers.
     split_work: RefCell<(Vec<f64>, split::Work<f64>)>,
     /// The same for a correction's.
@@ -167,6 +172,7 @@ impl Default for SparseCholesky {
             analyses: 0,
             split_from: SPLIT_ENTRIES,
             split: None,
+            numeric: None,
             split_work: RefCell::default(),
             single_split_work: RefCell::default(),
         }
@@ -234,6 +240,16 @@ impl LinearSolver for SparseCholesky {
             }
             _ => None,
         };
+        self.numeric = match (symbolic.raw(), &self.split) {
+            (SymbolicCholeskyRaw::Supernodal(tree), Some(split)) => Some(factor::Numeric::new(
+                tree,
+                split,
+                &pattern.col_ptr,
+                &pattern.row_idx,
+                symbolic.perm().map(|p| p.arrays().1),
+            )),
+            _ => None,
+        };
         self.symbolic = Some(symbolic);
         self.structure = Some(structure);
         self.factored = false;
@@ -257,21 +273,37 @@ impl LinearSolver for SparseCholesky {
             values,
         );
         self.factored = false;
-        self.factor.fill(0.0);
-        symbolic
-            .factorize_numeric_llt::<f64>(
-                &mut self.factor,
-                matrix,
-                Side::Lower,
-                Default::default(),
-                Par::Seq,
-                MemStack::new(self.scratch.get_mut()),
-                Default::default(),
-            )
-            .map_err(|e| DdaError::Factorization(format!("{e:?}")))?;
+        if let (SymbolicCholeskyRaw::Supernodal(tree), Some(split), Some(numeric)) =
+            (symbolic.raw(), &self.split, &mut self.numeric)
+        {
+            numeric
+                .factorize(tree, split, values, &mut self.factor)
+                .map_err(|s| {
+                    DdaError::Factorization(format!("NonPositivePivot in supernode {s}"))
+                })?;
+        } else {
+            self.factor.fill(0.0);
+            symbolic
+                .factorize_numeric_llt::<f64>(
+                    &mut self.factor,
+                    matrix,
+                    Side::Lower,
+                    Default::default(),
+                    Par::Seq,
+                    MemStack::new(self.scratch.get_mut()),
+                    Default::default(),
+                )
+                .map_err(|e| DdaError::Factorization(format!("{e:?}")))?;
+        }
         if self.factor.len() >= self.single_from {
-            self.single.clear();
-            self.single.extend(self.factor.iter().map(|&v| v as f32));
+            // On both cores: a large factor's copy reads 8 bytes an entry.
+            const CHUNK: usize = 1 << 16;
+            self.single.resize(self.factor.len(), 0.0);
+            (self
+                .single
+                .par_chunks_mut(CHUNK)
+                .zip(self.factor.par_chunks(CHUNK)))
+            .for_each(|(s, f)| s.iter_mut().zip(f).for_each(|(s, &f)| *s = f as f32));
         }
         self.factored = true;
         Ok(())

@@ -87,14 +87,8 @@ impl Split {
     pub fn new(symbolic: &SymbolicSupernodalCholesky<usize>) -> Option<Self> {
         let count = symbolic.n_supernodes();
         let (begin, end) = (symbolic.supernode_begin(), symbolic.supernode_end());
-        let mut supernode_of = vec![0; symbolic.nrows()];
-        for s in 0..count {
-            supernode_of[begin[s]..end[s]].fill(s);
-        }
-        let rows = |s: usize| {
-            let at = symbolic.col_ptr_for_row_idx();
-            &symbolic.row_idx()[at[s]..at[s + 1]]
-        };
+        let supernode_of = supernode_of(symbolic);
+        let rows = |s: usize| pattern(symbolic, s);
         // Each subtree's entries, first supernode, size and children; the
         // parent is the supernode of the first row below the diagonal.
         let mut entries = vec![0; count];
@@ -240,6 +234,46 @@ impl Split {
         );
     }
 
+    /// Which core's subtrees hold each of the `count` supernodes; 2 for
+    /// the top.
+    pub fn cores(&self, count: usize) -> Vec<u8> {
+        let mut core = vec![2; count];
+        for (c, subtrees) in (0u8..).zip(&self.cores) {
+            for t in subtrees {
+                core[t.first..=t.root].fill(c);
+            }
+        }
+        core
+    }
+
+    /// The supernodes in no subtree, children before parents.
+    pub fn top(&self) -> &[usize] {
+        &self.top
+    }
+
+    /// The factor's entries cut into each subtree's columns, by core: its
+    /// supernodes, and where its columns start in the factor.
+    pub fn factor_pieces<'f, T>(
+        &self,
+        symbolic: &SymbolicSupernodalCholesky<usize>,
+        factor: &'f mut [T],
+    ) -> [Vec<FactorPiece<'f, T>>; 2] {
+        let at = symbolic.col_ptr_for_val();
+        let mut all: Vec<(usize, Subtree)> = (self.cores.iter().enumerate())
+            .flat_map(|(core, subtrees)| subtrees.iter().map(move |t| (core, *t)))
+            .collect();
+        all.sort_by_key(|(_, t)| t.first);
+        let mut pieces: [Vec<_>; 2] = Default::default();
+        let (mut rest, mut offset) = (factor, 0);
+        for (core, t) in all {
+            let (_, tail) = rest.split_at_mut(at[t.first] - offset);
+            let (columns, tail) = tail.split_at_mut(at[t.root + 1] - at[t.first]);
+            pieces[core].push((t.first..=t.root, at[t.first], columns));
+            (rest, offset) = (tail, at[t.root + 1]);
+        }
+        pieces
+    }
+
     /// `x` cut into each subtree's unknowns, by core.
     fn pieces<'x, T>(&self, x: &'x mut [T]) -> [Vec<(Subtree, Own<'x, T>)>; 2] {
         let mut all: Vec<(usize, Subtree)> = (self.cores.iter().enumerate())
@@ -262,6 +296,10 @@ impl Split {
         pieces
     }
 }
+
+/// A subtree's supernodes, the factor entry its columns start at, and
+/// its columns.
+pub(super) type FactorPiece<'f, T> = (std::ops::RangeInclusive<usize>, usize, &'f mut [T]);
 
 /// A split solve's buffers, kept from one solve to the next.
 #[derive(Debug, Default)]
@@ -325,6 +363,22 @@ pub(super) fn solve_sequential<T: Scalar>(
     for s in (0..count).rev() {
         back_node(factor, s, &mut all, &[], below);
     }
+}
+
+/// Each unknown's supernode.
+pub(super) fn supernode_of(symbolic: &SymbolicSupernodalCholesky<usize>) -> Vec<usize> {
+    let (begin, end) = (symbolic.supernode_begin(), symbolic.supernode_end());
+    let mut supernode_of = vec![0; symbolic.nrows()];
+    for s in 0..symbolic.n_supernodes() {
+        supernode_of[begin[s]..end[s]].fill(s);
+    }
+    supernode_of
+}
+
+/// The rows below supernode `s`'s diagonal block.
+pub(super) fn pattern(symbolic: &SymbolicSupernodalCholesky<usize>, s: usize) -> &[usize] {
+    let at = symbolic.col_ptr_for_row_idx();
+    &symbolic.row_idx()[at[s]..at[s + 1]]
 }
 
 /// Unknowns `offset..end`, which a sweep over a subtree (or the top, with

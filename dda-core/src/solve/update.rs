@@ -17,7 +17,7 @@ use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSuper
 use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
 use faer::{Accum, MatMut, MatRef, Par};
 
-use super::split::{solve_sequential, Scalar};
+use super::split::{pattern, solve_sequential, supernode_of, Scalar};
 use super::SparseCholesky;
 
 /// A rank-one term `slope`·u·vᵀ, u and v as (unknown, value) pairs.
@@ -178,24 +178,18 @@ struct Tree {
 impl Tree {
     fn new(symbolic: &SymbolicSupernodalCholesky<usize>) -> Option<Self> {
         let count = symbolic.n_supernodes();
-        let (begin, end) = (symbolic.supernode_begin(), symbolic.supernode_end());
-        let mut supernode_of = vec![0; symbolic.nrows()];
-        for s in 0..count {
-            supernode_of[begin[s]..end[s]].fill(s);
-        }
-        let at = symbolic.col_ptr_for_row_idx();
-        let rows = symbolic.row_idx();
+        let supernode_of = supernode_of(symbolic);
         let mut parent = vec![None; count];
         let mut widest = 0;
-        for s in 0..count {
-            let below = &rows[at[s]..at[s + 1]];
+        for (s, parent) in parent.iter_mut().enumerate() {
+            let below = pattern(symbolic, s);
             widest = widest.max(below.len());
             if let Some(&r) = below.first() {
                 let p = supernode_of[r];
                 if p <= s {
                     return None;
                 }
-                parent[s] = Some(p);
+                *parent = Some(p);
             }
         }
         Some(Self {
