@@ -383,6 +383,29 @@ mod tests {
         assert_eq!(two.factor, on(1, || factored(&pattern, &values, 0)).factor);
     }
 
+    /// A new analysis (another pattern, as when contacts come and go)
+    /// makes a new layout: the factor of the new matrix solves it.
+    #[test]
+    fn a_new_pattern_is_factorised_on_its_own_layout() {
+        let mut s = SparseCholesky {
+            split_from: 0,
+            ..Default::default()
+        };
+        for (g, b) in [(30, 6), (24, 3), (30, 6)] {
+            let (pattern, values) = grid(g, b);
+            s.analyse(&pattern).unwrap();
+            s.factorize(&values).unwrap();
+            let faer = factored(&pattern, &values, usize::MAX);
+            let largest = faer.factor.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            for (x, y) in s.factor.iter().zip(&faer.factor) {
+                assert!(
+                    (x - y).abs() <= 1e-13 * largest,
+                    "{g} × {g}: {x} against {y}"
+                );
+            }
+        }
+    }
+
     /// An indefinite matrix is refused, as faer refuses it, and a
     /// definite one factorises again afterwards.
     #[test]
