@@ -176,6 +176,9 @@ pub struct Driver<S, const N: usize, const T: usize> {
     /// Open-close passes the recent step attempts took (the most, each
     /// attempt's older count weighed down by `RECENT_PASSES_DECAY`).
     passes_before: f64,
+    /// Slow passes in a row on an earlier step's factor
+    /// (`pass::STALE_FACTOR_MOVES`).
+    slow_carried: usize,
     /// Whether the pass at hand reads its decisions early.
     decide_early: pass::EarlyDecision,
     /// Whether `decisions` holds those read early at the trial where the
@@ -319,6 +322,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             pattern_reach: 0.0,
             last_moved: 0.0,
             passes_before: 0.0,
+            slow_carried: 0,
             decide_early: pass::EarlyDecision::Never,
             decisions_read: false,
             block_size,

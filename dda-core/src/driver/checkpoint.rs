@@ -32,6 +32,7 @@ struct Saved {
     penalty: f64,
     last_moved: f64,
     passes_before: f64,
+    slow_carried: usize,
     pattern_reach: f64,
     energy_floor: Option<f64>,
     first_potential: Option<f64>,
@@ -111,6 +112,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             penalty: self.penalty,
             last_moved: self.last_moved,
             passes_before: self.passes_before,
+            slow_carried: self.slow_carried,
             pattern_reach: self.pattern_reach,
             energy_floor: self.energy_floor,
             first_potential: self.first_potential,
@@ -206,6 +208,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.penalty = saved.penalty;
         self.last_moved = saved.last_moved;
         self.passes_before = saved.passes_before;
+        self.slow_carried = saved.slow_carried;
         self.pattern_reach = saved.pattern_reach;
         self.energy_floor = saved.energy_floor;
         self.first_potential = saved.first_potential;

@@ -31,12 +31,23 @@ const SMW_COUPLINGS: usize = 64;
 const FACTOR_DRIFT: f64 = 1e-3;
 
 /// A step's first pass that started on an earlier step's factor and needed
-/// more moves than this without a new one gives that factor up: the next
-/// step factorises afresh. A change spread over the whole matrix (a
-/// deformable wall's stresses as it settles) leaves the old factor a slow
-/// one: kept for every later step, it cost the 20 × 20 deformable wall
-/// 242 moves instead of 127 over its first 0.3 s.
-const STALE_FACTOR_MOVES: usize = 5;
+/// more moves than this without a new one is slow; `SLOW_CARRIED_PASSES`
+/// such passes in a row give that factor up, and the next step factorises
+/// afresh. A change spread over the whole matrix (a deformable wall's
+/// stresses as it settles) leaves the old factor a slow one: kept for
+/// every later step, it cost the 20 × 20 deformable wall 242 moves instead
+/// of 127 over its first 0.3 s. At 5 moves (one slow pass enough) a factor
+/// that took four or five moves a step was kept for good: the 40 × 40
+/// rigid wall's first second at its automatic step took 5.24 moves a
+/// step, 1.83 at 3 with two passes in a row; the 20 × 20 deformable wall's
+/// at dt 1 ms 4.13, 3.31. At 3 with one pass the 20 × 20 rigid wall at its
+/// automatic step went 2.68 → 3.03 moves a step (2.92 with two, 3.71 with
+/// three).
+const STALE_FACTOR_MOVES: usize = 3;
+
+/// Slow passes on a carried factor (`STALE_FACTOR_MOVES`) in a row that
+/// give it up.
+const SLOW_CARRIED_PASSES: usize = 2;
 
 /// `FACTOR_DRIFT` for a factor of `LARGE_FACTOR_ENTRIES` or more, which
 /// costs eight to ten moves and is kept through slower ones: there a
@@ -423,8 +434,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 decided = true;
                 if self.decisions_change(trial, dt) {
                     self.stats.early_decisions += 1;
-                    if carried && moves > stale {
-                        self.factored = None;
+                    if carried {
+                        self.carried_pass_ended(moves > stale);
                     }
                     return Ok(true);
                 }
@@ -434,8 +445,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let diverging = !kept
                 && (norm > 1e3 * best.0 || (hand_over && rises >= RISES_BEFORE_WHOLE_TANGENT));
             if converged || diverging || iteration == self.settings.newton_limit {
-                if carried && moves > stale {
-                    self.factored = None;
+                if carried {
+                    self.carried_pass_ended(moves > stale);
                 }
                 if !converged {
                     trial.d = best.1;
@@ -732,6 +743,17 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// Whether the solver's factor is large (`LARGE_FACTOR_ENTRIES`), read
     /// at the moment: a run's first pass starts with none.
+    /// A pass on an earlier step's factor has ended, `slow` or not
+    /// (`STALE_FACTOR_MOVES`): the factor is given up after
+    /// `SLOW_CARRIED_PASSES` slow ones in a row.
+    fn carried_pass_ended(&mut self, slow: bool) {
+        self.slow_carried = if slow { self.slow_carried + 1 } else { 0 };
+        if self.slow_carried >= SLOW_CARRIED_PASSES {
+            self.factored = None;
+            self.slow_carried = 0;
+        }
+    }
+
     fn large_factor(&self) -> bool {
         self.solver.factor_entries() >= LARGE_FACTOR_ENTRIES
     }
