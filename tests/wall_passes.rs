@@ -238,6 +238,23 @@ fn a_deformable_wall_at_its_automatic_step_takes_one_pass_a_step() {
     );
 }
 
+/// The statistics of the wall of `n` courses of rigid bricks over its
+/// first simulated second at its automatic step, which takes no cut and
+/// leaves no step unconverged.
+fn rigid_wall_first_second(n: usize) -> dda_core::Statistics {
+    let scene = dda::bench::wall(n, 2, Stepping::Automatic, BlockKind::Rigid).unwrap();
+    let mut model = scene.build().unwrap();
+    let driver = &mut model.driver;
+    driver.advance_to(1.0).unwrap();
+    let stats = driver.statistics().clone();
+    println!(
+        "rigid {n} x {n}, automatic step: {} steps, {} factorisations, {} moves",
+        stats.steps, stats.factorizations, stats.newton_iterations
+    );
+    assert_eq!(stats.open_close_cuts + stats.unconverged_steps, 0);
+    stats
+}
+
 /// The 20 × 20 wall of rigid bricks over its first simulated second at its
 /// automatic step. Its matrix changes by a spring or two a step (1.5e-4 of
 /// its largest value), which the moves on the last step's factor absorb:
@@ -248,16 +265,7 @@ fn a_deformable_wall_at_its_automatic_step_takes_one_pass_a_step() {
 /// 95 and 345.
 #[test]
 fn a_rigid_wall_at_its_automatic_step_keeps_its_factor() {
-    let scene = dda::bench::wall(20, 2, Stepping::Automatic, BlockKind::Rigid).unwrap();
-    let mut model = scene.build().unwrap();
-    let driver = &mut model.driver;
-    driver.advance_to(1.0).unwrap();
-    let stats = driver.statistics();
-    println!(
-        "rigid, automatic step: {} steps, {} factorisations, {} moves",
-        stats.steps, stats.factorizations, stats.newton_iterations
-    );
-    assert_eq!(stats.open_close_cuts + stats.unconverged_steps, 0);
+    let stats = rigid_wall_first_second(20);
     assert!(
         5 * stats.factorizations <= stats.steps,
         "{} factorisations in {} steps",
@@ -280,16 +288,7 @@ fn a_rigid_wall_at_its_automatic_step_keeps_its_factor() {
 /// factor kept unless a pass took more than five moves took 555 and 6.
 #[test]
 fn a_slow_carried_factor_is_given_up() {
-    let scene = dda::bench::wall(40, 2, Stepping::Automatic, BlockKind::Rigid).unwrap();
-    let mut model = scene.build().unwrap();
-    let driver = &mut model.driver;
-    driver.advance_to(1.0).unwrap();
-    let stats = driver.statistics();
-    println!(
-        "rigid 40 x 40, automatic step: {} steps, {} factorisations, {} moves",
-        stats.steps, stats.factorizations, stats.newton_iterations
-    );
-    assert_eq!(stats.open_close_cuts + stats.unconverged_steps, 0);
+    let stats = rigid_wall_first_second(40);
     assert!(
         stats.newton_iterations <= 5 * stats.steps / 2,
         "{} moves in {} steps",

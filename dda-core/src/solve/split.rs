@@ -259,13 +259,9 @@ impl Split {
         factor: &'f mut [T],
     ) -> [Vec<FactorPiece<'f, T>>; 2] {
         let at = symbolic.col_ptr_for_val();
-        let mut all: Vec<(usize, Subtree)> = (self.cores.iter().enumerate())
-            .flat_map(|(core, subtrees)| subtrees.iter().map(move |t| (core, *t)))
-            .collect();
-        all.sort_by_key(|(_, t)| t.first);
         let mut pieces: [Vec<_>; 2] = Default::default();
         let (mut rest, mut offset) = (factor, 0);
-        for (core, t) in all {
+        for (core, t) in self.in_order() {
             let (_, tail) = rest.split_at_mut(at[t.first] - offset);
             let (columns, tail) = tail.split_at_mut(at[t.root + 1] - at[t.first]);
             pieces[core].push((t.first..=t.root, at[t.first], columns));
@@ -274,15 +270,21 @@ impl Split {
         pieces
     }
 
-    /// `x` cut into each subtree's unknowns, by core.
-    fn pieces<'x, T>(&self, x: &'x mut [T]) -> [Vec<(Subtree, Own<'x, T>)>; 2] {
+    /// Every subtree with its core, in the factor's order (of their
+    /// supernodes, so of their unknowns and entries too).
+    fn in_order(&self) -> Vec<(usize, Subtree)> {
         let mut all: Vec<(usize, Subtree)> = (self.cores.iter().enumerate())
             .flat_map(|(core, subtrees)| subtrees.iter().map(move |t| (core, *t)))
             .collect();
-        all.sort_by_key(|(_, t)| t.begin);
+        all.sort_by_key(|(_, t)| t.first);
+        all
+    }
+
+    /// `x` cut into each subtree's unknowns, by core.
+    fn pieces<'x, T>(&self, x: &'x mut [T]) -> [Vec<(Subtree, Own<'x, T>)>; 2] {
         let mut pieces: [Vec<_>; 2] = Default::default();
         let (mut rest, mut at) = (x, 0);
-        for (core, t) in all {
+        for (core, t) in self.in_order() {
             let (_, tail) = rest.split_at_mut(t.begin - at);
             let (values, tail) = tail.split_at_mut(t.end - t.begin);
             let own = Own {
