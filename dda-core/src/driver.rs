@@ -86,6 +86,18 @@ const RECENT_PASSES_DECAY: f64 = 0.95;
 /// force both lie below it keeps its state between locked and sliding.
 const ROUND_OFF_FORCE: f64 = 1e-9;
 
+/// A step whose contacts times N² (its loops' work) is below this runs on
+/// one core: there waking the other core costs more than it takes over.
+/// Two cores against one, at dt 1 ms: the 10 × 10 walls (570 contacts,
+/// 20,520) over their first second took 0.57–0.59 and 0.72–0.74 ms a step
+/// rigid and deformable on two, 0.43 and 0.58–0.59 on one; the 20 × 20
+/// deformable wall (2,340 contacts, 84,240) 2.93–3.00 against 2.71–2.78;
+/// the 30 × 30 walls (5,310 contacts, 191,160) over 0.5 s 4.1–4.4 and
+/// 11.4 on two against 4.7–4.9 and 14.2–14.6 on one; the 3D 10-course
+/// walls (1,140 contacts of 12 DOF, 164,160) over 0.1 s 3.7 and 4.7
+/// against 3.8–3.9 and 5.2–5.3.
+pub const ONE_CORE_WORK: usize = 100_000;
+
 /// The trial solution of one step attempt.
 struct Trial<const T: usize> {
     d: Vec<f64>,
@@ -167,6 +179,9 @@ pub struct Driver<S, const N: usize, const T: usize> {
     /// Assemble contact by contact on one thread even within a pass (for
     /// tests: the two ways agree to the last bit).
     one_thread_assembly: bool,
+    /// A small model's pool of one thread (`ONE_CORE_WORK`), once made
+    /// (`None` within if it could not be).
+    one_core: Option<Option<std::sync::Arc<rayon::ThreadPool>>>,
     /// How near an open contact's blocks must be for their pair to enter
     /// the pattern: the reach of the last step's motion, at least
     /// `PATTERN_REACH_SHARE` of the median block size (m).
@@ -319,6 +334,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             kept: Vec::new(),
             slots: Vec::new(),
             one_thread_assembly: false,
+            one_core: None,
             pattern_reach: 0.0,
             last_moved: 0.0,
             passes_before: 0.0,
@@ -496,8 +512,21 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // parallel loops split from a worker. Called from outside the pool,
         // each loop would hand its work over to the pool and sleep until it
         // came back: a dozen hand-overs a step, a fifth of a 411-block
-        // wall's step. Inside the pool, `scope` runs it in place.
-        let result = rayon::scope(|_| self.try_step(dt_limit));
+        // wall's step. Inside the pool, `scope` runs it in place. A small
+        // model's step runs on a pool of one thread of its own
+        // (`ONE_CORE_WORK`); the answer is the same on any number.
+        let pool = if self.contacts.len() * N * N < ONE_CORE_WORK {
+            self.one_core.get_or_insert_with(|| {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
+                pool.ok().map(std::sync::Arc::new)
+            })
+        } else {
+            &None
+        };
+        let result = match pool.clone() {
+            Some(pool) => pool.install(|| self.try_step(dt_limit)),
+            None => rayon::scope(|_| self.try_step(dt_limit)),
+        };
         self.stats.wall_time += started.elapsed();
         result
     }
