@@ -515,20 +515,24 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // wall's step. Inside the pool, `scope` runs it in place. A small
         // model's step runs on a pool of one thread of its own
         // (`ONE_CORE_WORK`); the answer is the same on any number.
-        let pool = if self.contacts.len() * N * N < ONE_CORE_WORK {
-            self.one_core.get_or_insert_with(|| {
-                let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
-                pool.ok().map(std::sync::Arc::new)
-            })
-        } else {
-            &None
-        };
-        let result = match pool.clone() {
+        let small = self.contacts.len() * N * N < ONE_CORE_WORK;
+        let one_core = small.then(|| self.one_core()).flatten();
+        let result = match one_core {
             Some(pool) => pool.install(|| self.try_step(dt_limit)),
             None => rayon::scope(|_| self.try_step(dt_limit)),
         };
         self.stats.wall_time += started.elapsed();
         result
+    }
+
+    /// The driver's pool of one thread, made at its first use; `None` if
+    /// it could not be made (the step then runs on the shared pool).
+    fn one_core(&mut self) -> Option<std::sync::Arc<rayon::ThreadPool>> {
+        let pool = self.one_core.get_or_insert_with(|| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
+            pool.ok().map(std::sync::Arc::new)
+        });
+        pool.clone()
     }
 
     fn try_step(&mut self, dt_limit: f64) -> Result<(), DdaError> {
