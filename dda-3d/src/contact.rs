@@ -38,8 +38,9 @@
 //! VF contact stands for the vertex's share of each of its faces that lies
 //! on the entered face (facing it within 3°): the quadrilateral of the
 //! vertex, the midpoints of its two sides and the face's centroid (a quarter
-//! of a rectangle, a third of a triangle), clipped to the entered face. A
-//! group takes the largest area of its VF entrances; EE contacts stand for
+//! of a rectangle, a third of a triangle), clipped to the entered face (an
+//! area of its own face, not of its shadow on the entered plane). A group
+//! takes the largest area of its VF entrances; EE contacts stand for
 //! no area. So a block resting flat on a larger face is covered exactly
 //! once, and an overhanging one only where it is supported.
 //!
@@ -593,7 +594,8 @@ fn widest(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
 /// lying on the contact plane (facing the entered face within 3°), the
 /// vertex's share of it (the quadrilateral of the vertex, the midpoints of
 /// its two sides and the face's centroid: a quarter of a rectangle, a third of
-/// a triangle), clipped to the entered face. Second, the area its springs
+/// a triangle), clipped to the entered face (the clipped part's area on its
+/// own face, not on the entered one's plane). Second, the area its springs
 /// stand for: the same where it has one; for a corner touching the face (no
 /// face of it on the plane), its whole share of the face most nearly facing
 /// the entered one, the area that face would bring into contact.
@@ -618,13 +620,20 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
     };
     let mut total = 0.0;
     for &g in sx.vertex_faces(p) {
-        if sx.normal(g).dot(&n) > -ANGLE_TOLERANCE.cos() {
+        let facing = -sx.normal(g).dot(&n);
+        if facing < ANGLE_TOLERANCE.cos() {
             continue;
         }
         let share = share(g);
+        // Clipped in f's plane, then taken back to g's own: the corner's
+        // area below is g's true area, and a vertex passing between the
+        // two (an edge of f at its share) keeps its springs' area. Left
+        // projected, the two differed by 3.7e-7 on a prism settling on an
+        // incline of its own depth, and its energy jumped by that.
         total += triangles()
             .map(|t| planar::clipped_area(&share, &t).abs())
-            .sum::<f64>();
+            .sum::<f64>()
+            / facing;
     }
     if total > 0.0 {
         return (total, total);
@@ -859,6 +868,32 @@ mod tests {
             (total - 2.0).abs() < 1e-12,
             "half the base is supported: {total}"
         );
+    }
+
+    /// A face within 3° of the entered one stands for its own area, not its
+    /// shadow on the entered plane: a corner, whose springs stand for its
+    /// face's true share, and a vertex of a face on the plane then agree, so
+    /// a vertex passing between the two keeps its springs' area.
+    #[test]
+    fn a_cube_tilted_on_a_face_stands_for_its_base_not_its_shadow() {
+        let base = block(
+            Point3::new(0.0, 0.0, -0.5),
+            Vector3::new(10.0, 10.0, 1.0),
+            Rotation3::identity(),
+        );
+        let tilt = 1f64.to_radians();
+        let cube = block(
+            Point3::new(0.4, -0.3, tilt.sin() + tilt.cos()),
+            Vector3::new(2.0, 2.0, 2.0),
+            Rotation3::from_axis_angle(&Vector3::x_axis(), tilt),
+        );
+        let blocks = vec![base, cube];
+        let contacts = pair_contacts(&blocks, 0, 1, 0.05, 0);
+        assert_eq!(contacts.len(), 4, "{contacts:?}");
+        for c in &contacts {
+            assert!((c.length - 1.0).abs() < 1e-12, "{}", c.length);
+            assert_eq!(c.spring_length, c.length);
+        }
     }
 
     #[test]
