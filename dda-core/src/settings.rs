@@ -63,7 +63,10 @@ macro_rules! with_settings {
             /// of the step's first one, at its start (a later open-close pass's
             /// own first where that is larger), default 1e-10 ...
             residual_tolerance: f64 = 1e-10,
-            /// ... or the increment below this fraction of w0 (default 1e-14).
+            /// ... or the increment below this fraction of w0 (default 1e-14):
+            /// on a factor kept from an earlier iterate, the increments still
+            /// to come, the last one's times ρ / (1 − ρ), ρ the residual's
+            /// contraction over it.
             increment_tolerance: f64 = 1e-14,
             /// Open-close distance tolerance, as a fraction of w0; default
             /// 1e-7.
