@@ -830,13 +830,18 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_cube_on_a_larger_face_makes_four_vertex_face_contacts_standing_for_its_base() {
-        let base = block(
+    /// A 10 × 10 × 1 slab whose top face is z = 0.
+    fn slab() -> Block {
+        block(
             Point3::new(0.0, 0.0, -0.5),
             Vector3::new(10.0, 10.0, 1.0),
             Rotation3::identity(),
-        );
+        )
+    }
+
+    #[test]
+    fn a_cube_on_a_larger_face_makes_four_vertex_face_contacts_standing_for_its_base() {
+        let base = slab();
         let cube = block(
             Point3::new(0.4, -0.3, 1.0),
             Vector3::new(2.0, 2.0, 2.0),
@@ -876,11 +881,7 @@ mod tests {
     /// a vertex passing between the two keeps its springs' area.
     #[test]
     fn a_cube_tilted_on_a_face_stands_for_its_base_not_its_shadow() {
-        let base = block(
-            Point3::new(0.0, 0.0, -0.5),
-            Vector3::new(10.0, 10.0, 1.0),
-            Rotation3::identity(),
-        );
+        let base = slab();
         let tilt = 1f64.to_radians();
         let cube = block(
             Point3::new(0.4, -0.3, tilt.sin() + tilt.cos()),
