@@ -346,8 +346,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             (KEPT_FACTOR_CONTRACTION, STALE_FACTOR_MOVES, FACTOR_DRIFT)
         };
         let mut rises = 0;
-        // The last Newton move's largest entry (`settled` below).
+        // The last Newton move's largest entry (`settled` below), and the
+        // largest a move may be to end a pass.
         let mut last_move = f64::INFINITY;
+        let increment = self.settings.increment_tolerance * self.length_scale;
         // Whether the pass's moves are solved exactly, and whether the last
         // one was solved inexactly (see below).
         let (mut exact, mut inexact) = (false, false);
@@ -433,11 +435,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // of its first second made a last move of 1e-22 to 5e-15 w0 to
             // take the residual from 1e-8–1e-10 of the step's first to the
             // tolerance.
-            let settled = kept
-                && !refine
-                && norm < last
-                && last_move * norm / (last - norm)
-                    <= self.settings.increment_tolerance * self.length_scale;
+            let settled =
+                kept && !refine && norm < last && last_move * norm / (last - norm) <= increment;
             let converged = settled
                 || (iteration > 0 && !refine && norm <= self.settings.residual_tolerance * first);
             let early = match self.decide_early {
@@ -647,7 +646,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             // A kept factor stiffer than the tangent makes short moves
             // that are no sign of convergence.
-            if !kept && newton_move <= self.settings.increment_tolerance * self.length_scale {
+            if !kept && newton_move <= increment {
                 return Ok(true);
             }
         }
