@@ -4,8 +4,8 @@
 //!
 //! * a block's integrals: a 2D brick (polygon moments, mass matrix, elastic
 //!   stiffness) and a 3D one (a 0.5 × 0.25 × 0.25 m box);
-//! * contact search (broad and narrow phase) on the 32 × 32 wall, 1,041
-//!   blocks, at the range the driver asks of a wall at rest;
+//! * contact search (broad and narrow phase) on the 32 × 32 walls, 1,041
+//!   blocks, 2D and 3D, at the range the driver asks of a wall at rest;
 //! * every block's own terms on the 40 × 40 wall with a fixed point on
 //!   each block: a block reads its own points, so this grows with the
 //!   blocks, not with blocks × points;
@@ -88,6 +88,21 @@ fn contact_search(c: &mut Criterion) {
     group.sample_size(20);
     group.bench_function(
         format!("wall 32 x 32, {} blocks", system.blocks.len()),
+        |b| b.iter(|| black_box(system.find_contacts(black_box(range))).len()),
+    );
+    // The 3D wall, one brick thick: its bricks meet corner to corner and
+    // corner to edge, so its contacts are vertex-vertex and vertex-edge
+    // groups of several entrances each.
+    let model = wall(32, 3, Stepping::Fixed, BlockKind::Rigid)
+        .unwrap()
+        .build_3d()
+        .unwrap();
+    let system = &model.driver.system;
+    let bound = (model.settings.max_displacement_ratio * model.driver.length_scale())
+        .min(BOUND_BLOCK_SHARE * system.block_size());
+    let range = 2.5 * bound;
+    group.bench_function(
+        format!("3D wall 32 x 32, {} blocks", system.blocks.len()),
         |b| b.iter(|| black_box(system.find_contacts(black_box(range))).len()),
     );
     group.finish();
