@@ -13,6 +13,8 @@ use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSuper
 use faer::traits::ComplexField;
 use faer::{Accum, MatMut, MatRef, Par};
 
+use super::subnormal::FlushSubnormals;
+
 /// Subtrees opened into their children while looking for the best split.
 const OPENINGS: usize = 1024;
 
@@ -36,8 +38,11 @@ pub(crate) trait Scalar:
     fn widen(self) -> f64;
     /// A double-precision value rounded to this scalar.
     fn narrow(value: f64) -> Self;
+    /// Whether its substitutions take subnormals as zero (`subnormal.rs`).
+    const FLUSH: bool;
 }
 impl Scalar for f64 {
+    const FLUSH: bool = false;
     fn widen(self) -> f64 {
         self
     }
@@ -46,6 +51,7 @@ impl Scalar for f64 {
     }
 }
 impl Scalar for f32 {
+    const FLUSH: bool = true;
     fn widen(self) -> f64 {
         f64::from(self)
     }
@@ -183,6 +189,7 @@ impl Split {
         work: &mut Work<T>,
         between: Option<Between<'_, T>>,
     ) {
+        let _flush = FlushSubnormals::on(T::FLUSH);
         let factor = SupernodalLltRef::new(symbolic, values);
         let n = x.len();
         for gathered in &mut work.gathered {
@@ -325,6 +332,8 @@ fn forward_subtrees<T: Scalar>(
     gathered: &mut [T],
     below: &mut [T],
 ) {
+    // Each core's sweep sets its own thread's mode.
+    let _flush = FlushSubnormals::on(T::FLUSH);
     for (t, mut own) in pieces {
         for s in t.first..=t.root {
             forward_node(factor, s, &mut own, gathered, below);
@@ -338,6 +347,7 @@ fn back_subtrees<T: Scalar>(
     top: &[T],
     below: &mut [T],
 ) {
+    let _flush = FlushSubnormals::on(T::FLUSH);
     for (t, mut own) in pieces {
         for s in (t.first..=t.root).rev() {
             back_node(factor, s, &mut own, top, below);
@@ -355,6 +365,7 @@ pub(super) fn solve_sequential<T: Scalar>(
     below: &mut [T],
     between: Between<'_, T>,
 ) {
+    let _flush = FlushSubnormals::on(T::FLUSH);
     let factor = SupernodalLltRef::new(symbolic, values);
     let count = symbolic.n_supernodes();
     let mut all = Own::whole(x);
