@@ -74,22 +74,13 @@ fn integrals(c: &mut Criterion) {
 }
 
 fn contact_search(c: &mut Criterion) {
+    let mut group = c.benchmark_group("contact search");
+    group.sample_size(20);
     let model = wall(32, 2, Stepping::Fixed, BlockKind::Deformable)
         .unwrap()
         .build()
         .unwrap();
-    let system = &model.driver.system;
-    // The driver's range for a wall at rest: 2.5 × the step's displacement
-    // bound, Shi's g2·w0 but at most a share of the median block size.
-    let bound = (model.settings.max_displacement_ratio * model.driver.length_scale())
-        .min(BOUND_BLOCK_SHARE * system.block_size());
-    let range = 2.5 * bound;
-    let mut group = c.benchmark_group("contact search");
-    group.sample_size(20);
-    group.bench_function(
-        format!("wall 32 x 32, {} blocks", system.blocks.len()),
-        |b| b.iter(|| black_box(system.find_contacts(black_box(range))).len()),
-    );
+    time_search(&mut group, "wall", &model.settings, &model.driver);
     // The 3D wall, one brick thick: its bricks meet corner to corner and
     // corner to edge, so its contacts are vertex-vertex and vertex-edge
     // groups of several entrances each.
@@ -97,15 +88,27 @@ fn contact_search(c: &mut Criterion) {
         .unwrap()
         .build_3d()
         .unwrap();
-    let system = &model.driver.system;
-    let bound = (model.settings.max_displacement_ratio * model.driver.length_scale())
+    time_search(&mut group, "3D wall", &model.settings, &model.driver);
+    group.finish();
+}
+
+/// One search of a 32 × 32 wall's contacts, broad and narrow phase, at the
+/// driver's range for a wall at rest: 2.5 × the step's displacement bound,
+/// Shi's g2·w0 but at most a share of the median block size.
+fn time_search<S: BlockSystem<N, T>, const N: usize, const T: usize>(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    label: &str,
+    settings: &dda_core::Settings,
+    driver: &dda_core::Driver<S, N, T>,
+) {
+    let system = &driver.system;
+    let bound = (settings.max_displacement_ratio * driver.length_scale())
         .min(BOUND_BLOCK_SHARE * system.block_size());
     let range = 2.5 * bound;
-    group.bench_function(
-        format!("3D wall 32 x 32, {} blocks", system.blocks.len()),
-        |b| b.iter(|| black_box(system.find_contacts(black_box(range))).len()),
-    );
-    group.finish();
+    let name = format!("{label} 32 x 32, {} blocks", system.block_count());
+    group.bench_function(name, |b| {
+        b.iter(|| black_box(system.find_contacts(black_box(range))).len())
+    });
 }
 
 /// The 40 × 40 wall after one step, with its matrix pattern (blocks and the
