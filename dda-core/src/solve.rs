@@ -573,10 +573,13 @@ mod tests {
                     (exact, correction)
                 });
                 assert!((exact[lone] / 5e-41 - 1.0).abs() < 1e-12, "{}", exact[lone]);
-                assert_eq!(
-                    correction[lone], 0.0,
-                    "split from {split_from}, {threads} cores"
-                );
+                // Flushed on x86-64 only (`subnormal.rs`).
+                if cfg!(target_arch = "x86_64") {
+                    assert_eq!(
+                        correction[lone], 0.0,
+                        "split from {split_from}, {threads} cores"
+                    );
+                }
                 for (x, y) in correction[..lone].iter().zip(&exact) {
                     assert!((x - y).abs() <= 1e-5, "{x} against {y}");
                 }
