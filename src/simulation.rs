@@ -252,7 +252,7 @@ impl Simulation for Driver3d {
 /// block a's normal row are the normal itself (the T-matrix starts with the
 /// identity), pointing from block b towards block a.
 fn entrance_normal<const N: usize, const T: usize>(
-    entrances: &[dda_core::Entrance<N, T>],
+    entrances: &[impl dda_core::EntranceRows<N, T>],
     used: usize,
     dimension: usize,
 ) -> [f64; 3] {
@@ -260,7 +260,7 @@ fn entrance_normal<const N: usize, const T: usize>(
         return [0.0; 3];
     };
     let mut n = [0.0; 3];
-    n[..dimension].copy_from_slice(&e.normal[0].as_slice()[..dimension]);
+    n[..dimension].copy_from_slice(&e.normal()[0].as_slice()[..dimension]);
     let length = n.iter().map(|x| x * x).sum::<f64>().sqrt();
     if length > 0.0 {
         n.iter_mut().for_each(|x| *x /= length);

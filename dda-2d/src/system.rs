@@ -93,6 +93,8 @@ impl Element<2, 6, 1, 3> for Block {
         Block::restore(self, vertices, stress, strain, rotation[0])
     }
 
+    type Entrance = dda_core::Entrance<6, 1>;
+
     fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)> {
         let outlines: Vec<&[Point2<f64>]> = blocks.iter().map(|b| b.vertices()).collect();
         near_pairs(&outlines, range)

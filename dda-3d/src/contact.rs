@@ -59,15 +59,15 @@ use dda_core::block_set::{Reach, ANGLE_TOLERANCE, PENETRATION_SHARE};
 #[cfg(test)]
 use dda_core::contacts::same_contacts;
 use dda_core::planar;
-use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
+use dda_core::{Contact, ContactKey, ContactRecord};
 use nalgebra::{Point2, Point3, Vector3};
 
 use crate::block::Block;
-use crate::kinematics::{t_matrix_transpose_times, Vector12};
+use crate::entrance::PointEntrance;
 use crate::polyhedron::{EdgeKind, Polyhedron};
 
 /// A 3D contact: 12 DOF per block, two tangential directions.
-pub type Contact3 = Contact<12, 2>;
+pub type Contact3 = Contact<12, 2, PointEntrance>;
 
 /// Marks a feature as a vertex (`feature_b` of a vertex-vertex group).
 const VERTEX: u32 = 1 << 31;
@@ -227,12 +227,12 @@ fn pair_contacts_near(
     out
 }
 
-/// The entrances found, moved to a vector exactly as long (an entrance is
-/// 580 bytes, and a contact keeps them for the step); `found` keeps its
+/// The entrances found, moved to a vector exactly as long (a contact keeps
+/// them for the step); `found` keeps its
 /// room for the next group. Taking `found` whole would hand over its spare
 /// room and leave the next group to grow a new one.
 #[allow(clippy::drain_collect)]
-fn exactly(found: &mut Vec<Entrance<12, 2>>) -> Vec<Entrance<12, 2>> {
+fn exactly(found: &mut Vec<PointEntrance>) -> Vec<PointEntrance> {
     found.drain(..).collect()
 }
 
@@ -261,7 +261,7 @@ fn contact(
     (j, feature_b): (usize, u32),
     law: usize,
     (length, spring_length): (f64, f64),
-    entrances: Vec<Entrance<12, 2>>,
+    entrances: Vec<PointEntrance>,
 ) -> Contact3 {
     Contact {
         key: ContactKey {
@@ -355,30 +355,15 @@ fn entrance(
     n: &Vector3<f64>,
     t1: &Vector3<f64>,
     swap: bool,
-) -> Entrance<12, 2> {
+) -> PointEntrance {
     let (ca, cb) = (enter.centroid(), entered.centroid());
     let t2 = n.cross(t1);
-    let rows = |d: &Vector3<f64>| -> [Vector12; 2] {
-        let (ra, rb) = (
-            t_matrix_transpose_times(pa, &ca, d),
-            -t_matrix_transpose_times(pb, &cb, d),
-        );
-        if swap {
-            [rb, ra]
-        } else {
-            [ra, rb]
-        }
-    };
-    Entrance {
-        gap: n.dot(&(pa - pb)),
-        normal: rows(n),
-        tangents: [rows(t1), rows(&t2)],
-    }
+    PointEntrance::new(n.dot(&(pa - pb)), pa - ca, pb - cb, [*n, *t1, t2], swap)
 }
 
 /// Vertex `p` of `x` against the plane of face `f` of `y`, measured at the
 /// vertex's projection on the plane; tangents along the face's first edge.
-fn face_entrance(x: &Block, p: usize, y: &Block, f: usize, swap: bool) -> Entrance<12, 2> {
+fn face_entrance(x: &Block, p: usize, y: &Block, f: usize, swap: bool) -> PointEntrance {
     let frame = y.shape().face_frame(f);
     let pv = x.vertices()[p];
     let foot = pv - frame.normal * frame.height(&pv);
@@ -394,7 +379,7 @@ fn edge_entrance(
     eb: usize,
     n: &Vector3<f64>,
     swap: bool,
-) -> Option<Entrance<12, 2>> {
+) -> Option<PointEntrance> {
     let [p1, q1] = x.shape().edges()[ea].ends.map(|k| x.vertices()[k]);
     let [p2, q2] = y.shape().edges()[eb].ends.map(|k| y.vertices()[k]);
     let (s, t) = line_closest(&p1, &q1, &p2, &q2)?;
@@ -427,7 +412,7 @@ fn crossing_normal(
 
 /// Entrances of two convex corners, into `out`: every face plane and
 /// edge-pair plane that separates them.
-fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize, out: &mut Vec<Entrance<12, 2>>) {
+fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize, out: &mut Vec<PointEntrance>) {
     let (sa, sb) = (a.shape(), b.shape());
     let (edges_a, edges_b) = (sa.vertex_edges(p), sb.vertex_edges(q));
     out.clear();
@@ -458,7 +443,7 @@ fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize, out: &mut Vec<Entranc
 /// Entrances of convex vertex `p` of `x` near the inside of edge `e` of `y`,
 /// into `out`: the planes of the edge's faces and the crossings of the
 /// vertex's edges with it.
-fn vertex_edge(x: &Block, p: usize, y: &Block, e: usize, out: &mut Vec<Entrance<12, 2>>) {
+fn vertex_edge(x: &Block, p: usize, y: &Block, e: usize, out: &mut Vec<PointEntrance>) {
     let (sx, sy) = (x.shape(), y.shape());
     out.clear();
     for &f in &sy.edges()[e].faces {
@@ -529,7 +514,7 @@ fn edge_edge(
     eb: usize,
     ends_b: [usize; 2],
     range: f64,
-) -> Option<Entrance<12, 2>> {
+) -> Option<PointEntrance> {
     let (sa, sb) = (a.shape(), b.shape());
     let [p1, q1] = ends_a.map(|k| sa.vertices()[k]);
     let [p2, q2] = ends_b.map(|k| sb.vertices()[k]);
@@ -659,8 +644,10 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kinematics::Vector12;
     use crate::kinematics::{move_point, RotationUpdate};
     use crate::polyhedron::cuboid;
+    use dda_core::EntranceRows;
     use nalgebra::Rotation3;
 
     fn block(center: Point3<f64>, size: Vector3<f64>, rotation: Rotation3<f64>) -> Block {

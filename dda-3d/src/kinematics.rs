@@ -35,7 +35,14 @@ pub fn t_matrix(p: &Point3<f64>, c: &Point3<f64>) -> TMatrix {
 /// entrance. Each entry adds the same products in the same order as the
 /// product with the matrix, so the two agree to the last bit.
 pub fn t_matrix_transpose_times(p: &Point3<f64>, c: &Point3<f64>, v: &Vector3<f64>) -> Vector12 {
-    let (x, y, z) = (p.x - c.x, p.y - c.y, p.z - c.z);
+    t_matrix_transpose_times_arm(&(p - c), v)
+}
+
+/// [`t_matrix_transpose_times`] for the point at `arm` from the centroid
+/// (`p − c`, made by the same subtractions).
+#[inline]
+pub fn t_matrix_transpose_times_arm(arm: &Vector3<f64>, v: &Vector3<f64>) -> Vector12 {
+    let (x, y, z) = (arm.x, arm.y, arm.z);
     let [a, b, d] = [v.x, v.y, v.z];
     Vector12::from([
         a,

@@ -14,6 +14,7 @@ pub mod block;
 pub mod broad_phase;
 pub mod contact;
 pub mod cut;
+pub mod entrance;
 pub mod face;
 pub mod kinematics;
 pub mod material;

@@ -8,6 +8,7 @@ use nalgebra::{Point3, Vector3, Vector6};
 use crate::block::Block;
 use crate::broad_phase::near_pairs;
 use crate::contact::{pair_contacts, Contact3};
+use crate::entrance::PointEntrance;
 use crate::kinematics::{Matrix12, RotationUpdate, TMatrix, Vector12};
 
 /// A force at a material point, constant or a time history.
@@ -98,6 +99,8 @@ impl Element<3, 12, 2, 6> for Block {
             Vector3::from_column_slice(rotation),
         )
     }
+
+    type Entrance = PointEntrance;
 
     fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)> {
         let points: Vec<&[Point3<f64>]> = blocks.iter().map(|b| b.vertices()).collect();

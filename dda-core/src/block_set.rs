@@ -11,7 +11,7 @@ use rayon::prelude::*;
 
 use crate::by_block::ByBlock;
 use crate::constitutive::ConstitutiveLaw;
-use crate::contacts::{BlockVector, Contact};
+use crate::contacts::{BlockVector, Contact, EntranceRows};
 use crate::error::DdaError;
 use crate::loads::{held_energy, FixedPoint, MeasuredPoint, PointLoad};
 use crate::system::{BlockKind, BlockMatrix, BlockState, BlockSystem, SystemState};
@@ -130,6 +130,8 @@ pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize
     /// after the step's strain, in the frame at the start of the step),
     /// strain and rotation.
     fn commit(&mut self, d: &SVector<f64, N>, stress: SVector<f64, S>, update: RotationUpdate);
+    /// How the blocks' contacts keep their entrances' rows.
+    type Entrance: EntranceRows<N, T>;
     /// Pairs (i, j), i < j, of blocks close enough to touch within `range`.
     fn near_pairs(blocks: &[Self], range: f64) -> Vec<(usize, usize)>;
     /// The contacts between blocks `i` and `j` within `range`, with law
@@ -140,7 +142,7 @@ pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize
         j: usize,
         range: f64,
         law: usize,
-    ) -> Vec<Contact<N, T>>;
+    ) -> Vec<Contact<N, T, Self::Entrance>>;
 }
 
 /// Blocks of one dimension with what acts on them: the [`BlockSystem`] the
@@ -334,6 +336,8 @@ impl<B, const D: usize, const N: usize, const T: usize, const S: usize> BlockSys
 where
     B: Element<D, N, T, S>,
 {
+    type Entrance = B::Entrance;
+
     fn block_count(&self) -> usize {
         self.blocks.len()
     }
@@ -428,7 +432,7 @@ where
         pairs
     }
 
-    fn pair_contacts(&self, i: usize, j: usize, range: f64) -> Vec<Contact<N, T>> {
+    fn pair_contacts(&self, i: usize, j: usize, range: f64) -> Vec<Contact<N, T, B::Entrance>> {
         B::pair_contacts(&self.blocks, i, j, range, self.law(i, j))
     }
 

@@ -36,7 +36,9 @@ impl ContactKey {
 }
 
 /// A reference line (2D) or face (3D) through which the entering feature may
-/// enter block `b`, linearised about the start of the step:
+/// enter block `b`, linearised about the start of the step, kept as its
+/// rows (the 2D form; a dimension may keep fewer numbers, see
+/// [`EntranceRows`]):
 ///
 /// `gap(D) = gap + normal[0]·D_a + normal[1]·D_b`
 /// `shear_k(D) = tangents[k][0]·D_a + tangents[k][1]·D_b` (this step's part)
@@ -47,13 +49,88 @@ pub struct Entrance<const N: usize, const T: usize> {
     pub tangents: [[BlockVector<N>; 2]; T],
 }
 
+/// An entrance as the driver reads it: its gap at the step's start and
+/// its rows, which a dimension may keep as they are ([`Entrance`]) or
+/// rebuild from fewer numbers when read. Rows read twice are the same to
+/// the last bit.
+pub trait EntranceRows<const N: usize, const T: usize>:
+    Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static
+{
+    /// Gap at the start of the step (negative: penetration).
+    fn gap(&self) -> f64;
+
+    /// The gap's rows for the contact's two blocks.
+    fn normal(&self) -> [BlockVector<N>; 2];
+
+    /// Tangent `k`'s rows for the contact's two blocks.
+    fn tangent(&self, k: usize) -> [BlockVector<N>; 2];
+
+    /// Linearised gap at the step displacements of the two blocks.
+    fn gap_at(&self, da: &BlockVector<N>, db: &BlockVector<N>) -> f64 {
+        let [na, nb] = self.normal();
+        self.gap() + na.dot(da) + nb.dot(db)
+    }
+
+    /// This step's relative tangential displacement.
+    fn shear_at(&self, da: &BlockVector<N>, db: &BlockVector<N>) -> SVector<f64, T> {
+        SVector::<f64, T>::from_fn(|k, _| {
+            let [ta, tb] = self.tangent(k);
+            ta.dot(da) + tb.dot(db)
+        })
+    }
+
+    /// `f` of the entrance with all its rows made, for a reader of them
+    /// all: made once, not at each read.
+    fn with_rows<R>(&self, f: impl FnOnce(&Entrance<N, T>) -> R) -> R {
+        f(&Entrance {
+            gap: self.gap(),
+            normal: self.normal(),
+            tangents: std::array::from_fn(|k| self.tangent(k)),
+        })
+    }
+}
+
+impl<const N: usize, const T: usize> EntranceRows<N, T> for Entrance<N, T> {
+    #[inline]
+    fn gap(&self) -> f64 {
+        self.gap
+    }
+
+    #[inline]
+    fn normal(&self) -> [BlockVector<N>; 2] {
+        self.normal
+    }
+
+    #[inline]
+    fn tangent(&self, k: usize) -> [BlockVector<N>; 2] {
+        self.tangents[k]
+    }
+
+    #[inline]
+    fn gap_at(&self, da: &BlockVector<N>, db: &BlockVector<N>) -> f64 {
+        Entrance::gap_at(self, da, db)
+    }
+
+    #[inline]
+    fn with_rows<R>(&self, f: impl FnOnce(&Entrance<N, T>) -> R) -> R {
+        f(self)
+    }
+
+    #[inline]
+    fn shear_at(&self, da: &BlockVector<N>, db: &BlockVector<N>) -> SVector<f64, T> {
+        Entrance::shear_at(self, da, db)
+    }
+}
+
 impl<const N: usize, const T: usize> Entrance<N, T> {
     /// Linearised gap at the step displacements of the two blocks.
+    #[inline]
     pub fn gap_at(&self, da: &BlockVector<N>, db: &BlockVector<N>) -> f64 {
         self.gap + self.normal[0].dot(da) + self.normal[1].dot(db)
     }
 
     /// This step's relative tangential displacement.
+    #[inline]
     pub fn shear_at(&self, da: &BlockVector<N>, db: &BlockVector<N>) -> SVector<f64, T> {
         SVector::<f64, T>::from_fn(|k, _| self.tangents[k][0].dot(da) + self.tangents[k][1].dot(db))
     }
@@ -109,7 +186,7 @@ impl<const T: usize> std::fmt::Debug for ContactRecord<T> {
 /// (at least one; with several, the one with the largest gap at the trial
 /// displacement is used: Shi's entrance-line choice), and its record.
 #[derive(Debug)]
-pub struct Contact<const N: usize, const T: usize> {
+pub struct Contact<const N: usize, const T: usize, E = Entrance<N, T>> {
     pub key: ContactKey,
     pub blocks: [usize; 2],
     /// Index into the driver's law table.
@@ -123,15 +200,15 @@ pub struct Contact<const N: usize, const T: usize> {
     /// of its side that most nearly faces the entered one. Never zero, so the
     /// springs of every closed contact are the penalty times this.
     pub spring_length: f64,
-    pub entrances: Vec<Entrance<N, T>>,
+    pub entrances: Vec<E>,
     pub record: ContactRecord<T>,
 }
 
 #[cfg(test)]
-impl<const N: usize, const T: usize> Contact<N, T> {
+impl<const N: usize, const T: usize, E> Contact<N, T, E> {
     /// Vertex 0 of block 0 against block 1 through these entrances, law 0,
     /// unit lengths and a fresh record: the driver's tests' contact.
-    pub(crate) fn between_first_two(entrances: Vec<Entrance<N, T>>) -> Self {
+    pub(crate) fn between_first_two(entrances: Vec<E>) -> Self {
         Self {
             key: ContactKey {
                 block_a: 0,
@@ -151,9 +228,9 @@ impl<const N: usize, const T: usize> Contact<N, T> {
 
 /// Whether two narrow phases found the same contacts: the same keys,
 /// entrances and lengths, in the same order (their records aside).
-pub fn same_contacts<const N: usize, const T: usize>(
-    a: &[Contact<N, T>],
-    b: &[Contact<N, T>],
+pub fn same_contacts<const N: usize, const T: usize, E: PartialEq>(
+    a: &[Contact<N, T, E>],
+    b: &[Contact<N, T, E>],
 ) -> bool {
     a.len() == b.len()
         && a.iter().zip(b).all(|(x, y)| {
@@ -172,9 +249,9 @@ pub fn same_contacts<const N: usize, const T: usize>(
 /// within each pair's contacts: the two lists are walked together in
 /// block-pair order (the order the search finds them in; a list out of it
 /// is sorted first), with no hashing.
-pub fn transfer_records<const N: usize, const T: usize>(
-    old: &mut [Contact<N, T>],
-    new: &mut [Contact<N, T>],
+pub fn transfer_records<const N: usize, const T: usize, E>(
+    old: &mut [Contact<N, T, E>],
+    new: &mut [Contact<N, T, E>],
 ) {
     for list in [&mut *old, &mut *new] {
         if !list.is_sorted_by_key(pair) {
@@ -199,15 +276,15 @@ pub fn transfer_records<const N: usize, const T: usize>(
 }
 
 /// The ordered block pair a contact belongs to.
-fn pair<const N: usize, const T: usize>(c: &Contact<N, T>) -> (usize, usize) {
+fn pair<const N: usize, const T: usize, E>(c: &Contact<N, T, E>) -> (usize, usize) {
     let [a, b] = c.blocks;
     (a.min(b), a.max(b))
 }
 
 /// [`transfer_records`] between one block pair's contacts.
-fn transfer_within<const N: usize, const T: usize>(
-    old: &mut [Contact<N, T>],
-    new: &mut [Contact<N, T>],
+fn transfer_within<const N: usize, const T: usize, E>(
+    old: &mut [Contact<N, T, E>],
+    new: &mut [Contact<N, T, E>],
     taken: &mut [bool],
 ) {
     // Exact matches first so a coarse match never steals an exact one.

@@ -20,7 +20,7 @@ use rayon::prelude::*;
 
 use crate::assembly::BlockSparse;
 use crate::contact::{ContactState, DynContactLaw};
-use crate::contacts::{BlockVector, Contact, ContactKey};
+use crate::contacts::{BlockVector, Contact, ContactKey, EntranceRows};
 use crate::error::DdaError;
 use crate::loads::Support;
 use crate::settings::{Integrator, Settings};
@@ -135,10 +135,10 @@ enum Motion<'a> {
 }
 
 /// Runs a [`BlockSystem`] in time.
-pub struct Driver<S, const N: usize, const T: usize> {
+pub struct Driver<S: BlockSystem<N, T>, const N: usize, const T: usize> {
     pub system: S,
     laws: Vec<Box<dyn DynContactLaw>>,
-    contacts: Vec<Contact<N, T>>,
+    contacts: Vec<Contact<N, T, S::Entrance>>,
     velocity: Vec<BlockVector<N>>,
     settings: Settings,
     solver: Box<dyn LinearSolver>,
@@ -168,7 +168,7 @@ pub struct Driver<S, const N: usize, const T: usize> {
     decisions: Vec<Decision<T>>,
     kept: Vec<Kept<T>>,
     /// Each contact's chosen entrance, side by side, for the step's sweeps.
-    chosen: Chosen<N, T>,
+    chosen: Chosen<N, T, S::Entrance>,
     /// The contacts of each block in the current pass, in contact order:
     /// a residual is gathered block by block, in parallel, adding each
     /// block's contact forces in the order one thread would.
@@ -454,7 +454,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     }
 
     /// Contacts of the last step, with their records.
-    pub fn contacts(&self) -> &[Contact<N, T>] {
+    pub fn contacts(&self) -> &[Contact<N, T, S::Entrance>] {
         &self.contacts
     }
 
@@ -807,7 +807,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     }
 
     /// The step's contacts as one contact's terms read them.
-    fn terms(&self) -> ContactTerms<'_, N, T> {
+    fn terms(&self) -> ContactTerms<'_, N, T, S::Entrance> {
         ContactTerms {
             contacts: &self.contacts,
             laws: &self.laws,
@@ -832,7 +832,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 trial.states[i].is_closed().then(|| {
                     let e = chosen.of(contacts, i, trial.entrances[i]);
                     let (da, db) = (block(&trial.d, c.blocks[0]), block(&trial.d, c.blocks[1]));
-                    (e.gap, e.gap_at(&da, &db))
+                    (e.gap(), e.gap_at(&da, &db))
                 })
             })
             .collect();
@@ -883,8 +883,8 @@ fn split<const N: usize>(d: &[f64]) -> Vec<BlockVector<N>> {
 /// nearly equal gaps (corners meeting corners) do not flip between passes.
 /// A lone entrance is chosen without reading it (most contacts have one,
 /// each in its own allocation).
-fn widest_entrance<const N: usize, const T: usize>(
-    c: &Contact<N, T>,
+fn widest_entrance<const N: usize, const T: usize, E: EntranceRows<N, T>>(
+    c: &Contact<N, T, E>,
     d: &[f64],
     current: usize,
     tolerance: f64,
@@ -905,15 +905,15 @@ fn widest_entrance<const N: usize, const T: usize>(
 /// the one it starts with: the same choice, reading a 3D group's gaps
 /// alone instead of its rows too (a step starts with every contact's
 /// choice, at ten thousand 3D blocks some 200 MB of rows).
-fn widest_at_rest<const N: usize, const T: usize>(
-    c: &Contact<N, T>,
+fn widest_at_rest<const N: usize, const T: usize, E: EntranceRows<N, T>>(
+    c: &Contact<N, T, E>,
     current: usize,
     tolerance: f64,
 ) -> usize {
     if c.entrances.len() == 1 {
         return 0;
     }
-    widest_of(c.entrances.iter().map(|e| e.gap), current, tolerance)
+    widest_of(c.entrances.iter().map(|e| e.gap()), current, tolerance)
 }
 
 /// The entrance of the largest of `gaps`, or `current` if within

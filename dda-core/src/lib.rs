@@ -37,7 +37,7 @@ const CONTACTS_PER_TASK: usize = 256;
 pub use block_set::{BlockSet, Element, RotationUpdate};
 pub use constitutive::ConstitutiveLaw;
 pub use contact::{ContactLaw, ContactResponse, ContactState, DynContactLaw, LocalKinematics};
-pub use contacts::{BlockVector, Contact, ContactKey, ContactRecord, Entrance};
+pub use contacts::{BlockVector, Contact, ContactKey, ContactRecord, Entrance, EntranceRows};
 pub use driver::Driver;
 pub use error::DdaError;
 pub use loads::{FixedPoint, Force, MeasuredPoint, PointLoad};

@@ -3,7 +3,7 @@
 use nalgebra::SMatrix;
 use serde::{Deserialize, Serialize};
 
-use crate::contacts::{BlockVector, Contact};
+use crate::contacts::{BlockVector, Contact, EntranceRows};
 use crate::error::DdaError;
 use crate::loads::Support;
 use crate::settings::finite;
@@ -59,6 +59,9 @@ impl BlockKind {
 /// step; nothing changes until [`BlockSystem::commit`], so a rejected step
 /// leaves no trace. `Send`: a step runs on a thread of rayon's pool.
 pub trait BlockSystem<const N: usize, const T: usize>: Send + Sync {
+    /// How the system's contacts keep their entrances' rows.
+    type Entrance: EntranceRows<N, T>;
+
     /// Number of blocks.
     fn block_count(&self) -> usize;
 
@@ -119,11 +122,11 @@ pub trait BlockSystem<const N: usize, const T: usize>: Send + Sync {
     /// Narrow phase: the contact candidates between blocks `i` < `j` within
     /// `range`, linearised about the current geometry, with fresh records and
     /// the pair's law index.
-    fn pair_contacts(&self, i: usize, j: usize, range: f64) -> Vec<Contact<N, T>>;
+    fn pair_contacts(&self, i: usize, j: usize, range: f64) -> Vec<Contact<N, T, Self::Entrance>>;
 
     /// Contact candidates within `range` of each other: the narrow phase of
     /// every near pair.
-    fn find_contacts(&self, range: f64) -> Vec<Contact<N, T>> {
+    fn find_contacts(&self, range: f64) -> Vec<Contact<N, T, Self::Entrance>> {
         let mut contacts = Vec::new();
         for (i, j) in self.near_pairs(range) {
             contacts.extend(self.pair_contacts(i, j, range));

@@ -9,7 +9,7 @@ use super::terms::ContactLoad;
 use super::woodbury::RankOne;
 use super::{block, Driver, Motion, Trial};
 use crate::assembly::{add_outer_into, BlockSparse};
-use crate::contacts::{BlockVector, Entrance};
+use crate::contacts::{BlockVector, EntranceRows};
 use crate::system::{BlockMatrix, BlockSystem};
 use crate::{BLOCKS_PER_TASK, CONTACTS_PER_TASK};
 
@@ -200,7 +200,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let c = &self.contacts[i];
             let [a, b] = c.blocks;
             let entrance = self.chosen.of(&self.contacts, i, trial.entrances[i]);
-            let [na, nb] = &entrance.normal;
+            let [na, nb] = &entrance.normal();
             if tangent {
                 let slot = self.slots[i].expect("closed contacts are in the pattern");
                 spring_terms(load, entrance, |g, h, k| {
@@ -209,7 +209,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             if let (Some(couplings), true) = (couplings.as_deref_mut(), load.slope != 0.0) {
                 let mut u = [BlockVector::<N>::zeros(), BlockVector::<N>::zeros()];
-                for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
+                for k in 0..T {
+                    let [ta, tb] = entrance.tangent(k);
                     u[0] += ta * load.direction[k];
                     u[1] += tb * load.direction[k];
                 }
@@ -262,7 +263,7 @@ fn contacts_by_slot<L>(
 /// no stiffness are left out.
 pub(super) fn spring_terms<const N: usize, const T: usize>(
     load: &ContactLoad<N, T>,
-    entrance: &Entrance<N, T>,
+    entrance: &impl EntranceRows<N, T>,
     mut term: impl FnMut(&[BlockVector<N>; 2], &[BlockVector<N>; 2], f64),
 ) {
     let mut add = |g: &[BlockVector<N>; 2], h: &[BlockVector<N>; 2], k: f64| {
@@ -270,14 +271,16 @@ pub(super) fn spring_terms<const N: usize, const T: usize>(
             term(g, h, k);
         }
     };
-    add(&entrance.normal, &entrance.normal, load.normal_stiffness);
-    for (k, rows) in entrance.tangents.iter().enumerate() {
+    let normal = entrance.normal();
+    let tangents: [[BlockVector<N>; 2]; T] = std::array::from_fn(|k| entrance.tangent(k));
+    add(&normal, &normal, load.normal_stiffness);
+    for (k, rows) in tangents.iter().enumerate() {
         add(rows, rows, load.shear_stiffness[k]);
     }
     if load.turning != 0.0 {
         let direction = &load.direction;
-        for (k, gk) in entrance.tangents.iter().enumerate() {
-            for (l, gl) in entrance.tangents.iter().enumerate() {
+        for (k, gk) in tangents.iter().enumerate() {
+            for (l, gl) in tangents.iter().enumerate() {
                 let identity = if k == l { 1.0 } else { 0.0 };
                 let projector = identity - direction[k] * direction[l];
                 add(gk, gl, load.turning * projector);

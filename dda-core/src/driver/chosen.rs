@@ -11,17 +11,26 @@ use crate::contacts::{Contact, Entrance};
 use crate::CONTACTS_PER_TASK;
 
 /// The entrance each contact holds in the step, with its index.
-#[derive(Debug, Default)]
-pub(super) struct Chosen<const N: usize, const T: usize> {
-    entrances: Vec<Entrance<N, T>>,
+#[derive(Debug)]
+pub(super) struct Chosen<const N: usize, const T: usize, E = Entrance<N, T>> {
+    entrances: Vec<E>,
     of: Vec<usize>,
 }
 
-impl<const N: usize, const T: usize> Chosen<N, T> {
+impl<const N: usize, const T: usize, E> Default for Chosen<N, T, E> {
+    fn default() -> Self {
+        Self {
+            entrances: Vec::new(),
+            of: Vec::new(),
+        }
+    }
+}
+
+impl<const N: usize, const T: usize, E: Clone + Send + Sync> Chosen<N, T, E> {
     /// Holds entrance `entrances[i]` of each contact `i`, copying only
     /// those not held already. The contacts must be those of the last
     /// update, or the copies cleared since.
-    pub fn update(&mut self, contacts: &[Contact<N, T>], entrances: &[usize]) {
+    pub fn update(&mut self, contacts: &[Contact<N, T, E>], entrances: &[usize]) {
         if self.of.len() != contacts.len() {
             self.entrances.clear();
             self.entrances.par_extend(
@@ -51,17 +60,12 @@ impl<const N: usize, const T: usize> Chosen<N, T> {
     }
 
     /// Contact `i`'s entrance `e`, if held.
-    pub fn get(&self, i: usize, e: usize) -> Option<&Entrance<N, T>> {
+    pub fn get(&self, i: usize, e: usize) -> Option<&E> {
         (self.of.get(i) == Some(&e)).then(|| &self.entrances[i])
     }
 
     /// Contact `i`'s entrance `e`: its copy where held, else its own.
-    pub fn of<'a>(
-        &'a self,
-        contacts: &'a [Contact<N, T>],
-        i: usize,
-        e: usize,
-    ) -> &'a Entrance<N, T> {
+    pub fn of<'a>(&'a self, contacts: &'a [Contact<N, T, E>], i: usize, e: usize) -> &'a E {
         self.get(i, e).unwrap_or_else(|| &contacts[i].entrances[e])
     }
 }
@@ -83,7 +87,7 @@ mod tests {
     /// asked for; an update copies what changed; clearing forgets all.
     #[test]
     fn gives_the_held_entrance_only() {
-        let contacts = [
+        let contacts: [Contact<3, 1>; 2] = [
             Contact::between_first_two(vec![entrance(1.0), entrance(2.0)]),
             Contact::between_first_two(vec![entrance(3.0)]),
         ];

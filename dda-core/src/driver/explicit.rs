@@ -26,7 +26,7 @@ use crate::contact::ContactState;
 use crate::error::DdaError;
 use crate::settings::Integrator;
 use crate::system::{BlockMatrix, BlockSystem};
-use crate::{BlockVector, CONTACTS_PER_TASK};
+use crate::{BlockVector, EntranceRows, CONTACTS_PER_TASK};
 
 /// The share of the critical step an explicit step may take: the bound is
 /// already above ω_max, this leaves room for springs that stiffen within
@@ -250,10 +250,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             for (entrance, e) in c.entrances.iter().enumerate() {
                 let kin = self.terms().kinematics(i, entrance, rest, self.dt);
                 let springs = self.laws[c.law].response(ContactState::Locked, &kin, history);
-                let rows = std::iter::once((&e.normal, springs.normal_stiffness))
-                    .chain(e.tangents.iter().map(|t| (t, springs.shear_stiffness)));
+                let rows = std::iter::once((e.normal(), springs.normal_stiffness))
+                    .chain((0..T).map(|k| (e.tangent(k), springs.shear_stiffness)));
                 let (mut k_sum, mut c_sum) = (0.0, 0.0);
                 for (g, k) in rows {
+                    let g = &g;
                     let k = k.max(0.0);
                     k_sum += k * compliance(a, b, g);
                     if damped {

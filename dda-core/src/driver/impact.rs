@@ -18,7 +18,7 @@ use nalgebra::{DMatrix, DVector};
 use super::{Driver, Trial};
 use crate::contact::{ContactState, LocalKinematics};
 use crate::system::{BlockMatrix, BlockSystem};
-use crate::BlockVector;
+use crate::{BlockVector, EntranceRows};
 
 /// One row of the impulse: a contact's normal or one of its tangents.
 struct Row<const N: usize> {
@@ -75,23 +75,25 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 let g = rigid(g);
                 g[0].dot(&v0(a)) + g[1].dot(&v0(b))
             };
-            let approach = speed(&entrance.normal);
+            let normal = entrance.normal();
+            let approach = speed(&normal);
             if approach >= 0.0 {
                 continue;
             }
             // The impact comes when the start gap has closed, this share
             // of the way through the step.
-            let at = (entrance.gap.max(0.0) / (-approach * dt)).min(1.0);
+            let at = (entrance.gap().max(0.0) / (-approach * dt)).min(1.0);
             rows.push(Row {
                 contact: i,
                 blocks: c.blocks,
-                g: rigid(&entrance.normal),
+                g: rigid(&normal),
                 target: -e * approach - approach,
                 normal: true,
                 at,
             });
             if !self.sliding_impact.contains(&i) {
-                for g in &entrance.tangents {
+                for g in (0..T).map(|k| entrance.tangent(k)) {
+                    let g = &g;
                     rows.push(Row {
                         contact: i,
                         blocks: c.blocks,

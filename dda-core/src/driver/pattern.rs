@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use super::{Driver, BOUND_BLOCK_SHARE};
 use crate::assembly::BlockSparse;
 use crate::contact::ContactState;
-use crate::contacts::{transfer_records, Contact};
+use crate::contacts::{transfer_records, Contact, EntranceRows};
 use crate::system::BlockSystem;
 use crate::CONTACTS_PER_TASK;
 
@@ -45,7 +45,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.stats.times.broad_phase += searched - started;
         // Each pair's contacts on any thread, gathered in pair order.
         let system = &self.system;
-        let mut fresh: Vec<Contact<N, T>> = pairs
+        let mut fresh: Vec<Contact<N, T, S::Entrance>> = pairs
             .par_iter()
             .with_min_len(PAIRS_PER_TASK)
             .flat_map_iter(|&(i, j)| system.pair_contacts(i, j, range))
@@ -58,7 +58,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 c.record.history = Some(self.laws[c.law].initial_history(at_start));
                 // Joints closed in the initial geometry start locked, so
                 // their bonds hold from the first step.
-                if at_start && c.entrances.iter().all(|e| e.gap <= touching) {
+                if at_start && c.entrances.iter().all(|e| e.gap() <= touching) {
                     c.record.state = ContactState::Locked;
                 }
             }
@@ -159,7 +159,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 /// Whether a contact's block pair must be in the matrix pattern (closed,
 /// or open within `reach`), and whether a pattern holding it may keep it
 /// (closed, or open within twice the reach).
-fn pattern_wants<const N: usize, const T: usize>(c: &Contact<N, T>, reach: f64) -> (bool, bool) {
+fn pattern_wants<const N: usize, const T: usize, E: EntranceRows<N, T>>(
+    c: &Contact<N, T, E>,
+    reach: f64,
+) -> (bool, bool) {
     // A closed contact's entrances are not read (each in its own
     // allocation, on one thread, every step).
     if c.record.state.is_closed() {
@@ -170,7 +173,7 @@ fn pattern_wants<const N: usize, const T: usize>(c: &Contact<N, T>, reach: f64) 
     let gap = c
         .entrances
         .iter()
-        .map(|e| e.gap)
+        .map(|e| e.gap())
         .fold(f64::NEG_INFINITY, f64::max);
     (gap <= reach, gap <= 2.0 * reach)
 }

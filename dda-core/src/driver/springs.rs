@@ -9,7 +9,7 @@ use super::assemble::spring_terms;
 use super::chosen::Chosen;
 use super::terms::ContactLoad;
 use super::woodbury::RankOne;
-use crate::contacts::{BlockVector, Contact, Entrance};
+use crate::contacts::{BlockVector, Contact, EntranceRows};
 
 /// One closed contact's springs as a matrix holds them.
 #[derive(Clone, Copy)]
@@ -35,12 +35,17 @@ impl<const T: usize> Springs<T> {
     /// Whether the two hold the same springs, but for changes that move no
     /// matrix entry by more than `floor` (on the entrance's rows `rows`):
     /// those are left to the moves, as on a carried factor.
-    fn same<const N: usize>(&self, other: &Self, rows: &Entrance<N, T>, floor: f64) -> bool {
+    fn same<const N: usize>(
+        &self,
+        other: &Self,
+        rows: &impl EntranceRows<N, T>,
+        floor: f64,
+    ) -> bool {
         let size = |g: &[BlockVector<N>; 2]| g[0].amax().max(g[1].amax()).powi(2);
         let near = |a: f64, b: f64, size: f64| (a - b).abs() * size <= floor;
-        let tangents = rows.tangents.iter().map(size).fold(0.0, f64::max);
+        let tangents = (0..T).map(|k| size(&rows.tangent(k))).fold(0.0, f64::max);
         self.entrance == other.entrance
-            && near(self.normal, other.normal, size(&rows.normal))
+            && near(self.normal, other.normal, size(&rows.normal()))
             && (self.shear.iter().zip(&other.shear)).all(|(a, b)| near(*a, *b, tangents))
             && near(self.turning, other.turning, tangents)
     }
@@ -91,12 +96,12 @@ impl<const T: usize> FactorSprings<T> {
     /// from the factor's, if known and at most `limit`: each contact whose
     /// springs changed a matrix entry by more than `floor`, its springs as
     /// the factor holds them taken away, and its springs now added.
-    pub fn changed<const N: usize>(
+    pub fn changed<const N: usize, E: EntranceRows<N, T>>(
         &self,
         loads: &[Option<ContactLoad<N, T>>],
         entrances: &[usize],
-        contacts: &[Contact<N, T>],
-        chosen: &Chosen<N, T>,
+        contacts: &[Contact<N, T, E>],
+        chosen: &Chosen<N, T, E>,
         limit: usize,
         floor: f64,
     ) -> Option<Vec<RankOne<N>>> {

@@ -8,7 +8,7 @@ use nalgebra::SVector;
 use super::chosen::Chosen;
 use super::{block, widest_entrance, Trial, ROUND_OFF_FORCE};
 use crate::contact::{ContactResponse, ContactState, DynContactLaw, LocalKinematics};
-use crate::contacts::{BlockVector, Contact, Entrance};
+use crate::contacts::{BlockVector, Contact, Entrance, EntranceRows};
 use crate::system::BlockMatrix;
 
 /// What a closed contact adds to a step's equations at a trial.
@@ -61,8 +61,8 @@ pub(super) struct Kept<const T: usize> {
 }
 
 /// The step's contacts as one contact's terms read them.
-pub(super) struct ContactTerms<'a, const N: usize, const T: usize> {
-    pub contacts: &'a [Contact<N, T>],
+pub(super) struct ContactTerms<'a, const N: usize, const T: usize, E = Entrance<N, T>> {
+    pub contacts: &'a [Contact<N, T, E>],
     pub laws: &'a [Box<dyn DynContactLaw>],
     /// Inverse mass matrices of the blocks in the step.
     pub inverse_masses: &'a [BlockMatrix<N>],
@@ -74,18 +74,18 @@ pub(super) struct ContactTerms<'a, const N: usize, const T: usize> {
     pub tolerance: f64,
     pub penalty: f64,
     /// Each contact's chosen entrance, side by side (where held).
-    pub chosen: &'a Chosen<N, T>,
+    pub chosen: &'a Chosen<N, T, E>,
 }
 
-impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
+impl<const N: usize, const T: usize, E: EntranceRows<N, T>> ContactTerms<'_, N, T, E> {
     /// Contact `i`'s entrance `e`: its copy where held.
-    pub fn entrance(&self, i: usize, e: usize) -> &Entrance<N, T> {
+    pub fn entrance(&self, i: usize, e: usize) -> &E {
         self.chosen.of(self.contacts, i, e)
     }
 
     /// Elastic shear displacement carried from earlier steps, valid only on
     /// the entrance it was measured on.
-    pub fn carried_shear(&self, c: &Contact<N, T>, entrance: usize) -> SVector<f64, T> {
+    pub fn carried_shear(&self, c: &Contact<N, T, E>, entrance: usize) -> SVector<f64, T> {
         if c.record.state.is_closed() && c.record.entrance == entrance {
             c.record.shear
         } else {
@@ -133,7 +133,7 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
         &self,
         i: usize,
         e: usize,
-        entrance: &Entrance<N, T>,
+        entrance: &impl EntranceRows<N, T>,
         trial: &Trial<T>,
         dt: f64,
     ) -> (LocalKinematics, SVector<f64, T>) {
@@ -144,7 +144,7 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
         let stretch = self.carried_shear(c, e) + ds;
         let kin = LocalKinematics {
             gap: entrance.gap_at(&da, &db),
-            gap_start: entrance.gap,
+            gap_start: entrance.gap(),
             shear: stretch.norm(),
             slip: ds.dot(&trial.directions[i]),
             slip_path: c.record.slip_path,
@@ -173,9 +173,26 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
         if !state.is_closed() {
             return None;
         }
-        let c = &self.contacts[i];
         let e = trial.entrances[i];
-        let entrance = self.entrance(i, e);
+        // Its rows are read several times over: made once.
+        (self.entrance(i, e))
+            .with_rows(|entrance| self.load_on(i, e, entrance, trial, dt, moving, couple))
+    }
+
+    /// [`ContactTerms::load`] on entrance `e`, its rows made.
+    #[allow(clippy::too_many_arguments)]
+    fn load_on(
+        &self,
+        i: usize,
+        e: usize,
+        entrance: &Entrance<N, T>,
+        trial: &Trial<T>,
+        dt: f64,
+        moving: &[f64],
+        couple: bool,
+    ) -> Option<ContactLoad<N, T>> {
+        let state = trial.states[i];
+        let c = &self.contacts[i];
         let (kin, stretch) = self.kinematics_on(i, e, entrance, trial, dt);
         let history = c.record.history.as_ref().expect("history set at search");
         let law = &self.laws[c.law];
@@ -188,13 +205,13 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
             // instead of ringing on the penalty springs, and a block
             // released onto its contacts does not bounce. Its force on the
             // step's approach dissipates only.
-            let c = self.dashpot(a, b, &entrance.normal, response.normal_stiffness);
-            let approached = entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap;
+            let c = self.dashpot(a, b, &entrance.normal(), response.normal_stiffness);
+            let approached = entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap();
             response.normal_force -= c * approached / dt;
             response.normal_stiffness += c / dt;
         }
         // Normal spring: force along the gap gradient.
-        let [na, nb] = &entrance.normal;
+        let [na, nb] = entrance.normal();
         let mut force = [na * response.normal_force, nb * response.normal_force];
         // Shear: a spring when locked; when sliding, the friction force
         // along the trial stretch (the radial return of an elastoplastic
@@ -230,12 +247,13 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
             SVector::zeros()
         };
         let mut shear_stiffness = SVector::<f64, T>::zeros();
-        for (k, [ta, tb]) in entrance.tangents.iter().enumerate() {
+        for k in 0..T {
+            let [ta, tb] = entrance.tangent(k);
             let mut stiffness = response.shear_stiffness;
             let mut f = -response.shear_force * direction[k];
             if damped && state == ContactState::Locked {
                 // The shear spring's dashpot, as the normal one's.
-                let c = self.dashpot(a, b, &[*ta, *tb], stiffness);
+                let c = self.dashpot(a, b, &[ta, tb], stiffness);
                 f -= c * step_shear[k] / dt;
                 stiffness += c / dt;
             }
@@ -299,7 +317,7 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
                 let rate = entrance.shear_at(&block(moving, a), &block(moving, b));
                 let carried = self.carried_shear(c, e);
                 let loaded = SVector::<f64, T>::from_fn(|r, _| {
-                    let damper = self.dashpot(a, b, &entrance.tangents[r], k);
+                    let damper = self.dashpot(a, b, &entrance.tangent(r), k);
                     carried[r] + ds[r] + rate[r] * damper / (k * dt)
                 });
                 kin.shear = loaded.norm();
@@ -316,9 +334,9 @@ impl<const N: usize, const T: usize> ContactTerms<'_, N, T> {
                 .normal_stiffness;
             if k > 0.0 {
                 let [a, b] = c.blocks;
-                let damper = self.dashpot(a, b, &entrance.normal, k);
+                let damper = self.dashpot(a, b, &entrance.normal(), k);
                 let approached =
-                    entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap;
+                    entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap();
                 let loaded = LocalKinematics {
                     gap: kin.gap + approached * damper / (k * dt),
                     ..kin

@@ -18,10 +18,10 @@ pub(super) struct Touching(ByBlock);
 
 impl Touching {
     /// Indexes `contacts` among `blocks` blocks.
-    pub fn fill<const N: usize, const T: usize>(
+    pub fn fill<const N: usize, const T: usize, E>(
         &mut self,
         blocks: usize,
-        contacts: &[Contact<N, T>],
+        contacts: &[Contact<N, T, E>],
     ) {
         // Item 2i + s is side s of contact i.
         let sides = contacts.iter().flat_map(|c| c.blocks.map(|b| [b]));
