@@ -175,119 +175,106 @@ impl<const N: usize, const T: usize, E: EntranceRows<N, T>> ContactTerms<'_, N, 
         }
         let e = trial.entrances[i];
         // Its rows are read several times over: made once.
-        (self.entrance(i, e))
-            .with_rows(|entrance| self.load_on(i, e, entrance, trial, dt, moving, couple))
-    }
-
-    /// [`ContactTerms::load`] on entrance `e`, its rows made.
-    #[allow(clippy::too_many_arguments)]
-    fn load_on(
-        &self,
-        i: usize,
-        e: usize,
-        entrance: &Entrance<N, T>,
-        trial: &Trial<T>,
-        dt: f64,
-        moving: &[f64],
-        couple: bool,
-    ) -> Option<ContactLoad<N, T>> {
-        let state = trial.states[i];
-        let c = &self.contacts[i];
-        let (kin, stretch) = self.kinematics_on(i, e, entrance, trial, dt);
-        let history = c.record.history.as_ref().expect("history set at search");
-        let law = &self.laws[c.law];
-        let mut response = law.response(state, &kin, history);
-        let [a, b] = c.blocks;
-        let damped = self.damped(i);
-        if damped {
-            // A dashpot beside the normal spring, a share of critical for
-            // the contact's own effective mass: impacts end in a few steps
-            // instead of ringing on the penalty springs, and a block
-            // released onto its contacts does not bounce. Its force on the
-            // step's approach dissipates only.
-            let c = self.dashpot(a, b, &entrance.normal(), response.normal_stiffness);
-            let approached = entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap();
-            response.normal_force -= c * approached / dt;
-            response.normal_stiffness += c / dt;
-        }
-        // Normal spring: force along the gap gradient.
-        let [na, nb] = entrance.normal();
-        let mut force = [na * response.normal_force, nb * response.normal_force];
-        // Shear: a spring when locked; when sliding, the friction force
-        // along the trial stretch (the radial return of an elastoplastic
-        // spring), whose tangent turns the force with the stretch in 3D.
-        let length = kin.shear;
-        // A sliding contact's force is the return map's, min(k_s·|s|,
-        // strength) along the stretch s: within the elastic limit (an
-        // iterate that reverses the slip) it is the spring's, so the force
-        // stays continuous and Newton-Raphson does not jump between
-        // opposite friction forces. A locked contact of a law that yields
-        // at its sliding strength takes the same return map, so passing
-        // between the two states changes no force.
-        let mut slipping = state == ContactState::Sliding;
-        if slipping {
-            let spring = law.response(ContactState::Locked, &kin, history);
-            if spring.shear_stiffness > 0.0 && spring.shear_force < response.shear_force {
-                response.shear_force = spring.shear_force;
-                response.shear_stiffness = spring.shear_stiffness;
-                slipping = false;
+        let load = |entrance: &Entrance<N, T>| {
+            let c = &self.contacts[i];
+            let (kin, stretch) = self.kinematics_on(i, e, entrance, trial, dt);
+            let history = c.record.history.as_ref().expect("history set at search");
+            let law = &self.laws[c.law];
+            let mut response = law.response(state, &kin, history);
+            let [a, b] = c.blocks;
+            let damped = self.damped(i);
+            if damped {
+                // A dashpot beside the normal spring, a share of critical for
+                // the contact's own effective mass: impacts end in a few steps
+                // instead of ringing on the penalty springs, and a block
+                // released onto its contacts does not bounce. Its force on the
+                // step's approach dissipates only.
+                let c = self.dashpot(a, b, &entrance.normal(), response.normal_stiffness);
+                let approached =
+                    entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap();
+                response.normal_force -= c * approached / dt;
+                response.normal_stiffness += c / dt;
             }
-        } else if self.yields(i, state) {
-            let friction = law.response(ContactState::Sliding, &kin, history);
-            if response.shear_force > friction.shear_force {
-                response.shear_force = friction.shear_force;
-                response.shear_stiffness = friction.shear_stiffness;
-                slipping = true;
+            // Normal spring: force along the gap gradient.
+            let [na, nb] = entrance.normal();
+            let mut force = [na * response.normal_force, nb * response.normal_force];
+            // Shear: a spring when locked; when sliding, the friction force
+            // along the trial stretch (the radial return of an elastoplastic
+            // spring), whose tangent turns the force with the stretch in 3D.
+            let length = kin.shear;
+            // A sliding contact's force is the return map's, min(k_s·|s|,
+            // strength) along the stretch s: within the elastic limit (an
+            // iterate that reverses the slip) it is the spring's, so the force
+            // stays continuous and Newton-Raphson does not jump between
+            // opposite friction forces. A locked contact of a law that yields
+            // at its sliding strength takes the same return map, so passing
+            // between the two states changes no force.
+            let mut slipping = state == ContactState::Sliding;
+            if slipping {
+                let spring = law.response(ContactState::Locked, &kin, history);
+                if spring.shear_stiffness > 0.0 && spring.shear_force < response.shear_force {
+                    response.shear_force = spring.shear_force;
+                    response.shear_stiffness = spring.shear_stiffness;
+                    slipping = false;
+                }
+            } else if self.yields(i, state) {
+                let friction = law.response(ContactState::Sliding, &kin, history);
+                if response.shear_force > friction.shear_force {
+                    response.shear_force = friction.shear_force;
+                    response.shear_stiffness = friction.shear_stiffness;
+                    slipping = true;
+                }
             }
-        }
-        let direction = stretch.try_normalize(1e-300).unwrap_or(trial.directions[i]);
-        let step_shear = if damped {
-            entrance.shear_at(&block(moving, a), &block(moving, b))
-        } else {
-            SVector::zeros()
-        };
-        let mut shear_stiffness = SVector::<f64, T>::zeros();
-        for k in 0..T {
-            let [ta, tb] = entrance.tangent(k);
-            let mut stiffness = response.shear_stiffness;
-            let mut f = -response.shear_force * direction[k];
-            if damped && state == ContactState::Locked {
-                // The shear spring's dashpot, as the normal one's.
-                let c = self.dashpot(a, b, &[ta, tb], stiffness);
-                f -= c * step_shear[k] / dt;
-                stiffness += c / dt;
-            }
-            shear_stiffness[k] = stiffness;
-            force[0] += ta * f;
-            force[1] += tb * f;
-        }
-        let slope = if couple && slipping {
-            // d(friction)/d(gap), by central differences: laws are pure.
-            // The friction's, also for a locked contact past its strength:
-            // its own (locked) response is the spring's, which no gap moves.
-            let h = 1e-6 * kin.gap.abs().max(kin.tolerance);
-            let at = |gap: f64| {
-                let kin = LocalKinematics { gap, ..kin };
-                law.response(ContactState::Sliding, &kin, history)
-                    .shear_force
+            let direction = stretch.try_normalize(1e-300).unwrap_or(trial.directions[i]);
+            let step_shear = if damped {
+                entrance.shear_at(&block(moving, a), &block(moving, b))
+            } else {
+                SVector::zeros()
             };
-            (at(kin.gap + h) - at(kin.gap - h)) / (2.0 * h)
-        } else {
-            0.0
+            let mut shear_stiffness = SVector::<f64, T>::zeros();
+            for k in 0..T {
+                let [ta, tb] = entrance.tangent(k);
+                let mut stiffness = response.shear_stiffness;
+                let mut f = -response.shear_force * direction[k];
+                if damped && state == ContactState::Locked {
+                    // The shear spring's dashpot, as the normal one's.
+                    let c = self.dashpot(a, b, &[ta, tb], stiffness);
+                    f -= c * step_shear[k] / dt;
+                    stiffness += c / dt;
+                }
+                shear_stiffness[k] = stiffness;
+                force[0] += ta * f;
+                force[1] += tb * f;
+            }
+            let slope = if couple && slipping {
+                // d(friction)/d(gap), by central differences: laws are pure.
+                // The friction's, also for a locked contact past its strength:
+                // its own (locked) response is the spring's, which no gap moves.
+                let h = 1e-6 * kin.gap.abs().max(kin.tolerance);
+                let at = |gap: f64| {
+                    let kin = LocalKinematics { gap, ..kin };
+                    law.response(ContactState::Sliding, &kin, history)
+                        .shear_force
+                };
+                (at(kin.gap + h) - at(kin.gap - h)) / (2.0 * h)
+            } else {
+                0.0
+            };
+            let turning = if slipping && T > 1 && length > 0.0 {
+                response.shear_force / length
+            } else {
+                0.0
+            };
+            ContactLoad {
+                force,
+                normal_stiffness: response.normal_stiffness,
+                shear_stiffness,
+                turning,
+                direction,
+                slope,
+            }
         };
-        let turning = if slipping && T > 1 && length > 0.0 {
-            response.shear_force / length
-        } else {
-            0.0
-        };
-        Some(ContactLoad {
-            force,
-            normal_stiffness: response.normal_stiffness,
-            shear_stiffness,
-            turning,
-            direction,
-            slope,
-        })
+        Some(self.entrance(i, e).with_rows(load))
     }
 
     /// Contact `i`'s open-close decision at the trial: its next state, slip
