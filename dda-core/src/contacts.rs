@@ -112,13 +112,14 @@ impl<const N: usize, const T: usize> EntranceRows<N, T> for Entrance<N, T> {
     }
 
     #[inline]
-    fn with_rows<R>(&self, f: impl FnOnce(&Entrance<N, T>) -> R) -> R {
-        f(self)
-    }
-
-    #[inline]
     fn shear_at(&self, da: &BlockVector<N>, db: &BlockVector<N>) -> SVector<f64, T> {
         Entrance::shear_at(self, da, db)
+    }
+
+    /// The rows are kept: `f` reads them in place.
+    #[inline]
+    fn with_rows<R>(&self, f: impl FnOnce(&Entrance<N, T>) -> R) -> R {
+        f(self)
     }
 }
 
