@@ -6,6 +6,8 @@
 //!   stiffness) and a 3D one (a 0.5 × 0.25 × 0.25 m box);
 //! * contact search (broad and narrow phase) on the 32 × 32 walls, 1,041
 //!   blocks, 2D and 3D, at the range the driver asks of a wall at rest;
+//!   and the 3D one as a step makes it, on both cores, the pairs' features
+//!   kept from the last search;
 //! * every block's own terms on the 40 × 40 wall with a fixed point on
 //!   each block: a block reads its own points, so this grows with the
 //!   blocks, not with blocks × points;
@@ -89,12 +91,37 @@ fn contact_search(c: &mut Criterion) {
         .build_3d()
         .unwrap();
     time_search(&mut group, "3D wall", &model.settings, &model.driver);
+    // The search a step of a standing 3D wall makes: each pair's features
+    // kept from the last search and tested again, on both cores.
+    let system = &model.driver.system;
+    let range = search_range(&model.settings, &model.driver);
+    let name = format!(
+        "3D wall 32 x 32, features kept, {} blocks",
+        system.block_count()
+    );
+    group.bench_function(name, |b| {
+        b.iter(|| {
+            let pairs = system.near_pairs(black_box(range));
+            black_box(system.pairs_contacts(&pairs, range)).len()
+        })
+    });
     group.finish();
 }
 
-/// One search of a 32 × 32 wall's contacts, broad and narrow phase, at the
-/// driver's range for a wall at rest: 2.5 × the step's displacement bound,
-/// Shi's g2·w0 but at most a share of the median block size.
+/// The range the driver searches a wall at rest at: 2.5 × the step's
+/// displacement bound, Shi's g2·w0 but at most a share of the median block
+/// size.
+fn search_range<S: BlockSystem<N, T>, const N: usize, const T: usize>(
+    settings: &dda_core::Settings,
+    driver: &dda_core::Driver<S, N, T>,
+) -> f64 {
+    let bound = (settings.max_displacement_ratio * driver.length_scale())
+        .min(BOUND_BLOCK_SHARE * driver.system.block_size());
+    2.5 * bound
+}
+
+/// One search of a 32 × 32 wall's contacts, broad and narrow phase, every
+/// pair's features examined, on one core, at [`search_range`].
 fn time_search<S: BlockSystem<N, T>, const N: usize, const T: usize>(
     group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
     label: &str,
@@ -102,9 +129,7 @@ fn time_search<S: BlockSystem<N, T>, const N: usize, const T: usize>(
     driver: &dda_core::Driver<S, N, T>,
 ) {
     let system = &driver.system;
-    let bound = (settings.max_displacement_ratio * driver.length_scale())
-        .min(BOUND_BLOCK_SHARE * system.block_size());
-    let range = 2.5 * bound;
+    let range = search_range(settings, driver);
     let name = format!("{label} 32 x 32, {} blocks", system.block_count());
     group.bench_function(name, |b| {
         b.iter(|| black_box(system.find_contacts(black_box(range))).len())

@@ -103,6 +103,8 @@ impl Element<2, 6, 1, 3> for Block {
     fn pair_contacts(blocks: &[Self], i: usize, j: usize, range: f64, law: usize) -> Vec<Contact2> {
         pair_contacts(blocks, i, j, range, law)
     }
+
+    type Features = ();
 }
 
 #[cfg(test)]

@@ -64,6 +64,7 @@ use nalgebra::{Point2, Point3, Vector3};
 
 use crate::block::Block;
 use crate::entrance::PointEntrance;
+use crate::features::Feature;
 use crate::polyhedron::{EdgeKind, Polyhedron};
 
 /// A 3D contact: 12 DOF per block, two tangential directions.
@@ -99,6 +100,20 @@ pub fn pair_contacts(
     )
 }
 
+/// [`pair_contacts`] among `features` (see [`contacts_among`]).
+pub fn pair_contacts_among(
+    blocks: &[Block],
+    i: usize,
+    j: usize,
+    range: f64,
+    law: usize,
+    features: &[Feature],
+) -> Vec<Contact3> {
+    let near = |b: &Block| Reach::new(b.shape().bounds(), range);
+    let (near_a, near_b) = (near(&blocks[i]), near(&blocks[j]));
+    contacts_among(blocks, i, j, range, law, (&near_a, &near_b), features)
+}
+
 /// [`pair_contacts`], examining only the features of block `i` within
 /// `near_b`, the reach of block `j`, and those of `j` within `near_a`.
 fn pair_contacts_near(
@@ -112,36 +127,18 @@ fn pair_contacts_near(
 ) -> Vec<Contact3> {
     let (a, b) = (&blocks[i], &blocks[j]);
     let (sa, sb) = (a.shape(), b.shape());
-    let mut out = Vec::new();
-    // A group's entrances, found here and then moved to a vector of their
-    // own, exactly as long: one allocation a group, none for the misses.
-    let mut group = Vec::new();
-    // Vertex-vertex groups between convex corners.
+    let mut pair = Pair::new(blocks, i, j, range, law, (&near_a, &near_b));
+    // Every feature in the narrow phase's order, each ruled out by the
+    // first of its tests it fails, cheapest first; `Pair::test` makes them
+    // all again, as the features of a kept list need (`features.rs`).
     for (p, pv) in sa.vertices().iter().enumerate() {
         if !sa.is_convex_vertex(p) || !near_b.holds(pv) {
             continue;
         }
         for (q, qv) in sb.vertices().iter().enumerate() {
-            if (pv - qv).norm() >= range || !sb.is_convex_vertex(q) {
-                continue;
+            if (pv - qv).norm() < range && sb.is_convex_vertex(q) {
+                pair.test(Feature::VertexVertex(p as u32, q as u32));
             }
-            vertex_vertex(a, p, b, q, &mut group);
-            if group.is_empty() {
-                continue;
-            }
-            let areas = sb
-                .vertex_faces(q)
-                .iter()
-                .map(|&f| vertex_areas(a, p, b, f))
-                .chain(sa.vertex_faces(p).iter().map(|&g| vertex_areas(b, q, a, g)))
-                .fold((0.0, 0.0), widest);
-            out.push(contact(
-                (i, p as u32),
-                (j, VERTEX | q as u32),
-                law,
-                areas,
-                exactly(&mut group),
-            ));
         }
     }
     // Each block's edges that can take part (not reflex) within the other's
@@ -149,29 +146,173 @@ fn pair_contacts_near(
     // outside those bounds is farther from the edge than the range.
     let near_a_edges = edges_within(sa, &near_b, range);
     let near_b_edges = edges_within(sb, &near_a, range);
-    for (x, y, bx, by, near_y, edges_y) in [
-        (i, j, a, b, &near_b, &near_b_edges),
-        (j, i, b, a, &near_a, &near_a_edges),
-    ] {
-        let (sx, sy) = (bx.shape(), by.shape());
+    for (side, (sx, sy, near_y, edges_y)) in [
+        (sa, sb, &near_b, &near_b_edges),
+        (sb, sa, &near_a, &near_a_edges),
+    ]
+    .into_iter()
+    .enumerate()
+    {
         for (p, pv) in sx.vertices().iter().enumerate() {
             if !sx.is_convex_vertex(p) || !near_y.holds(pv) {
                 continue;
             }
-            // Vertex-edge groups.
             for &(e, bounds) in edges_y {
                 let edge = &sy.edges()[e];
-                if !within(&bounds, pv) || near_convex_end(sy, edge.ends, pv, range) {
-                    continue;
+                if within(&bounds, pv) && !near_convex_end(sy, edge.ends, pv, range) {
+                    pair.test(Feature::VertexEdge(side as u8, p as u32, e as u32));
                 }
+            }
+            for f in 0..sy.faces().len() {
+                pair.test(Feature::VertexFace(side as u8, p as u32, f as u32));
+            }
+        }
+    }
+    let convex = |s: &Polyhedron, (e, _): &&(usize, Bounds)| s.edge_kind(*e) == EdgeKind::Convex;
+    for &(ea, bounds_a) in near_a_edges.iter().filter(|n| convex(sa, n)) {
+        for &(eb, bounds_b) in near_b_edges.iter().filter(|n| convex(sb, n)) {
+            if !apart(&bounds_a, &bounds_b) {
+                pair.test(Feature::EdgeEdge(ea as u32, eb as u32));
+            }
+        }
+    }
+    pair.found
+}
+
+/// The edges of `s` that are not reflex and whose bounds meet `reach`,
+/// each with its bounds grown by `range` (min, max).
+fn edges_within(s: &Polyhedron, reach: &Reach<3>, range: f64) -> Vec<(usize, Bounds)> {
+    (s.edges().iter().enumerate())
+        .filter_map(|(e, edge)| {
+            let [u, v] = edge.ends.map(|k| s.vertices()[k]);
+            (s.edge_kind(e) != EdgeKind::Reflex && reach.meets(&u, &v))
+                .then(|| (e, grown_bounds(&u, &v, range)))
+        })
+        .collect()
+}
+
+/// The contacts between blocks `i` and `j` within `range` that `features`
+/// make, in their order: each feature is tested as the search would test
+/// it at this range, so the features `features::pair_features` found at a
+/// wider range make, while they serve, the contacts a search would find,
+/// the same to the last bit and in the same order.
+pub(crate) fn contacts_among(
+    blocks: &[Block],
+    i: usize,
+    j: usize,
+    range: f64,
+    law: usize,
+    near: (&Reach<3>, &Reach<3>),
+    features: &[Feature],
+) -> Vec<Contact3> {
+    let mut pair = Pair::new(blocks, i, j, range, law, near);
+    for &feature in features {
+        pair.test(feature);
+    }
+    pair.found
+}
+
+/// Contacts of blocks `i` and `j` within `range`, found feature by feature.
+struct Pair<'a> {
+    blocks: &'a [Block],
+    i: usize,
+    j: usize,
+    range: f64,
+    law: usize,
+    near_a: &'a Reach<3>,
+    near_b: &'a Reach<3>,
+    /// A group's entrances, found here and then moved to a vector of their
+    /// own, exactly as long: one allocation a group, none for the misses.
+    group: Vec<PointEntrance>,
+    found: Vec<Contact3>,
+}
+
+impl<'a> Pair<'a> {
+    fn new(
+        blocks: &'a [Block],
+        i: usize,
+        j: usize,
+        range: f64,
+        law: usize,
+        (near_a, near_b): (&'a Reach<3>, &'a Reach<3>),
+    ) -> Self {
+        Self {
+            blocks,
+            i,
+            j,
+            range,
+            law,
+            near_a,
+            near_b,
+            group: Vec::new(),
+            found: Vec::new(),
+        }
+    }
+
+    /// Adds the contact `feature` makes at the range, if it makes one.
+    fn test(&mut self, feature: Feature) {
+        let (i, j, range, law) = (self.i, self.j, self.range, self.law);
+        let (near_a, near_b) = (self.near_a, self.near_b);
+        let (a, b) = (&self.blocks[i], &self.blocks[j]);
+        let (sa, sb) = (a.shape(), b.shape());
+        let (out, group) = (&mut self.found, &mut self.group);
+        match feature {
+            // Vertex-vertex groups between convex corners.
+            Feature::VertexVertex(p, q) => {
+                let (p, q) = (p as usize, q as usize);
+                let (pv, qv) = (&sa.vertices()[p], &sb.vertices()[q]);
+                if !sa.is_convex_vertex(p)
+                    || !near_b.holds(pv)
+                    || (pv - qv).norm() >= range
+                    || !sb.is_convex_vertex(q)
+                {
+                    return;
+                }
+                vertex_vertex(a, p, b, q, group);
+                if group.is_empty() {
+                    return;
+                }
+                let areas = sb
+                    .vertex_faces(q)
+                    .iter()
+                    .map(|&f| vertex_areas(a, p, b, f))
+                    .chain(sa.vertex_faces(p).iter().map(|&g| vertex_areas(b, q, a, g)))
+                    .fold((0.0, 0.0), widest);
+                out.push(contact(
+                    (i, p as u32),
+                    (j, VERTEX | q as u32),
+                    law,
+                    areas,
+                    exactly(group),
+                ));
+            }
+            // Vertex-edge groups: a convex vertex near the inside of an edge
+            // (not reflex) within its block's reach, away from the edge's
+            // convex ends.
+            Feature::VertexEdge(side, p, e) => {
+                let ((x, bx, near_x), (y, by, near_y)) =
+                    sides(side, (i, a, near_a), (j, b, near_b));
+                let (sx, sy) = (bx.shape(), by.shape());
+                let (p, e) = (p as usize, e as usize);
+                let pv = &sx.vertices()[p];
+                let edge = &sy.edges()[e];
                 let [q0, q1] = edge.ends.map(|k| sy.vertices()[k]);
+                if !sx.is_convex_vertex(p)
+                    || !near_y.holds(pv)
+                    || sy.edge_kind(e) == EdgeKind::Reflex
+                    || !near_x.meets(&q0, &q1)
+                    || !within(&grown_bounds(&q0, &q1, range), pv)
+                    || near_convex_end(sy, edge.ends, pv, range)
+                {
+                    return;
+                }
                 let (distance, s) = segment_distance(pv, &q0, &q1);
                 if distance >= range || s <= 0.0 || s >= 1.0 {
-                    continue;
+                    return;
                 }
-                vertex_edge(bx, p, by, e, &mut group);
+                vertex_edge(bx, p, by, e, group);
                 if group.is_empty() {
-                    continue;
+                    return;
                 }
                 let areas = edge
                     .faces
@@ -183,48 +324,75 @@ fn pair_contacts_near(
                     (y, EDGE | e as u32),
                     law,
                     areas,
-                    exactly(&mut group),
+                    exactly(group),
                 ));
             }
             // Vertex-face contacts.
-            for f in 0..sy.faces().len() {
-                if vertex_over_face(sx, p, sy, f, range) {
-                    let en = face_entrance(bx, p, by, f, false);
-                    let areas = vertex_areas(bx, p, by, f);
-                    out.push(contact((x, p as u32), (y, f as u32), law, areas, vec![en]));
+            Feature::VertexFace(side, p, f) => {
+                let ((x, bx, _), (y, by, near_y)) = sides(side, (i, a, near_a), (j, b, near_b));
+                let (sx, sy) = (bx.shape(), by.shape());
+                let (p, f) = (p as usize, f as usize);
+                if !sx.is_convex_vertex(p)
+                    || !near_y.holds(&sx.vertices()[p])
+                    || !vertex_over_face(sx, p, sy, f, range)
+                {
+                    return;
+                }
+                let en = face_entrance(bx, p, by, f, false);
+                let areas = vertex_areas(bx, p, by, f);
+                out.push(contact((x, p as u32), (y, f as u32), law, areas, vec![en]));
+            }
+            // Edge-edge crossings away from corners, between convex edges
+            // of each block within the other's reach. Two edges whose
+            // bounds, each grown by the range, do not overlap are farther
+            // apart than the range.
+            Feature::EdgeEdge(ea, eb) => {
+                let (ea, eb) = (ea as usize, eb as usize);
+                let (edge_a, edge_b) = (&sa.edges()[ea], &sb.edges()[eb]);
+                if sa.edge_kind(ea) != EdgeKind::Convex || sb.edge_kind(eb) != EdgeKind::Convex {
+                    return;
+                }
+                let [ua, va] = edge_a.ends.map(|k| sa.vertices()[k]);
+                let [ub, vb] = edge_b.ends.map(|k| sb.vertices()[k]);
+                if !near_b.meets(&ua, &va)
+                    || !near_a.meets(&ub, &vb)
+                    || apart(
+                        &grown_bounds(&ua, &va, range),
+                        &grown_bounds(&ub, &vb, range),
+                    )
+                {
+                    return;
+                }
+                if let Some(en) = edge_edge(a, ea, edge_a.ends, b, eb, edge_b.ends, range) {
+                    // A crossing stands for no area; its springs for a
+                    // square of half the shorter edge.
+                    let shorter = [(edge_a.ends, sa), (edge_b.ends, sb)]
+                        .iter()
+                        .map(|([u, v], s)| (s.vertices()[*u] - s.vertices()[*v]).norm())
+                        .fold(f64::INFINITY, f64::min);
+                    out.push(contact(
+                        (i, EDGE | ea as u32),
+                        (j, eb as u32),
+                        law,
+                        (0.0, (shorter / 2.0).powi(2)),
+                        vec![en],
+                    ));
                 }
             }
         }
     }
-    // Edge-edge crossings away from corners, between the convex edges of
-    // each block within the other's reach. Two edges whose bounds, each
-    // grown by the range, do not overlap are farther apart than the range.
-    let convex = |s: &Polyhedron, (e, _): &&(usize, Bounds)| s.edge_kind(*e) == EdgeKind::Convex;
-    for &(ea, bounds_a) in near_a_edges.iter().filter(|n| convex(sa, n)) {
-        let edge_a = &sa.edges()[ea];
-        for &(eb, bounds_b) in near_b_edges.iter().filter(|n| convex(sb, n)) {
-            let edge_b = &sb.edges()[eb];
-            if apart(&bounds_a, &bounds_b) {
-                continue;
-            }
-            if let Some(en) = edge_edge(a, ea, edge_a.ends, b, eb, edge_b.ends, range) {
-                // A crossing stands for no area; its springs for a square
-                // of half the shorter edge.
-                let shorter = [(edge_a.ends, sa), (edge_b.ends, sb)]
-                    .iter()
-                    .map(|([u, v], s)| (s.vertices()[*u] - s.vertices()[*v]).norm())
-                    .fold(f64::INFINITY, f64::min);
-                out.push(contact(
-                    (i, EDGE | ea as u32),
-                    (j, eb as u32),
-                    law,
-                    (0.0, (shorter / 2.0).powi(2)),
-                    vec![en],
-                ));
-            }
-        }
+}
+
+/// A feature's two blocks, each with its index and reach, the vertex's
+/// first: side 0 is the pair's first block's vertex.
+type Side<'a> = (usize, &'a Block, &'a Reach<3>);
+
+fn sides<'a>(side: u8, a: Side<'a>, b: Side<'a>) -> (Side<'a>, Side<'a>) {
+    if side == 0 {
+        (a, b)
+    } else {
+        (b, a)
     }
-    out
 }
 
 /// The entrances found, moved to a vector exactly as long (a contact keeps
@@ -287,33 +455,21 @@ fn near_convex_end(s: &Polyhedron, ends: [usize; 2], p: &Point3<f64>, range: f64
 }
 
 /// Axis-aligned bounds (min, max).
-type Bounds = (Point3<f64>, Point3<f64>);
-
-/// The edges of `s` that are not reflex and whose bounds meet `reach`,
-/// each with its bounds grown by `range` (min, max).
-fn edges_within(s: &Polyhedron, reach: &Reach<3>, range: f64) -> Vec<(usize, Bounds)> {
-    (s.edges().iter().enumerate())
-        .filter_map(|(e, edge)| {
-            let [u, v] = edge.ends.map(|k| s.vertices()[k]);
-            (s.edge_kind(e) != EdgeKind::Reflex && reach.meets(&u, &v))
-                .then(|| (e, grown_bounds(&u, &v, range)))
-        })
-        .collect()
-}
+pub(crate) type Bounds = (Point3<f64>, Point3<f64>);
 
 /// The bounds of the segment from `u` to `v`, grown by `range`.
-fn grown_bounds(u: &Point3<f64>, v: &Point3<f64>, range: f64) -> Bounds {
+pub(crate) fn grown_bounds(u: &Point3<f64>, v: &Point3<f64>, range: f64) -> Bounds {
     let grow = Vector3::repeat(range);
     (u.inf(v) - grow, u.sup(v) + grow)
 }
 
 /// Whether `p` lies within the bounds.
-fn within((lo, hi): &Bounds, p: &Point3<f64>) -> bool {
+pub(crate) fn within((lo, hi): &Bounds, p: &Point3<f64>) -> bool {
     (0..3).all(|k| lo[k] <= p[k] && p[k] <= hi[k])
 }
 
 /// Whether two bounds do not overlap.
-fn apart((lo_a, hi_a): &Bounds, (lo_b, hi_b): &Bounds) -> bool {
+pub(crate) fn apart((lo_a, hi_a): &Bounds, (lo_b, hi_b): &Bounds) -> bool {
     (0..3).any(|k| lo_a[k] > hi_b[k] || lo_b[k] > hi_a[k])
 }
 
@@ -559,7 +715,7 @@ fn line_closest(
 
 /// Distance from `p` to the segment (a, b) and the parameter of the nearest
 /// point, clamped to [0, 1].
-fn segment_distance(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>) -> (f64, f64) {
+pub(crate) fn segment_distance(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>) -> (f64, f64) {
     let ab = b - a;
     let l2 = ab.norm_squared();
     let s = if l2 > 0.0 {

@@ -16,6 +16,7 @@ pub mod contact;
 pub mod cut;
 pub mod entrance;
 pub mod face;
+pub mod features;
 pub mod kinematics;
 pub mod material;
 pub mod polyhedron;

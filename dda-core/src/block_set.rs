@@ -14,8 +14,9 @@ use crate::constitutive::ConstitutiveLaw;
 use crate::contacts::{BlockVector, Contact, EntranceRows};
 use crate::error::DdaError;
 use crate::loads::{held_energy, FixedPoint, MeasuredPoint, PointLoad};
+use crate::system::each_pair_contacts;
 use crate::system::{BlockKind, BlockMatrix, BlockState, BlockSystem, SystemState};
-use crate::BLOCKS_PER_TASK;
+use crate::{BLOCKS_PER_TASK, PAIRS_PER_TASK};
 
 /// Angle tolerance for parallel edges and faces and for wedge tests (Shi's
 /// h1 = 3°), in radians.
@@ -143,11 +144,49 @@ pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize
         range: f64,
         law: usize,
     ) -> Vec<Contact<N, T, Self::Entrance>>;
+    /// Which features of a pair of blocks may make contacts, where the set
+    /// keeps them between searches (`KEEPS_FEATURES`); `()` where not.
+    type Features: Default + Send + Sync;
+    /// Whether the set keeps each pair's features, found at a range wider
+    /// by `FEATURE_SKIN`, and has later searches test only those while no
+    /// point has moved by more than half the difference.
+    const KEEPS_FEATURES: bool = false;
+    /// The features of blocks `i` and `j` that may make contacts in a
+    /// search within `range` or wider, found at `wide`, while no point has
+    /// moved by more than half of `wide` less the range searched and
+    /// [`Element::feature_kinds`] stay the same.
+    fn pair_features(blocks: &[Self], i: usize, j: usize, range: f64, wide: f64) -> Self::Features {
+        let _ = (blocks, i, j, range, wide);
+        Self::Features::default()
+    }
+    /// What kept features' tests read of the block besides distances (in
+    /// 3D, which vertices are convex and each edge's kind), one byte each,
+    /// appended to `out`.
+    fn feature_kinds(&self, out: &mut Vec<u8>) {
+        let _ = out;
+    }
+    /// [`Element::pair_contacts`] among `features`, found at a wider range
+    /// by [`Element::pair_features`] while no point has moved by more than
+    /// half the difference: the same contacts, to the last bit.
+    fn pair_contacts_among(
+        blocks: &[Self],
+        i: usize,
+        j: usize,
+        range: f64,
+        law: usize,
+        features: &Self::Features,
+    ) -> Vec<Contact<N, T, Self::Entrance>> {
+        let _ = features;
+        Self::pair_contacts(blocks, i, j, range, law)
+    }
 }
 
 /// Blocks of one dimension with what acts on them: the [`BlockSystem`] the
 /// driver runs.
-pub struct BlockSet<B, const D: usize, const N: usize, const T: usize, const S: usize> {
+pub struct BlockSet<B, const D: usize, const N: usize, const T: usize, const S: usize>
+where
+    B: Element<D, N, T, S>,
+{
     pub blocks: Vec<B>,
     /// Constitutive law of each material.
     pub materials: Vec<Box<dyn ConstitutiveLaw<S>>>,
@@ -174,6 +213,9 @@ pub struct BlockSet<B, const D: usize, const N: usize, const T: usize, const S: 
     /// The last broad phase, reused while the blocks stay near where it
     /// found them.
     near: Mutex<Option<NearPairs<D>>>,
+    /// The near pairs' features, where the blocks keep them
+    /// (`Element::KEEPS_FEATURES`).
+    features: Mutex<FeatureStore<B::Features, D>>,
     /// Which loads and fixed points act on each block.
     points_of: OnceLock<PointsOf>,
 }
@@ -228,6 +270,111 @@ impl<const D: usize> NearPairs<D> {
     }
 }
 
+/// How much wider than asked a search for the pairs' features reaches, as
+/// a share of the range: later searches test the same features until a
+/// point has moved by half the difference (each distance tested, between
+/// two points of two blocks, changes by at most twice what a point moved).
+/// A standing wall's blocks move by far less than the eighth of the range
+/// this allows (the range is a quarter of a block's size).
+const FEATURE_SKIN: f64 = 0.25;
+
+/// Searches that examine every feature, kept nowhere, after a kept list
+/// served no search: where the blocks move out of the skin at every step
+/// (a falling block, the 3D 40-course wall at its automatic step), a list
+/// found 1.25 times as wide costs more than it saves.
+const PLAIN_SEARCHES: usize = 8;
+
+/// The features of each near pair, with the range searched, every block's
+/// vertices then and how many later searches they served.
+#[derive(Debug)]
+struct KeptFeatures<F, const D: usize> {
+    /// The range asked and the range searched.
+    asked: f64,
+    range: f64,
+    /// Every block's `Element::feature_kinds` then, block after block.
+    kinds: Vec<u8>,
+    /// Block after block.
+    vertices: Vec<Point<f64, D>>,
+    pairs: Vec<(usize, usize)>,
+    features: Vec<F>,
+    served: usize,
+}
+
+/// The kept features, if any, and the plain searches still to make before
+/// features are kept again.
+#[derive(Debug)]
+struct FeatureStore<F, const D: usize> {
+    kept: Option<KeptFeatures<F, D>>,
+    plain: usize,
+}
+
+impl<F, const D: usize> Default for FeatureStore<F, D> {
+    fn default() -> Self {
+        Self {
+            kept: None,
+            plain: 0,
+        }
+    }
+}
+
+/// How a search finds its pairs' contacts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Search {
+    /// Among the kept features.
+    Kept,
+    /// Keeping the features found at a wider range.
+    Keeping,
+    /// Examining every feature, keeping none.
+    Plain,
+}
+
+impl<F, const D: usize> FeatureStore<F, D> {
+    /// The next search, given whether the kept features serve it.
+    fn plan(&mut self, serve: bool) -> Search {
+        if serve {
+            if let Some(k) = &mut self.kept {
+                k.served += 1;
+                return Search::Kept;
+            }
+        }
+        if self.kept.take().is_some_and(|k| k.served == 0) {
+            self.plain = PLAIN_SEARCHES;
+        }
+        if self.plain > 0 {
+            self.plain -= 1;
+            Search::Plain
+        } else {
+            Search::Keeping
+        }
+    }
+}
+
+impl<F, const D: usize> KeptFeatures<F, D> {
+    /// Whether the features serve a search of `pairs` within `range` of
+    /// blocks with these vertices: the same pairs, and each point moved by
+    /// δ at most, so two points within `range` now were within
+    /// `range` + 2δ then. A block's features are its vertices, edges and
+    /// faces, so vertices that moved as far show any change of them.
+    fn serve<'a>(
+        &self,
+        vertices: impl Iterator<Item = &'a Point<f64, D>>,
+        kinds: &[u8],
+        pairs: &[(usize, usize)],
+        range: f64,
+    ) -> bool {
+        if pairs != self.pairs || kinds != self.kinds || range < self.asked {
+            return false;
+        }
+        let mut count = 0;
+        let mut moved = 0.0_f64;
+        for (now, then) in vertices.zip(&self.vertices) {
+            moved = moved.max((now - then).norm());
+            count += 1;
+        }
+        count == self.vertices.len() && range + 2.0 * moved <= self.range
+    }
+}
+
 impl<B, const D: usize, const N: usize, const T: usize, const S: usize> BlockSet<B, D, N, T, S>
 where
     B: Element<D, N, T, S>,
@@ -249,6 +396,7 @@ where
             rotation_update: RotationUpdate::Exact,
             length_scale: None,
             near: Mutex::new(None),
+            features: Mutex::new(FeatureStore::default()),
             points_of: OnceLock::new(),
         }
     }
@@ -434,6 +582,48 @@ where
 
     fn pair_contacts(&self, i: usize, j: usize, range: f64) -> Vec<Contact<N, T, B::Entrance>> {
         B::pair_contacts(&self.blocks, i, j, range, self.law(i, j))
+    }
+
+    fn pairs_contacts(
+        &self,
+        pairs: &[(usize, usize)],
+        range: f64,
+    ) -> Vec<Contact<N, T, B::Entrance>> {
+        if !B::KEEPS_FEATURES {
+            return each_pair_contacts(self, pairs, range);
+        }
+        let blocks = &self.blocks;
+        let vertices = || blocks.iter().flat_map(|b| b.vertices());
+        let mut kinds = Vec::new();
+        blocks.iter().for_each(|b| b.feature_kinds(&mut kinds));
+        let mut store = self.features.lock().unwrap_or_else(|e| e.into_inner());
+        let serve =
+            (store.kept.as_ref()).is_some_and(|k| k.serve(vertices(), &kinds, pairs, range));
+        match store.plan(serve) {
+            Search::Kept => {}
+            Search::Plain => return each_pair_contacts(self, pairs, range),
+            Search::Keeping => {
+                let wide = range * (1.0 + FEATURE_SKIN);
+                store.kept = Some(KeptFeatures {
+                    asked: range,
+                    range: wide,
+                    kinds,
+                    vertices: vertices().copied().collect(),
+                    pairs: pairs.to_vec(),
+                    features: (pairs.par_iter().with_min_len(PAIRS_PER_TASK))
+                        .map(|&(i, j)| B::pair_features(blocks, i, j, range, wide))
+                        .collect(),
+                    served: 0,
+                });
+            }
+        }
+        let features = &store.kept.as_ref().expect("kept above").features;
+        (pairs.par_iter().zip(features))
+            .with_min_len(PAIRS_PER_TASK)
+            .flat_map_iter(|(&(i, j), f)| {
+                B::pair_contacts_among(blocks, i, j, range, self.law(i, j), f)
+            })
+            .collect()
     }
 
     fn supports(&self, start: f64, end: f64) -> Vec<crate::loads::Support<N>> {
@@ -627,5 +817,75 @@ mod near_tests {
         assert!(near.reach(&moved, 0.1).is_some());
         assert!(near.reach(&moved, 0.11).is_none());
         assert!(near.reach(&then[..1], 0.1).is_none());
+    }
+}
+
+#[cfg(test)]
+mod kept_features_tests {
+    use super::{FeatureStore, KeptFeatures, Search, PLAIN_SEARCHES};
+    use nalgebra::Point2;
+
+    /// Features asked at range 0.1 and found at 0.125 serve a search of the
+    /// same pairs at any range from 0.1 up to 0.125 less twice the farthest
+    /// any vertex has moved since, while the blocks' feature kinds stay the
+    /// same; not at a shorter range, not another pair list, vertex count
+    /// or kind.
+    #[test]
+    fn features_serve_while_no_point_has_moved_beyond_the_skin() {
+        let then = [Point2::new(0.0, 0.0), Point2::new(1.0, 0.5)];
+        let kinds = [1, 0, 2];
+        let kept = KeptFeatures {
+            asked: 0.1,
+            range: 0.125,
+            kinds: kinds.to_vec(),
+            vertices: then.to_vec(),
+            pairs: vec![(0, 1)],
+            features: vec![()],
+            served: 0,
+        };
+        let serve = |at: &[Point2<f64>], pairs: &[(usize, usize)], range| {
+            kept.serve(at.iter(), &kinds, pairs, range)
+        };
+        assert!(serve(&then, &[(0, 1)], 0.125));
+        assert!(serve(&then, &[(0, 1)], 0.1));
+        assert!(!serve(&then, &[(0, 1)], 0.099));
+        assert!(!serve(&then, &[(0, 1)], 0.126));
+        assert!(!serve(&then, &[(0, 2)], 0.1));
+        assert!(!serve(&then[..1], &[(0, 1)], 0.1));
+        assert!(!kept.serve(then.iter(), &[1, 1, 2], &[(0, 1)], 0.1));
+        // The second vertex moved by 0.01 (a turn, say, that left the
+        // first in place).
+        let moved = [then[0], Point2::new(1.006, 0.508)];
+        assert!(serve(&moved, &[(0, 1)], 0.1));
+        assert!(!serve(&moved, &[(0, 1)], 0.11));
+    }
+
+    /// Features are kept where they serve later searches; a kept list that
+    /// served none gives way to `PLAIN_SEARCHES` plain searches, then
+    /// features are kept again.
+    #[test]
+    fn a_kept_list_that_served_no_search_gives_way_to_plain_searches() {
+        let kept = |served| KeptFeatures::<(), 2> {
+            asked: 0.08,
+            range: 0.1,
+            kinds: Vec::new(),
+            vertices: Vec::new(),
+            pairs: Vec::new(),
+            features: Vec::new(),
+            served,
+        };
+        let mut store = FeatureStore::default();
+        assert_eq!(store.plan(false), Search::Keeping);
+        store.kept = Some(kept(0));
+        assert_eq!(store.plan(true), Search::Kept);
+        assert_eq!(store.plan(true), Search::Kept);
+        // It served two searches: found again.
+        assert_eq!(store.plan(false), Search::Keeping);
+        store.kept = Some(kept(0));
+        // It served none.
+        for _ in 0..PLAIN_SEARCHES {
+            assert_eq!(store.plan(false), Search::Plain);
+        }
+        assert_eq!(store.plan(false), Search::Keeping);
     }
 }

@@ -34,6 +34,10 @@ const BLOCKS_PER_TASK: usize = 128;
 /// commits, copies) takes at least, for the same reason.
 const CONTACTS_PER_TASK: usize = 256;
 
+/// Block pairs a narrow-phase task takes at least: fewer would cost more
+/// in scheduling than they save.
+const PAIRS_PER_TASK: usize = 64;
+
 pub use block_set::{BlockSet, Element, RotationUpdate};
 pub use constitutive::ConstitutiveLaw;
 pub use contact::{ContactLaw, ContactResponse, ContactState, DynContactLaw, LocalKinematics};

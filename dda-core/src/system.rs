@@ -1,12 +1,14 @@
 //! The block system: what a dimension crate provides so the driver can run it.
 
 use nalgebra::SMatrix;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::contacts::{BlockVector, Contact, EntranceRows};
 use crate::error::DdaError;
 use crate::loads::Support;
 use crate::settings::finite;
+use crate::PAIRS_PER_TASK;
 
 /// One block's N×N matrix (mass, stiffness).
 pub type BlockMatrix<const N: usize> = SMatrix<f64, N, N>;
@@ -124,6 +126,16 @@ pub trait BlockSystem<const N: usize, const T: usize>: Send + Sync {
     /// the pair's law index.
     fn pair_contacts(&self, i: usize, j: usize, range: f64) -> Vec<Contact<N, T, Self::Entrance>>;
 
+    /// The narrow phase of `pairs` (as [`BlockSystem::near_pairs`] gave
+    /// them for `range`), in their order, on every core.
+    fn pairs_contacts(
+        &self,
+        pairs: &[(usize, usize)],
+        range: f64,
+    ) -> Vec<Contact<N, T, Self::Entrance>> {
+        each_pair_contacts(self, pairs, range)
+    }
+
     /// Contact candidates within `range` of each other: the narrow phase of
     /// every near pair.
     fn find_contacts(&self, range: f64) -> Vec<Contact<N, T, Self::Entrance>> {
@@ -191,6 +203,23 @@ pub struct SystemState {
     pub fixed_points: Vec<Vec<f64>>,
     pub load_points: Vec<Vec<f64>>,
     pub measured_points: Vec<Vec<f64>>,
+}
+
+/// Each pair's [`BlockSystem::pair_contacts`] on any thread, gathered in
+/// pair order.
+pub(crate) fn each_pair_contacts<S, const N: usize, const T: usize>(
+    system: &S,
+    pairs: &[(usize, usize)],
+    range: f64,
+) -> Vec<Contact<N, T, S::Entrance>>
+where
+    S: BlockSystem<N, T> + ?Sized,
+{
+    pairs
+        .par_iter()
+        .with_min_len(PAIRS_PER_TASK)
+        .flat_map_iter(|&(i, j)| system.pair_contacts(i, j, range))
+        .collect()
 }
 
 #[cfg(test)]

@@ -23,10 +23,6 @@ const PATTERN_REACH_SHARE: f64 = 0.05;
 /// other, and the next step may be faster).
 const PATTERN_REACH_MOTION: f64 = 4.0;
 
-/// Block pairs a narrow-phase task takes at least: fewer would cost more
-/// in scheduling than they save.
-const PAIRS_PER_TASK: usize = 64;
-
 impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// The pattern's reach for the next step, after one whose largest
     /// displacement was `moved` (m): `PATTERN_REACH_MOTION` times it, at
@@ -43,13 +39,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let pairs = self.system.near_pairs(range);
         let searched = Instant::now();
         self.stats.times.broad_phase += searched - started;
-        // Each pair's contacts on any thread, gathered in pair order.
-        let system = &self.system;
-        let mut fresh: Vec<Contact<N, T, S::Entrance>> = pairs
-            .par_iter()
-            .with_min_len(PAIRS_PER_TASK)
-            .flat_map_iter(|&(i, j)| system.pair_contacts(i, j, range))
-            .collect();
+        let mut fresh = self.system.pairs_contacts(&pairs, range);
         transfer_records(&mut self.contacts, &mut fresh);
         let at_start = self.stats.steps == 0;
         let touching = self.settings.contact_tolerance * self.length_scale;
