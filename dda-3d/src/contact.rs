@@ -798,7 +798,7 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::kinematics::Vector12;
     use crate::kinematics::{move_point, RotationUpdate};
@@ -1113,7 +1113,7 @@ mod tests {
 
     /// An L-shaped prism 1 high, its outline's corner at (1, 1) reflex,
     /// with its corners moved by `place`.
-    fn l_block(place: impl Fn(&Point3<f64>) -> Point3<f64>) -> Block {
+    pub(crate) fn l_block(place: impl Fn(&Point3<f64>) -> Point3<f64>) -> Block {
         let outline = [
             (0.0, 0.0),
             (2.0, 0.0),

@@ -137,40 +137,28 @@ fn face_within(s: &Polyhedron, f: usize, p: &Point3<f64>, reach: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::tests::l_block;
     use crate::contact::{contact_label, contacts_among, pair_contacts};
-    use crate::polyhedron::{cuboid, prism};
+    use crate::polyhedron::cuboid;
     use dda_core::contacts::same_contacts;
-    use nalgebra::{Point2, Rotation3, Vector3};
+    use nalgebra::{Rotation3, Vector3};
     use proptest::prelude::*;
 
-    /// A polyhedron's vertices and faces.
-    type Shape = (Vec<Point3<f64>>, Vec<Vec<usize>>);
+    /// Motion of a block: a turn about its first vertex, then a shift.
+    type Motion = (Rotation3<f64>, Vector3<f64>);
 
-    /// An L-shaped prism (reflex edges and a concave face) and a box, as
-    /// vertices and faces.
-    fn shapes(box_at: Point3<f64>, turn: Rotation3<f64>) -> [Shape; 2] {
-        let outline = [
-            (0.0, 0.0),
-            (2.0, 0.0),
-            (2.0, 1.0),
-            (1.0, 1.0),
-            (1.0, 2.0),
-            (0.0, 2.0),
-        ];
-        let l = prism(&outline.map(|(x, y)| Point2::new(x, y)), 0.0, 1.0);
-        [l, cuboid(box_at, Vector3::new(1.0, 0.8, 0.6), turn)]
-    }
-
-    /// The blocks of `shapes` each turned by `turn` about its first vertex
-    /// and shifted by `shift`.
-    fn placed(shapes: &[Shape; 2], motion: [(Rotation3<f64>, Vector3<f64>); 2]) -> Vec<Block> {
-        (shapes.iter().zip(motion))
-            .map(|((v, f), (turn, shift))| {
-                let at = v[0];
-                let v: Vec<_> = v.iter().map(|p| at + turn * (p - at) + shift).collect();
-                Block::new(&v, f, 0, 1000.0).unwrap()
-            })
-            .collect()
+    /// An L-shaped prism (reflex edges and a concave face; its first vertex
+    /// at the origin) and a box at `box_at` turned by `turn`, each moved.
+    fn placed(box_at: Point3<f64>, turn: Rotation3<f64>, [l, b]: [Motion; 2]) -> Vec<Block> {
+        let moved = |(turn, shift): Motion, at: Point3<f64>| {
+            move |p: &Point3<f64>| at + turn * (p - at) + shift
+        };
+        let (v, f) = cuboid(box_at, Vector3::new(1.0, 0.8, 0.6), turn);
+        let v: Vec<_> = v.iter().map(moved(b, v[0])).collect();
+        vec![
+            l_block(moved(l, Point3::origin())),
+            Block::new(&v, &f, 0, 1000.0).unwrap(),
+        ]
     }
 
     /// Features found at a range a quarter wider, for blocks that have
@@ -192,12 +180,10 @@ mod tests {
         let crossings = std::cell::Cell::new(0);
         runner
             .run(&cases, |(at, turn, range, m0, m1, longer)| {
-                let shapes = shapes(
-                    Point3::from(Vector3::from(at) + Vector3::new(1.0, 1.0, 0.5)),
-                    Rotation3::from_euler_angles(turn[0], turn[1], turn[2]),
-                );
+                let box_at = Point3::from(Vector3::from(at) + Vector3::new(1.0, 1.0, 0.5));
+                let turn = Rotation3::from_euler_angles(turn[0], turn[1], turn[2]);
                 let still = (Rotation3::identity(), Vector3::zeros());
-                let blocks = placed(&shapes, [still, still]);
+                let blocks = placed(box_at, turn, [still, still]);
                 let wide = 1.25 * range;
                 let features = pair_features(&blocks, 0, 1, range, wide);
                 // Each point moves by at most an eighth of the range: a
@@ -212,7 +198,7 @@ mod tests {
                         Vector3::new(m[3], m[4], m[5]) * range * 0.1 / 3.0_f64.sqrt(),
                     )
                 };
-                let moved = placed(&shapes, [motion(m0), motion(m1)]);
+                let moved = placed(box_at, turn, [motion(m0), motion(m1)]);
                 let farthest = (blocks.iter().zip(&moved))
                     .flat_map(|(b, m)| {
                         b.vertices()
