@@ -64,11 +64,24 @@ use nalgebra::{Point2, Point3, Vector3};
 
 use crate::block::Block;
 use crate::entrance::PointEntrance;
-use crate::features::Feature;
 use crate::polyhedron::{EdgeKind, Polyhedron};
 
 /// A 3D contact: 12 DOF per block, two tangential directions.
 pub type Contact3 = Contact<12, 2, PointEntrance>;
+
+/// A pair of features of blocks (a, b) that may touch; a side of 0 puts
+/// the vertex on a, 1 on b.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Feature {
+    /// Vertex of a, vertex of b.
+    VertexVertex(u32, u32),
+    /// Side, vertex, the other block's edge.
+    VertexEdge(u8, u32, u32),
+    /// Side, vertex, the other block's face.
+    VertexFace(u8, u32, u32),
+    /// Edge of a, edge of b.
+    EdgeEdge(u32, u32),
+}
 
 /// Marks a feature as a vertex (`feature_b` of a vertex-vertex group).
 const VERTEX: u32 = 1 << 31;

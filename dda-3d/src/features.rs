@@ -10,22 +10,8 @@ use dda_core::block_set::Reach;
 use nalgebra::Point3;
 
 use crate::block::Block;
-use crate::contact::{apart, grown_bounds, segment_distance, within, Bounds};
+use crate::contact::{apart, grown_bounds, segment_distance, within, Bounds, Feature};
 use crate::polyhedron::Polyhedron;
-
-/// A pair of features of blocks (a, b) that may touch; a side of 0 puts
-/// the vertex on a, 1 on b.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Feature {
-    /// Vertex of a, vertex of b.
-    VertexVertex(u32, u32),
-    /// Side, vertex, the other block's edge.
-    VertexEdge(u8, u32, u32),
-    /// Side, vertex, the other block's face.
-    VertexFace(u8, u32, u32),
-    /// Edge of a, edge of b.
-    EdgeEdge(u32, u32),
-}
 
 /// A vertex makes a vertex-face contact only within the range of the face
 /// (ahead of its plane by less than the range over its inside, or beside a

@@ -7,9 +7,9 @@ use nalgebra::{Point3, Vector3, Vector6};
 
 use crate::block::Block;
 use crate::broad_phase::near_pairs;
-use crate::contact::{pair_contacts, pair_contacts_among, Contact3};
+use crate::contact::{pair_contacts, pair_contacts_among, Contact3, Feature};
 use crate::entrance::PointEntrance;
-use crate::features::{pair_features, Feature};
+use crate::features::pair_features;
 use crate::kinematics::{Matrix12, RotationUpdate, TMatrix, Vector12};
 
 /// A force at a material point, constant or a time history.
