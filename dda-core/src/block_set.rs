@@ -165,9 +165,9 @@ pub trait Element<const D: usize, const N: usize, const T: usize, const S: usize
     fn feature_kinds(&self, out: &mut Vec<u8>) {
         let _ = out;
     }
-    /// [`Element::pair_contacts`] among `features`, found at a wider range
-    /// by [`Element::pair_features`] while no point has moved by more than
-    /// half the difference: the same contacts, to the last bit.
+    /// [`Element::pair_contacts`] among `features`, found by
+    /// [`Element::pair_features`] while they serve: the same contacts, to
+    /// the last bit.
     fn pair_contacts_among(
         blocks: &[Self],
         i: usize,
@@ -351,10 +351,13 @@ impl<F, const D: usize> FeatureStore<F, D> {
 
 impl<F, const D: usize> KeptFeatures<F, D> {
     /// Whether the features serve a search of `pairs` within `range` of
-    /// blocks with these vertices: the same pairs, and each point moved by
-    /// δ at most, so two points within `range` now were within
-    /// `range` + 2δ then. A block's features are its vertices, edges and
-    /// faces, so vertices that moved as far show any change of them.
+    /// blocks with these vertices and feature kinds: the same pairs and
+    /// kinds, the range no shorter than the one asked then (the features a
+    /// near corner ruled out stay ruled out only so), and each point moved
+    /// by δ at most, with `range` + 2δ within the range searched: two
+    /// points within `range` now were within `range` + 2δ then. A block's
+    /// features are its vertices, edges and faces, so vertices that moved
+    /// as far show any change of them.
     fn serve<'a>(
         &self,
         vertices: impl Iterator<Item = &'a Point<f64, D>>,
