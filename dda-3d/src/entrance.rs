@@ -5,9 +5,9 @@
 //! entrances, made every step; as rows they took 584 bytes each.
 
 use dda_core::EntranceRows;
-use nalgebra::Vector3;
+use nalgebra::{Vector2, Vector3};
 
-use crate::kinematics::{t_matrix_transpose_times_arm, Vector12};
+use crate::kinematics::{t_matrix_times_arm, t_matrix_transpose_times_arm, Vector12};
 
 /// A point of one block against a point of another along a unit normal,
 /// linearised about the start of the step.
@@ -48,6 +48,19 @@ impl PointEntrance {
         }
     }
 
+    /// The entering point's displacement less the entered point's, the
+    /// blocks moving by `da` and `db`.
+    #[inline]
+    fn approach(&self, da: &Vector12, db: &Vector12) -> Vector3<f64> {
+        let a = t_matrix_times_arm(&self.arms[0], da);
+        let b = t_matrix_times_arm(&self.arms[1], db);
+        if self.entering_first {
+            a - b
+        } else {
+            b - a
+        }
+    }
+
     /// The two blocks' rows along direction `v`.
     #[inline]
     fn rows(&self, v: &Vector3<f64>) -> [Vector12; 2] {
@@ -75,6 +88,34 @@ impl EntranceRows<12, 2> for PointEntrance {
     fn tangent(&self, k: usize) -> [Vector12; 2] {
         self.rows(&self.frame[1 + k])
     }
+
+    /// By the points' motion: the rows dotted with the motions, summed
+    /// in another order (the same to round-off).
+    #[inline]
+    fn gap_at(&self, da: &Vector12, db: &Vector12) -> f64 {
+        self.gap + self.frame[0].dot(&self.approach(da, db))
+    }
+
+    #[inline]
+    fn shear_at(&self, da: &Vector12, db: &Vector12) -> Vector2<f64> {
+        let s = self.approach(da, db);
+        Vector2::new(self.frame[1].dot(&s), self.frame[2].dot(&s))
+    }
+
+    #[inline]
+    fn gap_and_shear_at(&self, da: &Vector12, db: &Vector12) -> (f64, Vector2<f64>) {
+        let s = self.approach(da, db);
+        let shear = Vector2::new(self.frame[1].dot(&s), self.frame[2].dot(&s));
+        (self.gap + self.frame[0].dot(&s), shear)
+    }
+
+    /// The contact force at the points, given to each block by one
+    /// transposed product where the rows take three.
+    #[inline]
+    fn spread(&self, normal: f64, shear: &Vector2<f64>) -> [Vector12; 2] {
+        let [n, t1, t2] = &self.frame;
+        self.rows(&(n * normal + t1 * shear[0] + t2 * shear[1]))
+    }
 }
 
 #[cfg(test)]
@@ -82,6 +123,62 @@ mod tests {
     use super::*;
     use crate::kinematics::t_matrix_transpose_times;
     use nalgebra::Point3;
+
+    /// The gap, the shear and the forces read through the points' motion
+    /// are those of the rows, to round-off, in either block order and for
+    /// motions with strain.
+    #[test]
+    fn the_points_motion_and_forces_are_the_rows() {
+        use dda_core::Entrance;
+        use proptest::prelude::*;
+        let mut runner = crate::seeded_runner(1024);
+        let vector = || prop::array::uniform3(-5.0..5.0f64).prop_map(Vector3::from);
+        let dofs = || prop::array::uniform12(-1e-2..1e-2f64).prop_map(Vector12::from);
+        let forces = (-1e6..1e6f64, -1e6..1e6f64, -1e6..1e6f64);
+        let cases = (
+            vector(),
+            vector(),
+            vector(),
+            any::<bool>(),
+            dofs(),
+            dofs(),
+            forces,
+        );
+        runner
+            .run(
+                &cases,
+                |(enter, entered, n, swap, da, db, (fn_, f1, f2))| {
+                    let Some(n) = n.try_normalize(1e-3) else {
+                        return Ok(());
+                    };
+                    let t1 = n.cross(&Vector3::new(0.3, -0.7, 0.2)).normalize();
+                    let t2 = n.cross(&t1);
+                    let e = PointEntrance::new(0.01, enter, entered, [n, t1, t2], swap);
+                    let rows = Entrance {
+                        gap: e.gap(),
+                        normal: e.normal(),
+                        tangents: [e.tangent(0), e.tangent(1)],
+                    };
+                    // The size of the products summed, for round-off.
+                    let arm = 1.0 + enter.norm().max(entered.norm());
+                    let motion = arm * (da.norm() + db.norm());
+                    let (gap, shear) = e.gap_and_shear_at(&da, &db);
+                    prop_assert!((gap - rows.gap_at(&da, &db)).abs() <= 1e-14 * (0.01 + motion));
+                    prop_assert_eq!(gap.to_bits(), e.gap_at(&da, &db).to_bits());
+                    prop_assert!((shear - rows.shear_at(&da, &db)).norm() <= 1e-14 * motion);
+                    prop_assert_eq!(shear, e.shear_at(&da, &db));
+                    let shear_force = Vector2::new(f1, f2);
+                    let force = arm * (fn_.abs() + shear_force.norm());
+                    let spread = e.spread(fn_, &shear_force);
+                    let made = rows.spread(fn_, &shear_force);
+                    for (s, m) in spread.iter().zip(&made) {
+                        prop_assert!((s - m).abs().max() <= 1e-14 * force, "{s} {m}");
+                    }
+                    Ok(())
+                },
+            )
+            .unwrap();
+    }
 
     /// Rows made when read are the rows made once from the points, to the
     /// last bit, in either block order.

@@ -79,6 +79,26 @@ pub trait EntranceRows<const N: usize, const T: usize>:
         })
     }
 
+    /// The step's gap and relative tangential displacement together: a
+    /// dimension that keeps points reads their motion once for both.
+    fn gap_and_shear_at(&self, da: &BlockVector<N>, db: &BlockVector<N>) -> (f64, SVector<f64, T>) {
+        (self.gap_at(da, db), self.shear_at(da, db))
+    }
+
+    /// The two blocks' generalised forces of a contact force `normal`
+    /// along the normal and `shear` along the tangents: the rows times
+    /// the forces, summed normal first.
+    fn spread(&self, normal: f64, shear: &SVector<f64, T>) -> [BlockVector<N>; 2] {
+        let [na, nb] = self.normal();
+        let mut force = [na * normal, nb * normal];
+        for k in 0..T {
+            let [ta, tb] = self.tangent(k);
+            force[0] += ta * shear[k];
+            force[1] += tb * shear[k];
+        }
+        force
+    }
+
     /// `f` of the entrance with all its rows made, for a reader of them
     /// all: made once, not at each read.
     fn with_rows<R>(&self, f: impl FnOnce(&Entrance<N, T>) -> R) -> R {

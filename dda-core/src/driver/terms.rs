@@ -140,10 +140,10 @@ impl<const N: usize, const T: usize, E: EntranceRows<N, T>> ContactTerms<'_, N, 
         let c = &self.contacts[i];
         let da = block(&trial.d, c.blocks[0]);
         let db = block(&trial.d, c.blocks[1]);
-        let ds = entrance.shear_at(&da, &db);
+        let (gap, ds) = entrance.gap_and_shear_at(&da, &db);
         let stretch = self.carried_shear(c, e) + ds;
         let kin = LocalKinematics {
-            gap: entrance.gap_at(&da, &db),
+            gap,
             gap_start: entrance.gap(),
             shear: stretch.norm(),
             slip: ds.dot(&trial.directions[i]),
@@ -174,107 +174,124 @@ impl<const N: usize, const T: usize, E: EntranceRows<N, T>> ContactTerms<'_, N, 
             return None;
         }
         let e = trial.entrances[i];
-        // Its rows are read several times over: made once.
-        let load = |entrance: &Entrance<N, T>| {
-            let c = &self.contacts[i];
-            let (kin, stretch) = self.kinematics_on(i, e, entrance, trial, dt);
-            let history = c.record.history.as_ref().expect("history set at search");
-            let law = &self.laws[c.law];
-            let mut response = law.response(state, &kin, history);
-            let [a, b] = c.blocks;
-            let damped = self.damped(i);
-            if damped {
-                // A dashpot beside the normal spring, a share of critical for
-                // the contact's own effective mass: impacts end in a few steps
-                // instead of ringing on the penalty springs, and a block
-                // released onto its contacts does not bounce. Its force on the
-                // step's approach dissipates only.
-                let c = self.dashpot(a, b, &entrance.normal(), response.normal_stiffness);
-                let approached =
-                    entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap();
-                response.normal_force -= c * approached / dt;
-                response.normal_stiffness += c / dt;
+        let entrance = self.entrance(i, e);
+        Some(if self.damped(i) {
+            // The dashpots read its rows several times over: made once.
+            entrance.with_rows(|rows| self.load_on(i, rows, trial, dt, moving, couple))
+        } else {
+            // Only its motion and its forces: read through the entrance,
+            // which in 3D makes two points' products where rows make six.
+            self.load_on(i, entrance, trial, dt, moving, couple)
+        })
+    }
+
+    /// [`ContactTerms::load`] of closed contact `i`, read on `entrance`
+    /// (its trial entrance, as kept or with its rows made).
+    fn load_on(
+        &self,
+        i: usize,
+        entrance: &impl EntranceRows<N, T>,
+        trial: &Trial<T>,
+        dt: f64,
+        moving: &[f64],
+        couple: bool,
+    ) -> ContactLoad<N, T> {
+        let (state, e) = (trial.states[i], trial.entrances[i]);
+        let c = &self.contacts[i];
+        let (kin, stretch) = self.kinematics_on(i, e, entrance, trial, dt);
+        let history = c.record.history.as_ref().expect("history set at search");
+        let law = &self.laws[c.law];
+        let mut response = law.response(state, &kin, history);
+        let [a, b] = c.blocks;
+        let damped = self.damped(i);
+        if damped {
+            // A dashpot beside the normal spring, a share of critical for
+            // the contact's own effective mass: impacts end in a few steps
+            // instead of ringing on the penalty springs, and a block
+            // released onto its contacts does not bounce. Its force on the
+            // step's approach dissipates only.
+            let c = self.dashpot(a, b, &entrance.normal(), response.normal_stiffness);
+            let approached = entrance.gap_at(&block(moving, a), &block(moving, b)) - entrance.gap();
+            response.normal_force -= c * approached / dt;
+            response.normal_stiffness += c / dt;
+        }
+        // Shear: a spring when locked; when sliding, the friction force
+        // along the trial stretch (the radial return of an elastoplastic
+        // spring), whose tangent turns the force with the stretch in 3D.
+        let length = kin.shear;
+        // A sliding contact's force is the return map's, min(k_s·|s|,
+        // strength) along the stretch s: within the elastic limit (an
+        // iterate that reverses the slip) it is the spring's, so the force
+        // stays continuous and Newton-Raphson does not jump between
+        // opposite friction forces. A locked contact of a law that yields
+        // at its sliding strength takes the same return map, so passing
+        // between the two states changes no force.
+        let mut slipping = state == ContactState::Sliding;
+        if slipping {
+            let spring = law.response(ContactState::Locked, &kin, history);
+            if spring.shear_stiffness > 0.0 && spring.shear_force < response.shear_force {
+                response.shear_force = spring.shear_force;
+                response.shear_stiffness = spring.shear_stiffness;
+                slipping = false;
             }
-            // Normal spring: force along the gap gradient.
-            let [na, nb] = entrance.normal();
-            let mut force = [na * response.normal_force, nb * response.normal_force];
-            // Shear: a spring when locked; when sliding, the friction force
-            // along the trial stretch (the radial return of an elastoplastic
-            // spring), whose tangent turns the force with the stretch in 3D.
-            let length = kin.shear;
-            // A sliding contact's force is the return map's, min(k_s·|s|,
-            // strength) along the stretch s: within the elastic limit (an
-            // iterate that reverses the slip) it is the spring's, so the force
-            // stays continuous and Newton-Raphson does not jump between
-            // opposite friction forces. A locked contact of a law that yields
-            // at its sliding strength takes the same return map, so passing
-            // between the two states changes no force.
-            let mut slipping = state == ContactState::Sliding;
-            if slipping {
-                let spring = law.response(ContactState::Locked, &kin, history);
-                if spring.shear_stiffness > 0.0 && spring.shear_force < response.shear_force {
-                    response.shear_force = spring.shear_force;
-                    response.shear_stiffness = spring.shear_stiffness;
-                    slipping = false;
-                }
-            } else if self.yields(i, state) {
-                let friction = law.response(ContactState::Sliding, &kin, history);
-                if response.shear_force > friction.shear_force {
-                    response.shear_force = friction.shear_force;
-                    response.shear_stiffness = friction.shear_stiffness;
-                    slipping = true;
-                }
+        } else if self.yields(i, state) {
+            let friction = law.response(ContactState::Sliding, &kin, history);
+            if response.shear_force > friction.shear_force {
+                response.shear_force = friction.shear_force;
+                response.shear_stiffness = friction.shear_stiffness;
+                slipping = true;
             }
-            let direction = stretch.try_normalize(1e-300).unwrap_or(trial.directions[i]);
-            let step_shear = if damped {
-                entrance.shear_at(&block(moving, a), &block(moving, b))
-            } else {
-                SVector::zeros()
-            };
-            let mut shear_stiffness = SVector::<f64, T>::zeros();
-            for k in 0..T {
-                let [ta, tb] = entrance.tangent(k);
-                let mut stiffness = response.shear_stiffness;
-                let mut f = -response.shear_force * direction[k];
-                if damped && state == ContactState::Locked {
-                    // The shear spring's dashpot, as the normal one's.
-                    let c = self.dashpot(a, b, &[ta, tb], stiffness);
-                    f -= c * step_shear[k] / dt;
-                    stiffness += c / dt;
-                }
-                shear_stiffness[k] = stiffness;
-                force[0] += ta * f;
-                force[1] += tb * f;
-            }
-            let slope = if couple && slipping {
-                // d(friction)/d(gap), by central differences: laws are pure.
-                // The friction's, also for a locked contact past its strength:
-                // its own (locked) response is the spring's, which no gap moves.
-                let h = 1e-6 * kin.gap.abs().max(kin.tolerance);
-                let at = |gap: f64| {
-                    let kin = LocalKinematics { gap, ..kin };
-                    law.response(ContactState::Sliding, &kin, history)
-                        .shear_force
-                };
-                (at(kin.gap + h) - at(kin.gap - h)) / (2.0 * h)
-            } else {
-                0.0
-            };
-            let turning = if slipping && T > 1 && length > 0.0 {
-                response.shear_force / length
-            } else {
-                0.0
-            };
-            ContactLoad {
-                force,
-                normal_stiffness: response.normal_stiffness,
-                shear_stiffness,
-                turning,
-                direction,
-                slope,
-            }
+        }
+        let direction = stretch.try_normalize(1e-300).unwrap_or(trial.directions[i]);
+        let step_shear = if damped {
+            entrance.shear_at(&block(moving, a), &block(moving, b))
+        } else {
+            SVector::zeros()
         };
-        Some(self.entrance(i, e).with_rows(load))
+        let mut shear_stiffness = SVector::<f64, T>::zeros();
+        let mut shear_force = SVector::<f64, T>::zeros();
+        for k in 0..T {
+            let mut stiffness = response.shear_stiffness;
+            let mut f = -response.shear_force * direction[k];
+            if damped && state == ContactState::Locked {
+                // The shear spring's dashpot, as the normal one's.
+                let c = self.dashpot(a, b, &entrance.tangent(k), stiffness);
+                f -= c * step_shear[k] / dt;
+                stiffness += c / dt;
+            }
+            shear_stiffness[k] = stiffness;
+            shear_force[k] = f;
+        }
+        // The normal spring's force along the gap gradient, the shear's
+        // along the tangents.
+        let force = entrance.spread(response.normal_force, &shear_force);
+        let slope = if couple && slipping {
+            // d(friction)/d(gap), by central differences: laws are pure.
+            // The friction's, also for a locked contact past its strength:
+            // its own (locked) response is the spring's, which no gap moves.
+            let h = 1e-6 * kin.gap.abs().max(kin.tolerance);
+            let at = |gap: f64| {
+                let kin = LocalKinematics { gap, ..kin };
+                law.response(ContactState::Sliding, &kin, history)
+                    .shear_force
+            };
+            (at(kin.gap + h) - at(kin.gap - h)) / (2.0 * h)
+        } else {
+            0.0
+        };
+        let turning = if slipping && T > 1 && length > 0.0 {
+            response.shear_force / length
+        } else {
+            0.0
+        };
+        ContactLoad {
+            force,
+            normal_stiffness: response.normal_stiffness,
+            shear_stiffness,
+            turning,
+            direction,
+            slope,
+        }
     }
 
     /// Contact `i`'s open-close decision at the trial: its next state, slip
