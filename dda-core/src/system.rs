@@ -106,7 +106,8 @@ pub trait BlockSystem<const N: usize, const T: usize>: Send + Sync {
     /// Adds the block's own terms at the trial step displacement `d`, for a
     /// step ending at `time`: elastic stiffness, initial stress, body force,
     /// point loads, fixed points. Adds the tangent to `k` and the residual
-    /// (applied minus internal generalised force) to `r`.
+    /// (applied minus internal generalised force) to `r`; only the DOF the
+    /// block keeps ([`BlockSystem::dofs`]) need be right.
     fn block_terms(
         &self,
         block: usize,
