@@ -129,6 +129,7 @@ impl<const N: usize, const T: usize, E: EntranceRows<N, T>> ContactTerms<'_, N, 
 
     /// Contact `i`'s kinematics on `entrance` (its `e`-th), and the shear
     /// spring's trial stretch.
+    #[inline(always)]
     fn kinematics_on(
         &self,
         i: usize,
