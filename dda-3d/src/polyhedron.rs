@@ -186,6 +186,9 @@ pub struct Polyhedron {
     moments: CentralMoments,
     edge_kinds: Vec<EdgeKind>,
     convex_vertices: Vec<bool>,
+    /// Axis-aligned bounds, made when the vertices move: each search reads
+    /// them for both blocks of every near pair.
+    bounds: (Point3<f64>, Point3<f64>),
 }
 
 impl Polyhedron {
@@ -298,7 +301,7 @@ impl Polyhedron {
 
     /// Axis-aligned bounds (min, max).
     pub fn bounds(&self) -> (Point3<f64>, Point3<f64>) {
-        bounds(&self.vertices)
+        self.bounds
     }
 
     /// The same polyhedron with every vertex moved by `f` (an
@@ -362,6 +365,7 @@ impl Polyhedron {
             })
             .collect();
         Self {
+            bounds: bounds(&vertices),
             vertices,
             topology,
             normals,
@@ -1023,8 +1027,8 @@ fn face_centroid(
 mod tests {
     use super::*;
 
-    /// The kept face frames and centroids follow the vertices through a
-    /// move and a restore: each frame starts at its face's first vertex
+    /// The kept face frames, centroids and bounds follow the vertices
+    /// through a move and a restore: each frame starts at its face's first vertex
     /// with `u` along the first side and the face's normal, and a
     /// rectangle's centroid is the mean of its corners.
     #[test]
@@ -1048,6 +1052,7 @@ mod tests {
                 assert!((frame.u - side.normalize()).norm() < 1e-12, "face {f}");
                 assert!((frame.normal - s.normal(f)).norm() < 1e-15, "face {f}");
             }
+            assert_eq!(s.bounds(), bounds(s.vertices()));
         };
         let shape = validate(&points, &faces).unwrap();
         check(&shape);
