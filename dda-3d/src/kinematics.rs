@@ -61,8 +61,9 @@ pub fn t_matrix_transpose_times_arm(arm: &Vector3<f64>, v: &Vector3<f64>) -> Vec
 }
 
 /// `t_matrix(p, c)·d`, the displacement of the point at `arm` (`p − c`)
-/// from the centroid, without making the matrix: a move's contact forces
-/// read two a contact entrance, where rows would take six.
+/// from the centroid, without making the matrix: a move reads a contact
+/// entrance's gap and shear off two of these, where its rows take six
+/// products.
 #[inline]
 pub fn t_matrix_times_arm(arm: &Vector3<f64>, d: &Vector12) -> Vector3<f64> {
     let (x, y, z) = (arm.x, arm.y, arm.z);
