@@ -98,8 +98,7 @@ impl EntranceRows<12, 2> for PointEntrance {
 
     #[inline]
     fn shear_at(&self, da: &Vector12, db: &Vector12) -> Vector2<f64> {
-        let s = self.approach(da, db);
-        Vector2::new(self.frame[1].dot(&s), self.frame[2].dot(&s))
+        self.gap_and_shear_at(da, db).1
     }
 
     #[inline]
