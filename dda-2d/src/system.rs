@@ -161,6 +161,54 @@ mod tests {
         }
     }
 
+    /// A block's own motion leaves out its translation and bounds how far
+    /// its points move against each other: a column turning about a
+    /// corner (a rocking column's pivot) reaches its far corner's whole
+    /// motion, a stretch the stretch across the block; a block counted
+    /// whole moves as far as its farthest point.
+    #[test]
+    fn a_blocks_own_motion_leaves_out_its_translation() {
+        let law = || -> Box<dyn dda_core::ConstitutiveLaw<3>> {
+            Box::new(PlaneElastic {
+                young: 1e9,
+                poisson: 0.3,
+                plane: Plane::Stress,
+            })
+        };
+        let column =
+            [(0.0, 0.0), (1.0, 0.0), (1.0, 4.0), (0.0, 4.0)].map(|(x, y)| Point2::new(x, y));
+        let s = Polygons::new(vec![Block::new(&column, 0, 2500.0).unwrap()], vec![law()]);
+        let own = |d: BlockVector<6>| s.max_own_motion(&[d], &[false]);
+        let whole = |d: BlockVector<6>| s.max_own_motion(&[d], &[true]);
+        let shift = BlockVector::<6>::new(0.3, -0.2, 0.0, 0.0, 0.0, 0.0);
+        assert!(own(shift) < 1e-15, "{}", own(shift));
+        assert!((whole(shift) - 0.13f64.sqrt()).abs() < 1e-15);
+        // A turn θ about the corner (0, 0): the centroid (0.5, 2) moves
+        // θ × (−2, 0.5).
+        let theta = 1e-4;
+        let pivot = BlockVector::<6>::new(-2.0 * theta, 0.5 * theta, theta, 0.0, 0.0, 0.0);
+        let far = theta * 17f64.sqrt();
+        assert!((own(pivot) - far).abs() < 1e-12 * far, "{}", own(pivot));
+        assert!((s.max_displacement(&[pivot]) - far).abs() < 1e-12 * far);
+        let stretch = BlockVector::<6>::new(0.0, 0.0, 0.0, 1e-5, 0.0, 0.0);
+        assert!((own(stretch) - 1e-5).abs() < 1e-17, "{}", own(stretch));
+        // Two blocks: each counted its own way.
+        let shifted = column.map(|p| p + Vector2::new(3.0, 0.0));
+        let blocks = vec![
+            Block::new(&column, 0, 2500.0).unwrap(),
+            Block::new(&shifted, 0, 2500.0).unwrap(),
+        ];
+        let two = Polygons::new(blocks, vec![law()]);
+        assert_eq!(
+            two.max_own_motion(&[shift, stretch], &[false, false]),
+            own(stretch)
+        );
+        assert_eq!(
+            two.max_own_motion(&[shift, stretch], &[true, false]),
+            whole(shift)
+        );
+    }
+
     /// Each block's loads and fixed points, read from the set's listing,
     /// give the block terms that filtering the whole lists gives (the path
     /// of a set whose lists changed after the listing), to the last bit;

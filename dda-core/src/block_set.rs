@@ -670,6 +670,27 @@ where
             .reduce(|| 0.0, f64::max)
     }
 
+    fn max_own_motion(&self, d: &[BlockVector<N>], whole: &[bool]) -> f64 {
+        (self.blocks.par_iter().zip(d).zip(whole))
+            .with_min_len(BLOCKS_PER_TASK)
+            .map(|((b, di), &whole)| {
+                let centroid = if whole {
+                    SVector::zeros()
+                } else {
+                    b.t_matrix(&b.centroid()) * di
+                };
+                let about = (b.vertices().iter())
+                    .map(|v| (b.t_matrix(v) * di - centroid).norm())
+                    .fold(0.0, f64::max);
+                if whole {
+                    about
+                } else {
+                    2.0 * about
+                }
+            })
+            .reduce(|| 0.0, f64::max)
+    }
+
     fn save_state(&self) -> Result<SystemState, DdaError> {
         let coordinates = |p: &Point<f64, D>| p.coords.iter().copied().collect::<Vec<f64>>();
         Ok(SystemState {

@@ -46,6 +46,7 @@ mod pass;
 mod pattern;
 mod predict;
 mod springs;
+mod step_motion;
 mod terms;
 mod touching;
 mod woodbury;
@@ -54,9 +55,12 @@ mod woodbury;
 /// starting from rest moves 1/800 of its size in such a step.
 const AUTO_STEPS_PER_MOTION_TIME: f64 = 20.0;
 
-/// The automatic step keeps each block's points moving at most this share
-/// of the median block size in a step: a rocking column's rebounds then stay
-/// within about 1 % of Housner's, while a wall at rest steps at the ceiling.
+/// The automatic step keeps the motion it bounds (`step_motion`: each
+/// contact's relative motion, each block's points' motion against each
+/// other, a block in flight's whole motion) at most this share of the
+/// median block size in a step: a rocking column's rebounds then stay
+/// within about 1 % of Housner's, while a wall at rest steps at the
+/// ceiling.
 const AUTO_MOTION_SHARE: f64 = 2.5e-4;
 
 /// The automatic step never falls below this share of its ceiling.
@@ -284,7 +288,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             (None, Some(t)) => {
                 let cap = t / AUTO_STEPS_PER_MOTION_TIME;
                 notes.push(format!(
-                    "time step automatic, at most {cap:.4e} s (1/{AUTO_STEPS_PER_MOTION_TIME} of sqrt(block size / g)): each step as long as keeps every block's points moving less than {AUTO_MOTION_SHARE:e} of the median block size; give dt to fix it"
+                    "time step automatic, at most {cap:.4e} s (1/{AUTO_STEPS_PER_MOTION_TIME} of sqrt(block size / g)): each step as long as keeps each contact's relative motion, each block's points' motion against each other and a block in flight's whole motion less than {AUTO_MOTION_SHARE:e} of the median block size; give dt to fix it"
                 ));
                 (cap, Some(cap))
             }
@@ -600,6 +604,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             break trial;
         };
+        // What the automatic step bounds, read before the blocks move.
+        let motion =
+            (self.dt_cap.is_some()).then(|| self.step_motion(&trial, &split::<N>(&trial.d)));
         let committing = Instant::now();
         self.commit(trial, dt);
         self.stats.times.commit += committing.elapsed();
@@ -609,8 +616,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // The automatic step: as long as keeps the motion per step
             // within its share of the block size, never above the ceiling.
             let target = AUTO_MOTION_SHARE * self.block_size;
-            let allowed = if moved_by > 0.0 {
-                dt * target / moved_by
+            let motion = motion.unwrap_or(moved_by);
+            let allowed = if motion > 0.0 {
+                dt * target / motion
             } else {
                 cap
             };

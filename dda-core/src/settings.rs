@@ -16,10 +16,12 @@ macro_rules! with_settings {
         $crate::with_settings! { @declare $(#[$meta])* $name { $($own)* }
             /// Nominal time step, s; default `None`: automatic. Under gravity
             /// with the implicit integrator the step then follows the motion,
-            /// as long as keeps every block's points moving less than 2.5e-4 of
-            /// the median block size a step, at most 1/20 of sqrt(block size /
-            /// g) (a wall at rest steps at that ceiling, a rocking column at
-            /// about a millisecond); without gravity, 0.2·sqrt(lightest block
+            /// as long as keeps each contact's relative motion, each block's
+            /// points' motion against each other, and a block in flight's
+            /// whole motion below 2.5e-4 of the median block size a step, at
+            /// most 1/20 of sqrt(block size / g) (a wall at rest or ringing
+            /// steps at that ceiling, a rocking column at about a
+            /// millisecond); without gravity, 0.2·sqrt(lightest block
             /// mass / penalty), which resolves contact oscillations.
             dt: Option<f64> = None,
             /// Smallest time step as a fraction of the nominal one, the floor

@@ -156,6 +156,17 @@ pub trait BlockSystem<const N: usize, const T: usize>: Send + Sync {
     /// Largest displacement of any boundary point for step displacements `d`.
     fn max_displacement(&self, d: &[BlockVector<N>]) -> f64;
 
+    /// Largest motion of a block's boundary points against each other (its
+    /// turn and strain) for step displacements `d`, or a bound on it: twice
+    /// the largest about its centroid, which a rectangle turning about a
+    /// corner (a rocking column's pivot) reaches. For a block with
+    /// `whole[i]` set, its points' whole displacement instead. The
+    /// automatic step bounds it; the default counts every block whole.
+    fn max_own_motion(&self, d: &[BlockVector<N>], whole: &[bool]) -> f64 {
+        let _ = whole;
+        self.max_displacement(d)
+    }
+
     /// Potential energy of the blocks (gravity, strain, fixed-point
     /// springs), or `None` when loads or moving supports do work on them, so
     /// the driver's energy check does not apply.
