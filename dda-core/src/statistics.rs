@@ -50,6 +50,11 @@ pub struct Statistics {
     /// among them: a large factor preconditions several such moves.
     pub whole_tangent_moves: usize,
     pub whole_tangent_factorizations: usize,
+    /// GMRES's products in the moves that take friction's coupling to the
+    /// normal force in: each one a product with the matrix and a solve on
+    /// the factor, what such a move costs.
+    #[serde(default)]
+    pub whole_tangent_products: usize,
     /// Open-close passes that moved on the factor at hand with the
     /// springs changed since it was made as rank-one terms, instead of a
     /// new factorisation.

@@ -90,6 +90,13 @@ pub struct PerStep {
     pub newton_per_step: f64,
     pub factorizations_per_step: f64,
     pub analyses_per_step: f64,
+    /// Newton-Raphson moves on the whole tangent (friction's coupling to
+    /// the normal force taken in), GMRES's products in them (each a
+    /// product with the matrix and a solve on the factor) and the
+    /// factorizations among them, per step.
+    pub whole_tangent_moves_per_step: f64,
+    pub whole_tangent_products_per_step: f64,
+    pub whole_tangent_factorizations_per_step: f64,
     /// Milliseconds per step in each phase, in step order, then `other`:
     /// the rest of the driver's step (each attempt's setup, the checks of
     /// its motion and penetration, impacts), so the phases add up to it.
@@ -106,6 +113,9 @@ impl PerStep {
             newton_per_step: per_step(stats.newton_iterations),
             factorizations_per_step: per_step(stats.factorizations),
             analyses_per_step: per_step(stats.symbolic_analyses),
+            whole_tangent_moves_per_step: per_step(stats.whole_tangent_moves),
+            whole_tangent_products_per_step: per_step(stats.whole_tangent_products),
+            whole_tangent_factorizations_per_step: per_step(stats.whole_tangent_factorizations),
             phase_ms_per_step: phase_ms_per_step(stats, steps),
         }
     }
@@ -237,6 +247,7 @@ fn difference(after: &Statistics, before: &Statistics) -> Statistics {
         whole_tangent_moves: after.whole_tangent_moves - before.whole_tangent_moves,
         whole_tangent_factorizations: after.whole_tangent_factorizations
             - before.whole_tangent_factorizations,
+        whole_tangent_products: after.whole_tangent_products - before.whole_tangent_products,
         symbolic_analyses: after.symbolic_analyses - before.symbolic_analyses,
         open_close_cuts: after.open_close_cuts - before.open_close_cuts,
         displacement_cuts: after.displacement_cuts - before.displacement_cuts,
@@ -331,6 +342,30 @@ fn bench_one(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The whole-tangent moves, their products and factorisations since
+    /// the untimed step, per timed step.
+    #[test]
+    fn whole_tangent_work_is_counted_per_timed_step() {
+        let before = Statistics {
+            steps: 1,
+            whole_tangent_moves: 2,
+            whole_tangent_products: 9,
+            whole_tangent_factorizations: 1,
+            ..Statistics::default()
+        };
+        let after = Statistics {
+            steps: 5,
+            whole_tangent_moves: 8,
+            whole_tangent_products: 39,
+            whole_tangent_factorizations: 3,
+            ..Statistics::default()
+        };
+        let work = PerStep::of(&difference(&after, &before));
+        assert_eq!(work.whole_tangent_moves_per_step, 1.5);
+        assert_eq!(work.whole_tangent_products_per_step, 7.5);
+        assert_eq!(work.whole_tangent_factorizations_per_step, 0.5);
+    }
 
     /// Timed steps' statistics keep their own wall time, and the phases
     /// with `other` add up to it: 2 steps in 10 ms, 4 ms of them named.

@@ -72,6 +72,23 @@ fn print_phases(rows: &[(String, &PerStep)], dt_column: bool) {
             .collect();
         println!("{label} {cells}");
     }
+    // What the solve phase holds where sliding contacts couple friction
+    // to the normal force: each product is a solve on the factor.
+    if rows
+        .iter()
+        .any(|(_, p)| p.whole_tangent_moves_per_step > 0.0)
+    {
+        println!("moves on the whole tangent (friction coupled to the normal force), per step (median run):");
+        println!("{head} {:>9} {:>9} {:>9}", "moves", "products", "factor.");
+        for (label, p) in rows {
+            println!(
+                "{label} {:>9.2} {:>9.2} {:>9.2}",
+                p.whole_tangent_moves_per_step,
+                p.whole_tangent_products_per_step,
+                p.whole_tangent_factorizations_per_step
+            );
+        }
+    }
 }
 
 /// The simulated-time table.

@@ -591,7 +591,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 self.stats.whole_tangent_moves += 1;
             }
             if !couplings.is_empty() {
-                precondition = self.correct(&couplings, &mut residual, preconditioned);
+                let products;
+                (precondition, products) = self.correct(&couplings, &mut residual, preconditioned);
+                self.stats.whole_tangent_products += products;
             }
             self.stats.times.solve += solving.elapsed();
             self.stats.count_solves(self.solver.take_counts());
@@ -658,8 +660,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// `SMW_COUPLINGS` couplings, by GMRES on x + K⁻¹U S Vᵀx = y, or, where
     /// `preconditioned`, on F⁻¹(K + U S Vᵀ)x = y with y = F⁻¹r, F the
     /// factor at hand solved in single precision. Returns whether the
-    /// factor may serve the next move (`PRECONDITIONED_PRODUCTS`).
-    fn correct(&self, couplings: &[RankOne<N>], y: &mut [f64], preconditioned: bool) -> bool {
+    /// factor may serve the next move (`PRECONDITIONED_PRODUCTS`), and
+    /// GMRES's products.
+    fn correct(
+        &self,
+        couplings: &[RankOne<N>],
+        y: &mut [f64],
+        preconditioned: bool,
+    ) -> (bool, usize) {
         // out += Σ sⱼuⱼ(vⱼᵀv).
         let couple = |v: &[f64], out: &mut [f64]| {
             for c in couplings {
@@ -678,11 +686,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             };
             let rhs = y.to_vec();
             let solved = gmres::gmres(apply, &rhs, y, PRECONDITIONED_TOLERANCE, 60);
-            return solved && products <= PRECONDITIONED_PRODUCTS;
+            return (solved && products <= PRECONDITIONED_PRODUCTS, products);
         }
         if couplings.len() > SMW_COUPLINGS {
             // x + K⁻¹Σ sⱼuⱼ(vⱼᵀx) = y, from x = y.
+            let mut products = 0;
             let apply = |v: &[f64], out: &mut [f64]| {
+                products += 1;
                 out.iter_mut().for_each(|o| *o = 0.0);
                 couple(v, out);
                 self.solver.solve(out);
@@ -692,10 +702,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             };
             let rhs = y.to_vec();
             gmres::gmres(apply, &rhs, y, 1e-6, 60);
-            return true;
+            return (true, products);
         }
         Woodbury::new(couplings.to_vec(), &self.matrix, &*self.solver).apply(&self.matrix, y);
-        true
+        (true, 0)
     }
 
     /// Whether any contact's decision at the trial would change its state
