@@ -119,8 +119,15 @@ const RISES_BEFORE_WHOLE_TANGENT: usize = 3;
 /// every such move, the 70 × 70 deformable wall's first 0.1 s at its
 /// automatic step made 150 factorisations in 214 of them; with this, 9 in
 /// 258 (2,735 products), 471–496 ms a step against 655–673. A limit of 10
-/// made 36 (507 ms), one of 40 made 2, with 3,314 products (512 ms).
-const PRECONDITIONED_PRODUCTS: usize = 20;
+/// made 36 (507 ms), one of 40 made 2, with 3,314 products (512 ms). With
+/// the walls stepping at their 9.5 ms ceiling, 10 against 20 (three
+/// rounds alternating, first 0.1 s): 70 × 70 deformable 378 → 269
+/// products, 16 → 17 factorisations, 4.78, 4.72, 5.25 → 4.46, 4.57, 4.45
+/// s; 100 × 100 891 → 591 products, 16 → 24 factorisations, 19.1, 18.1,
+/// 19.2 → 17.2, 19.1, 17.6 s; the 70 × 70 at dt 2.3 and 1 ms (two rounds)
+/// 36.8, 40.5 → 35.7, 30.2 s and 48.9, 60.8 → 47.8, 58.3 s. At 40, the
+/// 100 × 100 wall took 1,275 products and 24.4 s.
+const PRECONDITIONED_PRODUCTS: usize = 10;
 
 /// GMRES's relative tolerance for such a move: an inexact Newton move, as
 /// the pass's residual, not the move, decides convergence. At 1e-6 the
