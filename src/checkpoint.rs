@@ -96,8 +96,13 @@ impl Checkpoint {
                 path.display()
             );
         }
+        // A build of the same version whose saved state changed shape
+        // reads it no better than a damaged file.
         postcard::from_bytes(body).map_err(|e| {
-            anyhow::anyhow!("{} is damaged ({e}); run the scene again", path.display())
+            anyhow::anyhow!(
+                "{} is damaged or was written by another build of dda {ours} ({e}); run the scene again",
+                path.display()
+            )
         })
     }
 

@@ -205,6 +205,9 @@ fn a_torn_checkpoint_leaves_the_previous_one() {
     std::fs::write(out.join("checkpoint.bin"), &good[..good.len() / 2]).unwrap();
     let stderr = refused(&["run", "--resume", out.to_str().unwrap()]);
     assert!(stderr.contains("checkpoint.bin is damaged"), "{stderr}");
+    // Another build of the same version whose saved state changed shape
+    // fails the same way, and the message says so.
+    assert!(stderr.contains("another build of dda"), "{stderr}");
 }
 
 /// A checkpoint of another version, or of a scene changed since, is
