@@ -62,6 +62,9 @@ pub struct Statistics {
     /// Open-close passes ended before their tolerance because a contact's
     /// decision read on the way would change (`EARLY_DECISION`).
     pub early_decisions: usize,
+    /// Those among them ended in their moves on the whole tangent.
+    #[serde(default)]
+    pub whole_tangent_early_decisions: usize,
     /// Accepted steps that ended with a penetration deeper than the limit.
     pub deep_penetration_steps: usize,
     /// The deepest penetration of any accepted step.
