@@ -8,9 +8,16 @@
 /// Krylov vectors kept before a restart.
 const RESTART: usize = 30;
 
-/// Solves A x = b for `apply(v, out)`: out = A v, from the start in `x`,
-/// until ‖b − A x‖ ≤ `tolerance`·‖b‖ or `limit` products; returns whether
-/// it got there (`x` holds the last iterate either way).
+/// Solves A x = b for `apply(v, out)`: out = A v, from x = 0, until
+/// ‖b − A x‖ ≤ `tolerance`·‖b‖ or `limit` products; returns whether it got
+/// there (`x` holds the last iterate either way).
+///
+/// From zero the first Krylov vector is b itself, so k products search all
+/// of span{b, …, Aᵏ⁻¹b}; from a guess x₀ = b (as a pass's first version
+/// did), one product goes to its residual and the rest search a smaller
+/// space. A cycle that ends on the tolerance returns on the rotated
+/// right-hand side's last entry, which is that residual's norm, without a
+/// product to read it again; only a restart reads the true residual.
 pub(super) fn gmres(
     mut apply: impl FnMut(&[f64], &mut [f64]),
     b: &[f64],
@@ -22,12 +29,11 @@ pub(super) fn gmres(
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     let target = tolerance * norm(b);
+    x.iter_mut().for_each(|v| *v = 0.0);
     let mut products = 0;
     let mut w = vec![0.0; n];
+    let mut r = b.to_vec();
     loop {
-        apply(x, &mut w);
-        products += 1;
-        let r: Vec<f64> = b.iter().zip(&w).map(|(b, w)| b - w).collect();
         let beta = norm(&r);
         if beta <= target {
             return true;
@@ -73,8 +79,8 @@ pub(super) fn gmres(
             g.push(-s * g[j]);
             g[j] *= c;
             h.push(column);
-            let done = g[j + 1].abs() <= target || products >= limit || next.is_empty();
-            if done || j + 1 == RESTART {
+            let reached = g[j + 1].abs() <= target || next.is_empty();
+            if reached || products >= limit || j + 1 == RESTART {
                 // Back substitution for the coefficients, then the update.
                 let k = h.len();
                 let mut y = vec![0.0; k];
@@ -87,9 +93,18 @@ pub(super) fn gmres(
                         *x += y * v;
                     }
                 }
+                if reached || products >= limit {
+                    return reached;
+                }
                 break;
             }
             basis.push(next);
+        }
+        // A restart: the true residual, read with one product.
+        apply(x, &mut w);
+        products += 1;
+        for ((r, b), w) in r.iter_mut().zip(b).zip(&w) {
+            *r = b - w;
         }
     }
 }
@@ -124,6 +139,36 @@ mod tests {
             .unwrap();
         let error = (DVector::from_column_slice(&x) - &exact).norm() / exact.norm();
         assert!(error < 1e-10, "{error}");
+    }
+
+    /// The identity plus r rank-one terms has a minimal polynomial of
+    /// degree at most r + 1, so from zero GMRES needs that many products
+    /// and no more: none goes to a starting residual or to reading the
+    /// last one again (a start from b took two more). The rotated
+    /// residual it stops on is the true one.
+    #[test]
+    fn needs_no_product_beyond_the_krylov_space() {
+        let (n, rank) = (60, 4);
+        let mut a = DMatrix::<f64>::identity(n, n);
+        for j in 0..rank {
+            let u = DVector::from_fn(n, |i, _| ((i * (j + 3)) % 11) as f64 - 5.0);
+            let v = DVector::from_fn(n, |i, _| ((2 * i + j) % 7) as f64 * 0.02);
+            a += &u * v.transpose() * 0.1;
+        }
+        let b: Vec<f64> = (0..n).map(|i| (0.3 * i as f64).cos() + 0.1).collect();
+        let mut x = vec![1.0; n];
+        let mut products = 0;
+        let apply = |v: &[f64], out: &mut [f64]| {
+            products += 1;
+            let r = &a * DVector::from_column_slice(v);
+            out.copy_from_slice(r.as_slice());
+        };
+        let tolerance = 1e-10;
+        assert!(gmres(apply, &b, &mut x, tolerance, 100));
+        assert!(products <= rank + 1, "{products} products");
+        let b = DVector::from_column_slice(&b);
+        let r = &b - &a * DVector::from_column_slice(&x);
+        assert!(r.norm() <= tolerance * b.norm(), "{}", r.norm() / b.norm());
     }
 
     /// Restarts carry on from the last iterate: a system needing more
