@@ -345,7 +345,8 @@ fn a_large_factor_preconditions_whole_tangent_moves() {
     // a pass to the whole tangent; 10 in 56 since GMRES starts from zero
     // and a factor whose own move needed many products serves while they
     // at most double (27 in 66 with GMRES from zero alone: fresh factors'
-    // moves needed 12–15 products here). The small one 43 in 59.
+    // moves needed 12–15 products here); 7 in 54 since GMRES's tolerance
+    // follows the residual's fall (`forcing`). The small one 43 in 59.
     assert!(small.whole_tangent_factorizations * 3 > small.whole_tangent_moves);
     assert!(
         large.whole_tangent_factorizations * 3 <= large.whole_tangent_moves,
@@ -356,10 +357,12 @@ fn a_large_factor_preconditions_whole_tangent_moves() {
     assert!(large.newton_failures <= small.newton_failures);
     assert!(gap < 1e-7, "centroids {gap} m apart");
     // A move with more couplings than the Woodbury formula takes is
-    // GMRES's, of at most 60 products (measured 626 in 56 moves).
+    // GMRES's, to a tolerance that loosens while the line search keeps
+    // short shares: measured 199 products in 54 moves (3.7 a move), 626
+    // in 56 (11.2) with every move to 1e-3.
     assert!(
         large.whole_tangent_products > 0
-            && large.whole_tangent_products <= 60 * large.whole_tangent_moves,
+            && large.whole_tangent_products <= 6 * large.whole_tangent_moves,
         "{} products in {} moves",
         large.whole_tangent_products,
         large.whole_tangent_moves

@@ -142,11 +142,31 @@ const RISES_BEFORE_WHOLE_TANGENT: usize = 1;
 /// whole-tangent moves; twice, 10 in 56.
 const PRECONDITIONED_PRODUCTS: usize = 10;
 
-/// GMRES's relative tolerance for such a move: an inexact Newton move, as
-/// the pass's residual, not the move, decides convergence. At 1e-6 the
-/// same wall made 219 such moves, 3,233 products and 33 factorisations,
-/// 513–531 ms a step.
+/// GMRES's relative tolerance for such a move, at its tightest: an
+/// inexact Newton move, as the pass's residual, not the move, decides
+/// convergence. At 1e-6 the same wall made 219 such moves, 3,233 products
+/// and 33 factorisations, 513–531 ms a step. Later moves of a pass take
+/// `forcing`'s.
 const PRECONDITIONED_TOLERANCE: f64 = 1e-3;
+
+/// GMRES's relative tolerance at its loosest (`forcing`).
+const LOOSEST_FORCING: f64 = 0.1;
+
+/// GMRES's relative tolerance for a pass's whole-tangent move, from how
+/// far the last one lowered the residual (Eisenstat and Walker 1996, their
+/// second choice, 0.9 (‖Fₖ‖/‖Fₖ₋₁‖)²): while the line search keeps
+/// short shares of each move the residual falls slowly and a rough
+/// direction serves as well; as Newton's moves take hold the tolerance
+/// tightens to `PRECONDITIONED_TOLERANCE`. A pass's first move has no
+/// last one and takes the tightest.
+fn forcing(norm: f64, last: Option<f64>) -> f64 {
+    match last {
+        Some(last) if last > 0.0 => {
+            (0.9 * (norm / last).powi(2)).clamp(PRECONDITIONED_TOLERANCE, LOOSEST_FORCING)
+        }
+        _ => PRECONDITIONED_TOLERANCE,
+    }
+}
 
 /// A later pass on a large factor moves on it with at most this many
 /// rank-one terms for the springs that changed since it was made
@@ -385,6 +405,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // The products of the first such move on the pass's own factor
         // (`PRECONDITIONED_PRODUCTS`).
         let mut fresh_products = 0;
+        // The residual at the pass's last whole-tangent move (`forcing`).
+        let mut coupled_norm = None;
         // Whether the pass runs on an earlier step's factor (until it
         // factorises anew).
         let mut carried = false;
@@ -620,7 +642,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 self.stats.whole_tangent_moves += 1;
             }
             if !couplings.is_empty() {
-                let (solved, products) = self.correct(&couplings, &mut residual, preconditioned);
+                let tolerance = forcing(norm, coupled_norm);
+                coupled_norm = Some(norm);
+                let (solved, products) =
+                    self.correct(&couplings, &mut residual, preconditioned, tolerance);
                 self.stats.whole_tangent_products += products;
                 if refresh {
                     fresh_products = products;
@@ -692,13 +717,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// K + Σ sⱼ uⱼvⱼᵀ: x = y − Z (I + S VᵀZ)⁻¹ S Vᵀy, with Z = K⁻¹U; beyond
     /// `SMW_COUPLINGS` couplings, by GMRES on x + K⁻¹U S Vᵀx = y, or, where
     /// `preconditioned`, on F⁻¹(K + U S Vᵀ)x = y with y = F⁻¹r, F the
-    /// factor at hand solved in single precision. Returns whether GMRES
+    /// factor at hand solved in single precision, to `tolerance`. Returns whether GMRES
     /// reached its tolerance, and its products.
     fn correct(
         &self,
         couplings: &[RankOne<N>],
         y: &mut [f64],
         preconditioned: bool,
+        tolerance: f64,
     ) -> (bool, usize) {
         // out += Σ sⱼuⱼ(vⱼᵀv).
         let couple = |v: &[f64], out: &mut [f64]| {
@@ -717,7 +743,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 self.solver.solve_correction(out);
             };
             let rhs = y.to_vec();
-            let solved = gmres::gmres(apply, &rhs, y, PRECONDITIONED_TOLERANCE, 60);
+            let solved = gmres::gmres(apply, &rhs, y, tolerance, 60);
             return (solved, products);
         }
         if couplings.len() > SMW_COUPLINGS {
@@ -875,5 +901,22 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             self.factored = Some(std::mem::replace(&mut self.values, spare));
         }
         Ok(change.is_none_or(|c| c.largest == 0.0))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tolerance follows the residual's last fall, squared, between
+    /// its bounds: a pass's first move and a fast fall take the tightest,
+    /// a slow fall the loosest.
+    #[test]
+    fn forcing_follows_the_residuals_fall() {
+        assert_eq!(forcing(1.0, None), PRECONDITIONED_TOLERANCE);
+        assert_eq!(forcing(1e-3, Some(1.0)), PRECONDITIONED_TOLERANCE);
+        assert_eq!(forcing(0.9, Some(1.0)), LOOSEST_FORCING);
+        assert!((forcing(0.2, Some(1.0)) - 0.036).abs() < 1e-15);
+        assert_eq!(forcing(1.0, Some(0.0)), PRECONDITIONED_TOLERANCE);
     }
 }
