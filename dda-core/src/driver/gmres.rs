@@ -13,11 +13,11 @@ const RESTART: usize = 30;
 /// there (`x` holds the last iterate either way).
 ///
 /// From zero the first Krylov vector is b itself, so k products search all
-/// of span{b, …, Aᵏ⁻¹b}; from a guess x₀ = b (as a pass's first version
-/// did), one product goes to its residual and the rest search a smaller
-/// space. A cycle that ends on the tolerance returns on the rotated
-/// right-hand side's last entry, which is that residual's norm, without a
-/// product to read it again; only a restart reads the true residual.
+/// of span{b, …, Aᵏ⁻¹b}; a start from a guess spends one on the guess's
+/// residual and searches a smaller space with the rest. A cycle that ends
+/// on the tolerance returns on the rotated right-hand side's last entry,
+/// which is that residual's norm, without a product to read it again; only
+/// a restart reads the true residual.
 pub(super) fn gmres(
     mut apply: impl FnMut(&[f64], &mut [f64]),
     b: &[f64],

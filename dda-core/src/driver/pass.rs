@@ -717,8 +717,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// K + Σ sⱼ uⱼvⱼᵀ: x = y − Z (I + S VᵀZ)⁻¹ S Vᵀy, with Z = K⁻¹U; beyond
     /// `SMW_COUPLINGS` couplings, by GMRES on x + K⁻¹U S Vᵀx = y, or, where
     /// `preconditioned`, on F⁻¹(K + U S Vᵀ)x = y with y = F⁻¹r, F the
-    /// factor at hand solved in single precision, to `tolerance`. Returns whether GMRES
-    /// reached its tolerance, and its products.
+    /// factor at hand solved in single precision, to `tolerance`. Returns
+    /// whether GMRES reached its tolerance, and its products.
     fn correct(
         &self,
         couplings: &[RankOne<N>],
