@@ -330,6 +330,33 @@ fn a_wall_at_a_fine_contact_tolerance_solves_passes_with_many_sliding_contacts()
     assert!(stats.coupled_solves > 0, "{stats:?}");
 }
 
+/// The 40 × 40 deformable wall at dt 1 ms and its automatic penalty, to
+/// its 25th step: its first whole-tangent pass (step 23), on its large
+/// factor, ends with moves that need lower the residual by a few times
+/// at most to reach the pass's tolerance, and GMRES solves them only so
+/// far (`forcing`). Measured: 3 whole-tangent moves, 26 products; 35
+/// with each such move solved to 1e-3 of its right-hand side.
+#[test]
+fn a_whole_tangent_move_near_the_tolerance_is_solved_only_as_far_as_it_needs() {
+    let scene = dda::bench::wall(40, 2, Stepping::Given(1e-3), BlockKind::Deformable).unwrap();
+    let mut model = scene.build().unwrap();
+    let driver = &mut model.driver;
+    driver.advance_to(0.025 - 1e-9).unwrap();
+    let stats = driver.statistics();
+    println!(
+        "{} steps, {} whole-tangent moves, {} GMRES products",
+        stats.steps, stats.whole_tangent_moves, stats.whole_tangent_products
+    );
+    assert_eq!(stats.steps, 25);
+    assert_eq!(stats.open_close_cuts + stats.unconverged_steps, 0);
+    assert!(stats.whole_tangent_moves >= 3, "{stats:?}");
+    assert!(
+        stats.whole_tangent_products <= 30,
+        "{} products",
+        stats.whole_tangent_products
+    );
+}
+
 /// The 10 × 10 rigid wall standing at dt 1 ms with its automatic penalty,
 /// from its 200th step to its 400th: its matrix changes by round-off from
 /// step to step (1e-19 to 1e-11 of its largest value), and the factor at

@@ -158,14 +158,18 @@ const LOOSEST_FORCING: f64 = 0.1;
 /// short shares of each move the residual falls slowly and a rough
 /// direction serves as well; as Newton's moves take hold the tolerance
 /// tightens to `PRECONDITIONED_TOLERANCE`. A pass's first move has no
-/// last one and takes the tightest.
-fn forcing(norm: f64, last: Option<f64>) -> f64 {
-    match last {
-        Some(last) if last > 0.0 => {
-            (0.9 * (norm / last).powi(2)).clamp(PRECONDITIONED_TOLERANCE, LOOSEST_FORCING)
-        }
-        _ => PRECONDITIONED_TOLERANCE,
-    }
+/// last one and takes the tightest. Near `target`, the residual at which
+/// the pass converges, a move need only lower the residual to it: the
+/// tolerance is at least half of `target` over the residual (Kelley's
+/// safeguard against solving beyond the pass's own tolerance). On the
+/// 70 × 70 deformable wall at its automatic step, a last move that had
+/// to lower the residual by a third took 10 products to 1e-3 and 4 so.
+fn forcing(norm: f64, last: Option<f64>, target: f64) -> f64 {
+    let fall = match last {
+        Some(last) if last > 0.0 => 0.9 * (norm / last).powi(2),
+        _ => 0.0,
+    };
+    (fall.max(0.5 * target / norm)).clamp(PRECONDITIONED_TOLERANCE, LOOSEST_FORCING)
 }
 
 /// A later pass on a large factor moves on it with at most this many
@@ -642,7 +646,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 self.stats.whole_tangent_moves += 1;
             }
             if !couplings.is_empty() {
-                let tolerance = forcing(norm, coupled_norm);
+                let target = self.settings.residual_tolerance * first;
+                let tolerance = forcing(norm, coupled_norm, target);
                 coupled_norm = Some(norm);
                 let (solved, products) =
                     self.correct(&couplings, &mut residual, preconditioned, tolerance);
@@ -910,13 +915,23 @@ mod tests {
 
     /// The tolerance follows the residual's last fall, squared, between
     /// its bounds: a pass's first move and a fast fall take the tightest,
-    /// a slow fall the loosest.
+    /// a slow fall the loosest. Far from the pass's target it is read off
+    /// the fall alone; near it, a move need only reach the target.
     #[test]
     fn forcing_follows_the_residuals_fall() {
-        assert_eq!(forcing(1.0, None), PRECONDITIONED_TOLERANCE);
-        assert_eq!(forcing(1e-3, Some(1.0)), PRECONDITIONED_TOLERANCE);
-        assert_eq!(forcing(0.9, Some(1.0)), LOOSEST_FORCING);
-        assert!((forcing(0.2, Some(1.0)) - 0.036).abs() < 1e-15);
-        assert_eq!(forcing(1.0, Some(0.0)), PRECONDITIONED_TOLERANCE);
+        let far = 1e-12;
+        assert_eq!(forcing(1.0, None, far), PRECONDITIONED_TOLERANCE);
+        assert_eq!(forcing(1e-3, Some(1.0), far), PRECONDITIONED_TOLERANCE);
+        assert_eq!(forcing(0.9, Some(1.0), far), LOOSEST_FORCING);
+        assert!((forcing(0.2, Some(1.0), far) - 0.036).abs() < 1e-15);
+        assert_eq!(forcing(1.0, Some(0.0), far), PRECONDITIONED_TOLERANCE);
+        // A residual four times its target: the move need lower it by
+        // four, not by a thousand (half of a quarter, held at the loosest).
+        assert_eq!(forcing(4e-9, Some(1e-6), 1e-9), LOOSEST_FORCING);
+        assert_eq!(forcing(4e-9, None, 1e-9), LOOSEST_FORCING);
+        // Twenty times: half of a twentieth.
+        assert!((forcing(2e-8, Some(1e-6), 1e-9) - 0.025).abs() < 1e-15);
+        // Far above it, the fall's.
+        assert_eq!(forcing(1e-5, Some(1e-2), 1e-9), PRECONDITIONED_TOLERANCE);
     }
 }
