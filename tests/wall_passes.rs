@@ -332,9 +332,9 @@ fn a_wall_at_a_fine_contact_tolerance_solves_passes_with_many_sliding_contacts()
 
 /// The 40 × 40 deformable wall at dt 1 ms and its automatic penalty, to
 /// its 25th step: its first whole-tangent pass (step 23), on its large
-/// factor, ends with moves that need lower the residual by a few times
-/// at most to reach the pass's tolerance, and GMRES solves them only so
-/// far (`forcing`). Measured: 3 whole-tangent moves, 26 products; 35
+/// factor, ends with moves that need only lower the residual a few times
+/// to reach the pass's tolerance, and GMRES solves them only so far
+/// (`forcing`). Measured: 3 whole-tangent moves, 26 products; 35
 /// with each such move solved to 1e-3 of its right-hand side.
 #[test]
 fn a_whole_tangent_move_near_the_tolerance_is_solved_only_as_far_as_it_needs() {

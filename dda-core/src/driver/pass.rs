@@ -163,7 +163,7 @@ const LOOSEST_FORCING: f64 = 0.1;
 /// tolerance is at least half of `target` over the residual (Kelley's
 /// safeguard against solving beyond the pass's own tolerance). On the
 /// 70 × 70 deformable wall at its automatic step, a last move that had
-/// to lower the residual by a third took 10 products to 1e-3 and 4 so.
+/// to lower the residual 3.5 times took 10 products to 1e-3 and 4 so.
 fn forcing(norm: f64, last: Option<f64>, target: f64) -> f64 {
     let fall = match last {
         Some(last) if last > 0.0 => 0.9 * (norm / last).powi(2),
