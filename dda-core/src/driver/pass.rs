@@ -159,7 +159,7 @@ const LOOSEST_FORCING: f64 = 0.1;
 /// direction serves as well; as Newton's moves take hold the tolerance
 /// tightens to `PRECONDITIONED_TOLERANCE`. A pass's first move has no
 /// last one and takes the tightest. Near `target`, the residual at which
-/// the pass converges, a move need only lower the residual to it: the
+/// the pass converges, any move need only lower the residual to it: the
 /// tolerance is at least half of `target` over the residual (Kelley's
 /// safeguard against solving beyond the pass's own tolerance). On the
 /// 70 × 70 deformable wall at its automatic step, a last move that had
