@@ -628,4 +628,45 @@ mod tests {
         }
         assert_eq!(correction, solved(0, 1, true).0);
     }
+
+    /// The top's widest supernodes, their rows shared between the cores
+    /// and their triangles halved, solve as one core does unsplit.
+    #[test]
+    fn shared_top_supernodes_agree_with_one_core() {
+        // The top separator: 48 blocks of 6 unknowns, 288 columns.
+        let (pattern, values) = grid(48, 6);
+        let b: Vec<f64> = (0..pattern.dim).map(|i| (i as f64 * 0.37).cos()).collect();
+        let solved = |split_from: usize, threads: usize, correction: bool| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let s = factored(&pattern, &values, split_from);
+                let shared = s
+                    .split_parts()
+                    .map(|(split, tree, _, _)| split.shared(tree));
+                let mut x = b.clone();
+                if correction {
+                    s.solve_correction(&mut x);
+                } else {
+                    s.solve(&mut x);
+                }
+                (x, shared)
+            })
+        };
+        let (expected, _) = solved(usize::MAX, 2, false);
+        let largest = expected.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let (exact, shared) = solved(0, 2, false);
+        assert!(shared.is_some_and(|s| s >= 1), "{shared:?}");
+        for (x, y) in exact.iter().zip(&expected) {
+            assert!((x - y).abs() <= 1e-13 * largest, "{x} against {y}");
+        }
+        assert_eq!(exact, solved(0, 1, false).0);
+        let (correction, _) = solved(0, 2, true);
+        for (x, y) in correction.iter().zip(&expected) {
+            assert!((x - y).abs() <= 1e-5 * largest, "{x} against {y}");
+        }
+        assert_eq!(correction, solved(0, 1, true).0);
+    }
 }

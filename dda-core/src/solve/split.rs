@@ -22,6 +22,15 @@ const OPENINGS: usize = 1024;
 /// this share of the factor.
 const SMALLEST_SHARE: f64 = 1.0 / 64.0;
 
+/// A top supernode of at least this many entries is swept on both cores,
+/// its rows shared between them: the top's widest (972 columns on the
+/// 10,051-block 2D wall, 1,944 in 3D) would otherwise hold one core idle.
+const SHARED_NODE_ENTRIES: usize = 1 << 15;
+
+/// A shared supernode's triangle is halved down to this width, the halves'
+/// products shared between the cores.
+const SHARED_TRIANGLE: usize = 128;
+
 /// Scalars of a substitution: `f64` for exact solves, `f32` for
 /// corrections.
 pub(crate) trait Scalar:
@@ -78,7 +87,7 @@ pub(crate) struct Split {
     cores: [Vec<Subtree>; 2],
     /// Supernodes in no subtree, children before parents.
     top: Vec<usize>,
-    /// The most rows below a supernode's diagonal block.
+    /// The most rows below a supernode's diagonal block, or columns in it.
     widest: usize,
     /// Factor entries read one after another (the top and the busier
     /// core's), as a share of all: the split solve's time against one
@@ -105,7 +114,7 @@ impl Split {
         let mut widest = 0;
         for s in 0..count {
             let width = end[s] - begin[s];
-            widest = widest.max(rows(s).len());
+            widest = widest.max(rows(s).len()).max(width);
             entries[s] += width * (width + rows(s).len());
             match rows(s).first() {
                 None => roots.push(s),
@@ -220,7 +229,7 @@ impl Split {
             end: n,
         };
         for &s in &self.top {
-            forward_node(factor, s, &mut all, &mut [], b0);
+            forward_shared(factor, s, &mut all, [&mut b0[..], &mut b1[..]]);
         }
         if let Some(between) = between {
             between(all.values);
@@ -228,7 +237,7 @@ impl Split {
         // Back: the top, then each core its subtrees, reading the top's
         // unknowns from a copy.
         for &s in self.top.iter().rev() {
-            back_node(factor, s, &mut all, &[], b0);
+            back_shared(factor, s, &mut all, [&mut b0[..], &mut b1[..]]);
         }
         work.top.clear();
         work.top.extend_from_slice(x);
@@ -256,6 +265,17 @@ impl Split {
     /// The supernodes in no subtree, children before parents.
     pub fn top(&self) -> &[usize] {
         &self.top
+    }
+
+    /// The top's supernodes swept on both cores (`SHARED_NODE_ENTRIES`).
+    #[cfg(test)]
+    pub fn shared(&self, symbolic: &SymbolicSupernodalCholesky<usize>) -> usize {
+        let (begin, end) = (symbolic.supernode_begin(), symbolic.supernode_end());
+        let entries =
+            |s: usize| (end[s] - begin[s]) * (end[s] - begin[s] + pattern(symbolic, s).len());
+        (self.top.iter())
+            .filter(|&&s| entries(s) >= SHARED_NODE_ENTRIES && end[s] - begin[s] > SHARED_TRIANGLE)
+            .count()
     }
 
     /// The factor's entries cut into each subtree's columns, by core: its
@@ -502,4 +522,122 @@ fn back_node<T: Scalar>(
         MatMut::from_column_major_slice_mut(x, width, 1),
         Par::Seq,
     );
+}
+
+/// `forward_node` on every unknown, with a large supernode's rows shared
+/// between the cores. `buffers`: each `widest` long.
+fn forward_shared<T: Scalar>(
+    factor: SupernodalLltRef<'_, usize, T>,
+    s: usize,
+    own: &mut Own<'_, T>,
+    [below, work]: [&mut [T]; 2],
+) {
+    let (diagonal, lower, rows, at) = supernode(factor, s, own);
+    if at.len() * (at.len() + rows.len()) < SHARED_NODE_ENTRIES {
+        return forward_node(factor, s, own, &mut [], below);
+    }
+    let x = &mut own.values[at];
+    lower_shared(diagonal, x, work);
+    let below = &mut below[..rows.len()];
+    product_shared(lower, x, below);
+    for (&r, v) in rows.iter().zip(below.iter()) {
+        own.values[r - own.offset] -= *v;
+    }
+}
+
+/// `back_node` on every unknown, with a large supernode's rows shared
+/// between the cores.
+fn back_shared<T: Scalar>(
+    factor: SupernodalLltRef<'_, usize, T>,
+    s: usize,
+    own: &mut Own<'_, T>,
+    [below, work]: [&mut [T]; 2],
+) {
+    let (diagonal, lower, rows, at) = supernode(factor, s, own);
+    if at.len() * (at.len() + rows.len()) < SHARED_NODE_ENTRIES {
+        return back_node(factor, s, own, &[], below);
+    }
+    let below = &mut below[..rows.len()];
+    for (v, &r) in below.iter_mut().zip(rows) {
+        *v = own.values[r - own.offset];
+    }
+    let x = &mut own.values[at];
+    subtract_transposed_shared(lower, below, x, work);
+    upper_shared(diagonal, x, work);
+}
+
+/// Solves L x = b in place (L lower triangular): the halves' triangles in
+/// turn, the product between them shared. `work`: half of L's width.
+fn lower_shared<T: Scalar>(l: MatRef<'_, T>, x: &mut [T], work: &mut [T]) {
+    let (width, half) = (l.nrows(), l.nrows() / 2);
+    if width <= SHARED_TRIANGLE {
+        let x = MatMut::from_column_major_slice_mut(x, width, 1);
+        return solve_lower_triangular_in_place(l, x, Par::Seq);
+    }
+    let (x1, x2) = x.split_at_mut(half);
+    lower_shared(l.submatrix(0, 0, half, half), x1, work);
+    let taken = &mut work[..width - half];
+    product_shared(l.submatrix(half, 0, width - half, half), x1, taken);
+    for (x, t) in x2.iter_mut().zip(taken.iter()) {
+        *x -= *t;
+    }
+    lower_shared(
+        l.submatrix(half, half, width - half, width - half),
+        x2,
+        work,
+    );
+}
+
+/// Solves Lᵀ x = b in place (L lower triangular), as `lower_shared`
+/// backwards. `work`: L's width.
+fn upper_shared<T: Scalar>(l: MatRef<'_, T>, x: &mut [T], work: &mut [T]) {
+    let (width, half) = (l.nrows(), l.nrows() / 2);
+    if width <= SHARED_TRIANGLE {
+        let x = MatMut::from_column_major_slice_mut(x, width, 1);
+        return solve_upper_triangular_in_place(l.transpose(), x, Par::Seq);
+    }
+    let (x1, x2) = x.split_at_mut(half);
+    upper_shared(
+        l.submatrix(half, half, width - half, width - half),
+        x2,
+        work,
+    );
+    subtract_transposed_shared(l.submatrix(half, 0, width - half, half), x2, x1, work);
+    upper_shared(l.submatrix(0, 0, half, half), x1, work);
+}
+
+/// y = A x, each core taking half of A's rows.
+fn product_shared<T: Scalar>(a: MatRef<'_, T>, x: &[T], y: &mut [T]) {
+    let half = a.nrows() / 2;
+    let (a1, a2) = a.split_at_row(half);
+    let (y1, y2) = y.split_at_mut(half);
+    let product = |a: MatRef<'_, T>, y: &mut [T]| {
+        let _flush = FlushSubnormals::on(T::FLUSH);
+        let y = MatMut::from_column_major_slice_mut(y, a.nrows(), 1);
+        let x = MatRef::from_column_major_slice(x, a.ncols(), 1);
+        matmul(y, Accum::Replace, a, x, T::one_impl(), Par::Seq);
+    };
+    rayon::join(|| product(a1, y1), || product(a2, y2));
+}
+
+/// x −= Aᵀ b, each core taking half of A's rows; the second half's sum,
+/// made in `work` (x's length), is taken last.
+fn subtract_transposed_shared<T: Scalar>(a: MatRef<'_, T>, b: &[T], x: &mut [T], work: &mut [T]) {
+    let half = a.nrows() / 2;
+    let (a1, a2) = a.split_at_row(half);
+    let (b1, b2) = b.split_at(half);
+    let sum = &mut work[..x.len()];
+    let product = |a: MatRef<'_, T>, b: &[T], y: &mut [T], accum: Accum, sign: T| {
+        let _flush = FlushSubnormals::on(T::FLUSH);
+        let y = MatMut::from_column_major_slice_mut(y, a.ncols(), 1);
+        let b = MatRef::from_column_major_slice(b, a.nrows(), 1);
+        matmul(y, accum, a.transpose(), b, sign, Par::Seq);
+    };
+    rayon::join(
+        || product(a1, b1, x, Accum::Add, -T::one_impl()),
+        || product(a2, b2, sum, Accum::Replace, T::one_impl()),
+    );
+    for (x, s) in x.iter_mut().zip(sum.iter()) {
+        *x -= *s;
+    }
 }
