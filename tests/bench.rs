@@ -112,6 +112,28 @@ fn a_study_is_timed_on_one_core_and_on_two() {
     }
 }
 
+/// A step runs on one core where its work is small (`ONE_CORE_WORK`).
+/// Before any contact is found the blocks stand for its work, so a large
+/// wall's first step (its whole search and first factorisation) runs on
+/// both cores; after a step the contacts decide.
+#[test]
+fn a_large_wall_steps_on_both_cores_from_its_first_step() {
+    for (n, one_core) in [(10, true), (60, false)] {
+        let mut model = wall_scene(n).build().unwrap();
+        assert_eq!(
+            model.driver.steps_on_one_core(),
+            one_core,
+            "{n} x {n}, first step"
+        );
+        model.driver.step(0.001).unwrap();
+        assert_eq!(
+            model.driver.steps_on_one_core(),
+            one_core,
+            "{n} x {n}, second step"
+        );
+    }
+}
+
 fn dda(args: &[&str]) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_dda"))
         .args(args)
