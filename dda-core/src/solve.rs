@@ -587,27 +587,39 @@ mod tests {
         }
     }
 
+    /// `b` solved on the grid `(pattern, values)` with the split from
+    /// `split_from` entries on, on `threads` cores, exactly or as a
+    /// correction; with what `read` reads off the solver.
+    fn solved_on<R: Send>(
+        (pattern, values): &(CscPattern, Vec<f64>),
+        b: &[f64],
+        (split_from, threads, correction): (usize, usize, bool),
+        read: impl Fn(&SparseCholesky) -> R + Send + Sync,
+    ) -> (Vec<f64>, R) {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let s = factored(pattern, values, split_from);
+            let mut x = b.to_vec();
+            if correction {
+                s.solve_correction(&mut x);
+            } else {
+                s.solve(&mut x);
+            }
+            (x, read(&s))
+        })
+    }
+
     #[test]
     fn split_substitutions_agree_with_one_core_and_on_any_number_of_cores() {
-        let (pattern, values) = grid(40, 3);
-        let b: Vec<f64> = (0..pattern.dim).map(|i| (i as f64 * 0.37).cos()).collect();
-        // Solved with the split from `split_from` entries on, on `threads`
-        // cores, exactly or as a correction; with the split's share.
+        let grid = grid(40, 3);
+        let b: Vec<f64> = (0..grid.0.dim).map(|i| (i as f64 * 0.37).cos()).collect();
+        // With the split's share.
         let solved = |split_from: usize, threads: usize, correction: bool| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
-                let s = factored(&pattern, &values, split_from);
-                let mut x = b.clone();
-                if correction {
-                    s.solve_correction(&mut x);
-                } else {
-                    s.solve(&mut x);
-                }
-                (x, s.split.map(|s| s.share))
-            })
+            let share = |s: &SparseCholesky| s.split.as_ref().map(|s| s.share);
+            solved_on(&grid, &b, (split_from, threads, correction), share)
         };
         let (expected, none) = solved(usize::MAX, 2, false);
         assert_eq!(none, None);
@@ -634,26 +646,14 @@ mod tests {
     #[test]
     fn shared_top_supernodes_agree_with_one_core() {
         // The top separator: 48 blocks of 6 unknowns, 288 columns.
-        let (pattern, values) = grid(48, 6);
-        let b: Vec<f64> = (0..pattern.dim).map(|i| (i as f64 * 0.37).cos()).collect();
+        let grid = grid(48, 6);
+        let b: Vec<f64> = (0..grid.0.dim).map(|i| (i as f64 * 0.37).cos()).collect();
+        // With the count of supernodes shared.
         let solved = |split_from: usize, threads: usize, correction: bool| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
-                let s = factored(&pattern, &values, split_from);
-                let shared = s
-                    .split_parts()
-                    .map(|(split, tree, _, _)| split.shared(tree));
-                let mut x = b.clone();
-                if correction {
-                    s.solve_correction(&mut x);
-                } else {
-                    s.solve(&mut x);
-                }
-                (x, shared)
-            })
+            let shared = |s: &SparseCholesky| {
+                (s.split_parts()).map(|(split, tree, _, _)| split.shared(tree))
+            };
+            solved_on(&grid, &b, (split_from, threads, correction), shared)
         };
         let (expected, _) = solved(usize::MAX, 2, false);
         let largest = expected.iter().fold(0.0_f64, |m, v| m.max(v.abs()));

@@ -229,7 +229,13 @@ impl Split {
             end: n,
         };
         for &s in &self.top {
-            forward_shared(factor, s, &mut all, [&mut b0[..], &mut b1[..]]);
+            top_node(
+                factor,
+                s,
+                &mut all,
+                [&mut b0[..], &mut b1[..]],
+                Sweep::Forward,
+            );
         }
         if let Some(between) = between {
             between(all.values);
@@ -237,7 +243,7 @@ impl Split {
         // Back: the top, then each core its subtrees, reading the top's
         // unknowns from a copy.
         for &s in self.top.iter().rev() {
-            back_shared(factor, s, &mut all, [&mut b0[..], &mut b1[..]]);
+            top_node(factor, s, &mut all, [&mut b0[..], &mut b1[..]], Sweep::Back);
         }
         work.top.clear();
         work.top.extend_from_slice(x);
@@ -524,46 +530,49 @@ fn back_node<T: Scalar>(
     );
 }
 
-/// `forward_node` on every unknown, with a large supernode's rows shared
-/// between the cores. `buffers`: each `widest` long.
-fn forward_shared<T: Scalar>(
-    factor: SupernodalLltRef<'_, usize, T>,
-    s: usize,
-    own: &mut Own<'_, T>,
-    [below, work]: [&mut [T]; 2],
-) {
-    let (diagonal, lower, rows, at) = supernode(factor, s, own);
-    if at.len() * (at.len() + rows.len()) < SHARED_NODE_ENTRIES {
-        return forward_node(factor, s, own, &mut [], below);
-    }
-    let x = &mut own.values[at];
-    lower_shared(diagonal, x, work);
-    let below = &mut below[..rows.len()];
-    product_shared(lower, x, below);
-    for (&r, v) in rows.iter().zip(below.iter()) {
-        own.values[r - own.offset] -= *v;
-    }
+/// Which substitution a top supernode takes part in.
+#[derive(Clone, Copy)]
+enum Sweep {
+    Forward,
+    Back,
 }
 
-/// `back_node` on every unknown, with a large supernode's rows shared
-/// between the cores.
-fn back_shared<T: Scalar>(
+/// Top supernode `s`'s part of a sweep over every unknown (`forward_node`
+/// or `back_node`), a large one's rows shared between the cores.
+/// `buffers`: each `widest` long.
+fn top_node<T: Scalar>(
     factor: SupernodalLltRef<'_, usize, T>,
     s: usize,
     own: &mut Own<'_, T>,
     [below, work]: [&mut [T]; 2],
+    sweep: Sweep,
 ) {
     let (diagonal, lower, rows, at) = supernode(factor, s, own);
     if at.len() * (at.len() + rows.len()) < SHARED_NODE_ENTRIES {
-        return back_node(factor, s, own, &[], below);
+        return match sweep {
+            Sweep::Forward => forward_node(factor, s, own, &mut [], below),
+            Sweep::Back => back_node(factor, s, own, &[], below),
+        };
     }
     let below = &mut below[..rows.len()];
-    for (v, &r) in below.iter_mut().zip(rows) {
-        *v = own.values[r - own.offset];
+    match sweep {
+        Sweep::Forward => {
+            let x = &mut own.values[at];
+            lower_shared(diagonal, x, work);
+            product_shared(lower, x, below);
+            for (&r, v) in rows.iter().zip(below.iter()) {
+                own.values[r - own.offset] -= *v;
+            }
+        }
+        Sweep::Back => {
+            for (v, &r) in below.iter_mut().zip(rows) {
+                *v = own.values[r - own.offset];
+            }
+            let x = &mut own.values[at];
+            subtract_transposed_shared(lower, below, x, work);
+            upper_shared(diagonal, x, work);
+        }
     }
-    let x = &mut own.values[at];
-    subtract_transposed_shared(lower, below, x, work);
-    upper_shared(diagonal, x, work);
 }
 
 /// Solves L x = b in place (L lower triangular): the halves' triangles in
