@@ -576,7 +576,8 @@ fn top_node<T: Scalar>(
 }
 
 /// Solves L x = b in place (L lower triangular): the halves' triangles in
-/// turn, the product between them shared. `work`: half of L's width.
+/// turn, the product between them shared. `work`: at least L's width
+/// less half.
 fn lower_shared<T: Scalar>(l: MatRef<'_, T>, x: &mut [T], work: &mut [T]) {
     let (width, half) = (l.nrows(), l.nrows() / 2);
     if width <= SHARED_TRIANGLE {
@@ -598,7 +599,7 @@ fn lower_shared<T: Scalar>(l: MatRef<'_, T>, x: &mut [T], work: &mut [T]) {
 }
 
 /// Solves Lᵀ x = b in place (L lower triangular), as `lower_shared`
-/// backwards. `work`: L's width.
+/// backwards. `work`: at least half of L's width.
 fn upper_shared<T: Scalar>(l: MatRef<'_, T>, x: &mut [T], work: &mut [T]) {
     let (width, half) = (l.nrows(), l.nrows() / 2);
     if width <= SHARED_TRIANGLE {
