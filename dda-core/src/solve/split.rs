@@ -277,10 +277,11 @@ impl Split {
     #[cfg(test)]
     pub fn shared(&self, symbolic: &SymbolicSupernodalCholesky<usize>) -> usize {
         let (begin, end) = (symbolic.supernode_begin(), symbolic.supernode_end());
-        let entries =
-            |s: usize| (end[s] - begin[s]) * (end[s] - begin[s] + pattern(symbolic, s).len());
         (self.top.iter())
-            .filter(|&&s| entries(s) >= SHARED_NODE_ENTRIES && end[s] - begin[s] > SHARED_TRIANGLE)
+            .filter(|&&s| {
+                let width = end[s] - begin[s];
+                is_shared(width, pattern(symbolic, s).len()) && width > SHARED_TRIANGLE
+            })
             .count()
     }
 
@@ -530,6 +531,12 @@ fn back_node<T: Scalar>(
     );
 }
 
+/// Whether a top supernode of `width` columns and `below` rows under its
+/// diagonal block is swept on both cores (`SHARED_NODE_ENTRIES`).
+fn is_shared(width: usize, below: usize) -> bool {
+    width * (width + below) >= SHARED_NODE_ENTRIES
+}
+
 /// Which substitution a top supernode takes part in.
 #[derive(Clone, Copy)]
 enum Sweep {
@@ -548,7 +555,7 @@ fn top_node<T: Scalar>(
     sweep: Sweep,
 ) {
     let (diagonal, lower, rows, at) = supernode(factor, s, own);
-    if at.len() * (at.len() + rows.len()) < SHARED_NODE_ENTRIES {
+    if !is_shared(at.len(), rows.len()) {
         return match sweep {
             Sweep::Forward => forward_node(factor, s, own, &mut [], below),
             Sweep::Back => back_node(factor, s, own, &[], below),
