@@ -42,6 +42,10 @@ pub(crate) trait Scalar:
     + std::ops::AddAssign
     + std::ops::SubAssign
     + std::ops::Neg<Output = Self>
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
 {
     /// The value in double precision.
     fn widen(self) -> f64;
@@ -87,7 +91,7 @@ pub(crate) struct Split {
     cores: [Vec<Subtree>; 2],
     /// Supernodes in no subtree, children before parents.
     top: Vec<usize>,
-    /// The most rows below a supernode's diagonal block, or columns in it.
+    /// The most rows in a supernode, its diagonal block's and those below.
     widest: usize,
     /// Factor entries read one after another (the top and the busier
     /// core's), as a share of all: the split solve's time against one
@@ -114,7 +118,7 @@ impl Split {
         let mut widest = 0;
         for s in 0..count {
             let width = end[s] - begin[s];
-            widest = widest.max(rows(s).len()).max(width);
+            widest = widest.max(width + rows(s).len());
             entries[s] += width * (width + rows(s).len());
             match rows(s).first() {
                 None => roots.push(s),
@@ -460,9 +464,19 @@ fn supernode<'f, T>(
     (diagonal, lower, node.pattern(), at..at + width)
 }
 
+/// Supernode `s`'s values, column by column: each the diagonal block's
+/// column, then the rows below it.
+fn columns<'f, T>(factor: SupernodalLltRef<'f, usize, T>, s: usize) -> &'f [T] {
+    let at = factor.symbolic().col_ptr_for_val();
+    &factor.values()[at[s]..at[s + 1]]
+}
+
 /// Supernode `s`'s forward substitution: its unknowns solved, its products
 /// subtracted from the rows below within `own` and added to `gathered`
-/// beyond it.
+/// beyond it. One pass down each column, triangle and rows below alike,
+/// its products gathered in `below` (at least the supernode's rows long):
+/// faer's triangular solve and product per supernode cost more in calls
+/// than in arithmetic on the small supernodes that hold most entries.
 fn forward_node<T: Scalar>(
     factor: SupernodalLltRef<'_, usize, T>,
     s: usize,
@@ -470,34 +484,35 @@ fn forward_node<T: Scalar>(
     gathered: &mut [T],
     below: &mut [T],
 ) {
-    let (diagonal, lower, rows, at) = supernode(factor, s, own);
-    let width = at.len();
-    let x = &mut own.values[at];
-    solve_lower_triangular_in_place(
-        diagonal,
-        MatMut::from_column_major_slice_mut(x, width, 1),
-        Par::Seq,
-    );
-    let below = &mut below[..rows.len()];
-    matmul(
-        MatMut::from_column_major_slice_mut(below, rows.len(), 1),
-        Accum::Replace,
-        lower,
-        MatRef::from_column_major_slice(x, width, 1),
-        T::one_impl(),
-        Par::Seq,
-    );
-    for (&r, v) in rows.iter().zip(below.iter()) {
+    let node = factor.supernode(s);
+    let (rows, width) = (node.pattern(), node.val().ncols());
+    let n = width + rows.len();
+    let at = node.start() - own.offset;
+    let v = &mut below[..n];
+    v[..width].copy_from_slice(&own.values[at..at + width]);
+    v[width..].fill(T::default());
+    for (j, column) in columns(factor, s).chunks_exact(n).enumerate() {
+        let xj = v[j] / column[j];
+        v[j] = xj;
+        for (v, &l) in v[j + 1..].iter_mut().zip(&column[j + 1..]) {
+            *v -= xj * l;
+        }
+    }
+    own.values[at..at + width].copy_from_slice(&v[..width]);
+    // The rows below hold minus their products.
+    for (&r, &v) in rows.iter().zip(&v[width..]) {
         if r < own.end {
-            own.values[r - own.offset] -= *v;
+            own.values[r - own.offset] += v;
         } else {
-            gathered[r] += *v;
+            gathered[r] -= v;
         }
     }
 }
 
 /// Supernode `s`'s back substitution, reading the rows below within `own`
-/// and from `top` beyond it.
+/// and from `top` beyond it. The columns' products with the rows below
+/// first, in the order they lie in memory and independent of each other;
+/// then the triangle, backwards. `below`: at least the supernode's rows.
 fn back_node<T: Scalar>(
     factor: SupernodalLltRef<'_, usize, T>,
     s: usize,
@@ -505,9 +520,12 @@ fn back_node<T: Scalar>(
     top: &[T],
     below: &mut [T],
 ) {
-    let (diagonal, lower, rows, at) = supernode(factor, s, own);
-    let width = at.len();
-    let below = &mut below[..rows.len()];
+    let node = factor.supernode(s);
+    let (rows, width) = (node.pattern(), node.val().ncols());
+    let n = width + rows.len();
+    let at = node.start() - own.offset;
+    let values = columns(factor, s);
+    let (below, sums) = below.split_at_mut(rows.len());
     for (v, &r) in below.iter_mut().zip(rows) {
         *v = if r < own.end {
             own.values[r - own.offset]
@@ -515,20 +533,40 @@ fn back_node<T: Scalar>(
             top[r]
         };
     }
-    let x = &mut own.values[at];
-    matmul(
-        MatMut::from_column_major_slice_mut(x, width, 1),
-        Accum::Add,
-        lower.transpose(),
-        MatRef::from_column_major_slice(below, rows.len(), 1),
-        -T::one_impl(),
-        Par::Seq,
-    );
-    solve_upper_triangular_in_place(
-        diagonal.transpose(),
-        MatMut::from_column_major_slice_mut(x, width, 1),
-        Par::Seq,
-    );
+    let sums = &mut sums[..width];
+    for (sum, column) in sums.iter_mut().zip(values.chunks_exact(n)) {
+        *sum = dot(&column[width..], below);
+    }
+    let x = &mut own.values[at..at + width];
+    for (j, column) in values.chunks_exact(n).enumerate().rev() {
+        let triangle = dot(&column[j + 1..width], &x[j + 1..]);
+        x[j] = (x[j] - sums[j] - triangle) / column[j];
+    }
+}
+
+/// Partial sums of a dot product: one register of single-precision lanes
+/// (two of double) under AVX-512, which the compiler fills.
+const LANES: usize = 16;
+
+/// The dot product of `a` and `b` (as long as `a`), summed on `LANES`
+/// lanes: a single running sum would wait on each addition.
+#[inline(always)]
+fn dot<T: Scalar>(a: &[T], b: &[T]) -> T {
+    let mut lanes = [T::default(); LANES];
+    let (a, b) = (a.chunks_exact(LANES), b[..a.len()].chunks_exact(LANES));
+    let mut sum = T::default();
+    for (&a, &b) in a.remainder().iter().zip(b.remainder()) {
+        sum += a * b;
+    }
+    for (a, b) in a.zip(b) {
+        for k in 0..LANES {
+            lanes[k] += a[k] * b[k];
+        }
+    }
+    for lane in lanes {
+        sum += lane;
+    }
+    sum
 }
 
 /// Whether a top supernode of `width` columns and `below` rows under its

@@ -74,7 +74,8 @@ pub struct FactorUpdate {
     v: Vec<usize>,
     slopes: Vec<f64>,
     capacitance: LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
-    /// The most rows below a supernode's diagonal block.
+    /// The most rows in a supernode, its diagonal block's and those
+    /// below (a substitution's buffer).
     widest: usize,
 }
 
@@ -171,7 +172,8 @@ fn capacitance(
 struct Tree {
     supernode_of: Vec<usize>,
     parent: Vec<Option<usize>>,
-    /// The most rows below a supernode's diagonal block.
+    /// The most rows in a supernode, its diagonal block's and those
+    /// below (a substitution's buffer).
     widest: usize,
 }
 
@@ -181,9 +183,10 @@ impl Tree {
         let supernode_of = supernode_of(symbolic);
         let mut parent = vec![None; count];
         let mut widest = 0;
+        let (begin, end) = (symbolic.supernode_begin(), symbolic.supernode_end());
         for (s, parent) in parent.iter_mut().enumerate() {
             let below = pattern(symbolic, s);
-            widest = widest.max(below.len());
+            widest = widest.max(end[s] - begin[s] + below.len());
             if let Some(&r) = below.first() {
                 let p = supernode_of[r];
                 if p <= s {
