@@ -492,7 +492,9 @@ fn forward_node<T: Scalar>(
     v[..width].copy_from_slice(&own.values[at..at + width]);
     v[width..].fill(T::default());
     for (j, column) in columns(factor, s).chunks_exact(n).enumerate() {
-        let xj = v[j] / column[j];
+        // The reciprocal is made off the sweep's chain of dependences,
+        // where a division would wait in it.
+        let xj = v[j] * (T::one_impl() / column[j]);
         v[j] = xj;
         for (v, &l) in v[j + 1..].iter_mut().zip(&column[j + 1..]) {
             *v -= xj * l;
@@ -540,7 +542,7 @@ fn back_node<T: Scalar>(
     let x = &mut own.values[at..at + width];
     for (j, column) in values.chunks_exact(n).enumerate().rev() {
         let triangle = dot(&column[j + 1..width], &x[j + 1..]);
-        x[j] = (x[j] - sums[j] - triangle) / column[j];
+        x[j] = (x[j] - sums[j] - triangle) * (T::one_impl() / column[j]);
     }
 }
 
@@ -549,24 +551,30 @@ fn back_node<T: Scalar>(
 const LANES: usize = 16;
 
 /// The dot product of `a` and `b` (as long as `a`), summed on `LANES`
-/// lanes: a single running sum would wait on each addition.
+/// lanes and the lanes added pairwise: in a back sweep's triangle each
+/// column's sum waits on the last unknown solved, and a single running
+/// sum, or lanes added one after another, would make that wait sixteen
+/// additions long instead of four.
 #[inline(always)]
 fn dot<T: Scalar>(a: &[T], b: &[T]) -> T {
     let mut lanes = [T::default(); LANES];
     let (a, b) = (a.chunks_exact(LANES), b[..a.len()].chunks_exact(LANES));
-    let mut sum = T::default();
-    for (&a, &b) in a.remainder().iter().zip(b.remainder()) {
-        sum += a * b;
+    for (k, (&a, &b)) in a.remainder().iter().zip(b.remainder()).enumerate() {
+        lanes[k] = a * b;
     }
     for (a, b) in a.zip(b) {
         for k in 0..LANES {
             lanes[k] += a[k] * b[k];
         }
     }
-    for lane in lanes {
-        sum += lane;
+    let mut half = LANES;
+    while half > 1 {
+        half /= 2;
+        for k in 0..half {
+            lanes[k] += lanes[k + half];
+        }
     }
-    sum
+    lanes[0]
 }
 
 /// Whether a top supernode of `width` columns and `below` rows under its
