@@ -109,7 +109,7 @@ impl Block {
     /// the step.
     pub fn commit(&mut self, d: &Vector12, stress: Vector6<f64>, update: RotationUpdate) {
         let c = self.centroid();
-        self.shape = self.shape.moved(point_mover(&c, d, update));
+        self.shape.move_by(point_mover(&c, d, update));
         let r = step_rotation(d);
         let rotate = |m: nalgebra::Matrix3<f64>| r * m * r.transpose();
         self.stress = stress_voigt(&rotate(voigt_stress(&stress)));

@@ -311,6 +311,15 @@ impl Polyhedron {
         Self::with_topology(vertices, self.topology.clone())
     }
 
+    /// [`Polyhedron::moved`] in place: a block's commit moves every block
+    /// at every step, and its derived lists keep their memory.
+    pub fn move_by(&mut self, f: impl Fn(&Point3<f64>) -> Point3<f64>) {
+        for v in &mut self.vertices {
+            *v = f(v);
+        }
+        self.derive();
+    }
+
     /// The same polyhedron with its vertices at these points (same count and
     /// order), its integrals derived as [`Polyhedron::moved`] derives them.
     pub fn with_vertices(&self, vertices: Vec<Point3<f64>>) -> Self {
@@ -319,27 +328,57 @@ impl Polyhedron {
     }
 
     fn with_topology(vertices: Vec<Point3<f64>>, topology: Arc<Topology>) -> Self {
-        let (normals, areas): (Vec<_>, Vec<_>) = topology
-            .faces
-            .iter()
-            .map(|f| {
-                let n = newell(&vertices, f);
-                let a = n.norm();
-                (n / a.max(f64::MIN_POSITIVE), a / 2.0)
-            })
-            .unzip();
-        let frames = (topology.faces.iter().zip(&normals))
-            .map(|(face, n)| FaceFrame::new(vertices[face[0]], vertices[face[1]], *n))
-            .collect();
-        let centroids = (topology.triangles.iter().zip(&topology.faces).zip(&normals))
-            .map(|((triangles, face), n)| face_centroid(&vertices, face, triangles, n))
-            .collect();
-        let moments = central_moments(&vertices, &topology.faces);
-        let directions: Vec<_> = (topology.edges.iter())
-            .map(|e| (vertices[e.ends[1]] - vertices[e.ends[0]]).normalize())
-            .collect();
-        let edge_kinds = (topology.edges.iter().zip(&directions))
-            .map(|(e, &d)| {
+        let mut shape = Self {
+            moments: central_moments(&vertices, &topology.faces),
+            bounds: bounds(&vertices),
+            vertices,
+            topology,
+            normals: Vec::new(),
+            areas: Vec::new(),
+            frames: Vec::new(),
+            centroids: Vec::new(),
+            directions: Vec::new(),
+            edge_kinds: Vec::new(),
+            convex_vertices: Vec::new(),
+        };
+        shape.derive();
+        shape
+    }
+
+    /// Everything made from the vertices: faces' normals, areas, frames
+    /// and centroids, the moments, edges' directions and kinds, which
+    /// corners are convex, and the bounds.
+    fn derive(&mut self) {
+        let (vertices, topology) = (&self.vertices, &*self.topology);
+        self.normals.clear();
+        self.areas.clear();
+        for f in &topology.faces {
+            let n = newell(vertices, f);
+            let a = n.norm();
+            self.normals.push(n / a.max(f64::MIN_POSITIVE));
+            self.areas.push(a / 2.0);
+        }
+        let normals = &self.normals;
+        self.frames.clear();
+        self.frames.extend(
+            (topology.faces.iter().zip(normals))
+                .map(|(face, n)| FaceFrame::new(vertices[face[0]], vertices[face[1]], *n)),
+        );
+        self.centroids.clear();
+        self.centroids.extend(
+            (topology.triangles.iter().zip(&topology.faces).zip(normals))
+                .map(|((triangles, face), n)| face_centroid(vertices, face, triangles, n)),
+        );
+        self.moments = central_moments(vertices, &topology.faces);
+        self.directions.clear();
+        self.directions.extend(
+            (topology.edges.iter())
+                .map(|e| (vertices[e.ends[1]] - vertices[e.ends[0]]).normalize()),
+        );
+        let directions = &self.directions;
+        self.edge_kinds.clear();
+        self.edge_kinds
+            .extend((topology.edges.iter().zip(directions)).map(|(e, &d)| {
                 let (n0, n1) = (normals[e.faces[0]], normals[e.faces[1]]);
                 let turn = n0.cross(&n1).dot(&d).atan2(n0.dot(&n1));
                 if turn > ANGLE_TOLERANCE {
@@ -349,34 +388,21 @@ impl Polyhedron {
                 } else {
                     EdgeKind::Flat
                 }
-            })
-            .collect();
+            }));
         let sin_tol = ANGLE_TOLERANCE.sin();
-        let convex_vertices = (0..vertices.len())
-            .map(|v| {
-                topology.vertex_faces[v].iter().all(|&f| {
-                    topology.vertex_edges[v].iter().all(|&e| {
-                        let [a, b] = topology.edges[e].ends;
-                        let other = if a == v { b } else { a };
-                        let dir = (vertices[other] - vertices[v]).normalize();
-                        normals[f].dot(&dir) <= sin_tol
-                    })
-                })
+        // Each edge's direction as made once above, not normalised again
+        // for every face at the corner.
+        let mut convex = std::mem::take(&mut self.convex_vertices);
+        convex.clear();
+        convex.extend((0..self.vertices.len()).map(|v| {
+            let topology = &*self.topology;
+            topology.vertex_faces[v].iter().all(|&f| {
+                (topology.vertex_edges[v].iter())
+                    .all(|&e| self.normals[f].dot(&self.edge_direction(e, v)) <= sin_tol)
             })
-            .collect();
-        Self {
-            bounds: bounds(&vertices),
-            vertices,
-            topology,
-            normals,
-            areas,
-            frames,
-            centroids,
-            directions,
-            moments,
-            edge_kinds,
-            convex_vertices,
-        }
+        }));
+        self.convex_vertices = convex;
+        self.bounds = bounds(&self.vertices);
     }
 
     /// Distance from `p` to the surface, inside or out.
@@ -1063,6 +1089,59 @@ mod tests {
         let back = moved.with_vertices(points.clone());
         check(&back);
         assert_eq!(back.face_centroid(0), shape.face_centroid(0));
+    }
+
+    #[test]
+    fn a_shape_moved_in_place_is_the_moved_shape_to_the_last_bit() {
+        // The L prism has a reflex edge and two concave corners, so every
+        // derived list has both kinds to get right.
+        let (points, faces) = l_prism();
+        let turn = Rotation3::from_euler_angles(0.3, -0.7, 2.1);
+        let motion = |p: &Point3<f64>| turn * p + Vector3::new(-2.0, 5.0, 0.5);
+        let shape = validate(&points, &faces).unwrap();
+        let moved = shape.moved(motion);
+        let mut in_place = shape.clone();
+        in_place.move_by(motion);
+        assert_eq!(in_place.vertices(), moved.vertices());
+        for f in 0..faces.len() {
+            assert_eq!(in_place.normal(f), moved.normal(f));
+            assert_eq!(in_place.face_area(f), moved.face_area(f));
+            assert_eq!(in_place.face_frame(f), moved.face_frame(f));
+            assert_eq!(in_place.face_centroid(f), moved.face_centroid(f));
+        }
+        for (e, edge) in moved.edges().iter().enumerate() {
+            assert_eq!(in_place.edge_kind(e), moved.edge_kind(e));
+            for end in edge.ends {
+                assert_eq!(
+                    in_place.edge_direction(e, end),
+                    moved.edge_direction(e, end)
+                );
+            }
+        }
+        for v in 0..points.len() {
+            assert_eq!(in_place.is_convex_vertex(v), moved.is_convex_vertex(v));
+        }
+        assert_eq!(in_place.moments(), moved.moments());
+        assert_eq!(in_place.bounds(), moved.bounds());
+        let concave: Vec<usize> = (0..points.len())
+            .filter(|&v| !in_place.is_convex_vertex(v))
+            .collect();
+        assert_eq!(concave, vec![3, 9]);
+        // The inner corner pulled out past the L's arms: every corner and
+        // edge turns convex, and the lists made in place must say so.
+        let pull = |p: &Point3<f64>| {
+            let corner = (p.x - 1.0).abs() < 1e-12 && (p.y - 1.0).abs() < 1e-12;
+            if corner {
+                Point3::new(1.8, 1.8, p.z)
+            } else {
+                *p
+            }
+        };
+        let mut pulled = shape.clone();
+        pulled.move_by(pull);
+        assert!((0..points.len()).all(|v| pulled.is_convex_vertex(v)));
+        assert!((0..pulled.edges().len()).all(|e| pulled.edge_kind(e) == EdgeKind::Convex));
+        assert_eq!(pulled.volume(), shape.moved(pull).volume());
     }
 
     #[test]
