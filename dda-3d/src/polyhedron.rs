@@ -328,9 +328,14 @@ impl Polyhedron {
     }
 
     fn with_topology(vertices: Vec<Point3<f64>>, topology: Arc<Topology>) -> Self {
+        // Every derived field is made by `derive`: these only hold places.
         let mut shape = Self {
-            moments: central_moments(&vertices, &topology.faces),
-            bounds: bounds(&vertices),
+            moments: CentralMoments {
+                volume: 0.0,
+                centroid: Point3::origin(),
+                second: Matrix3::zeros(),
+            },
+            bounds: (Point3::origin(), Point3::origin()),
             vertices,
             topology,
             normals: Vec::new(),
