@@ -183,15 +183,22 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     pub(super) fn at_rest(&self) -> Trial<T> {
         let d = vec![0.0; self.system.block_count() * N];
         let tolerance = self.settings.contact_tolerance * self.length_scale;
+        // Each contact read once, on every core: its record lies a cache
+        // line or more from the next one's.
+        let contacts = self.contacts.par_iter().with_min_len(CONTACTS_PER_TASK);
+        let (states, (entrances, directions)) = contacts
+            .map(|c| {
+                let r = &c.record;
+                (
+                    r.state,
+                    (widest_at_rest(c, r.entrance, tolerance), r.slip_direction),
+                )
+            })
+            .unzip();
         Trial {
-            states: self.contacts.iter().map(|c| c.record.state).collect(),
-            entrances: (self.contacts.par_iter())
-                .with_min_len(CONTACTS_PER_TASK)
-                .map(|c| widest_at_rest(c, c.record.entrance, tolerance))
-                .collect(),
-            directions: (self.contacts.iter())
-                .map(|c| c.record.slip_direction)
-                .collect(),
+            states,
+            entrances,
+            directions,
             d,
             converged: true,
             unsettled: Vec::new(),
