@@ -96,10 +96,9 @@ pub struct BlockSparse<const N: usize> {
     /// The DOF each block keeps, and where they start in the global vector.
     dofs: Vec<usize>,
     offsets: Vec<usize>,
-    /// Each row block's pairs, in `pairs` order (where each block's start,
-    /// then the list): made at the first product, for
-    /// [`BlockSparse::multiply_into`]'s rows.
-    rows: std::sync::OnceLock<(Vec<usize>, Vec<usize>)>,
+    /// Each row block's pairs, in `pairs` order: made at the first
+    /// product, for [`BlockSparse::multiply_into`]'s rows.
+    rows: std::sync::OnceLock<crate::by_block::ByBlock>,
 }
 
 impl<const N: usize> BlockSparse<N> {

@@ -3,7 +3,7 @@
 
 /// Items `0..` listed under the blocks each names: block b's are
 /// `items[starts[b]..starts[b + 1]]`.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct ByBlock {
     starts: Vec<usize>,
     items: Vec<usize>,
