@@ -173,6 +173,18 @@ pub trait DynContactLaw: Send + Sync {
     fn initial_history(&self, at_start: bool) -> History;
     fn response(&self, state: ContactState, kin: &LocalKinematics, h: &History) -> ContactResponse;
     fn next_state(&self, state: ContactState, kin: &LocalKinematics, h: &History) -> ContactState;
+    /// A closed contact's responses for its load, read off the history
+    /// once: in `state`, and in the state the elastoplastic return map
+    /// weighs it against, where there is one (a sliding contact's locked
+    /// spring; a locked one's friction where `may_yield` and the law
+    /// [yields at its strength](ContactLaw::yields_at_strength)).
+    fn load_responses(
+        &self,
+        state: ContactState,
+        may_yield: bool,
+        kin: &LocalKinematics,
+        h: &History,
+    ) -> (ContactResponse, Option<ContactResponse>);
     fn commit(&self, state: ContactState, kin: &LocalKinematics, h: &mut History);
     fn check(&self) -> Result<(), crate::DdaError>;
     /// [`ContactLaw::yields_at_strength`].
@@ -194,6 +206,27 @@ impl<L: ContactLaw> DynContactLaw for L {
 
     fn next_state(&self, state: ContactState, kin: &LocalKinematics, h: &History) -> ContactState {
         ContactLaw::next_state(self, state, kin, downcast::<L>(h))
+    }
+
+    fn load_responses(
+        &self,
+        state: ContactState,
+        may_yield: bool,
+        kin: &LocalKinematics,
+        h: &History,
+    ) -> (ContactResponse, Option<ContactResponse>) {
+        let h = downcast::<L>(h);
+        let weighed = match state {
+            ContactState::Sliding => Some(ContactState::Locked),
+            ContactState::Locked if may_yield && ContactLaw::yields_at_strength(self) => {
+                Some(ContactState::Sliding)
+            }
+            _ => None,
+        };
+        (
+            ContactLaw::response(self, state, kin, h),
+            weighed.map(|s| ContactLaw::response(self, s, kin, h)),
+        )
     }
 
     fn commit(&self, state: ContactState, kin: &LocalKinematics, h: &mut History) {

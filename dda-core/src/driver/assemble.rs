@@ -133,8 +133,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let contacts = (0..self.contacts.len()).into_par_iter();
         let contacts = contacts.with_min_len(CONTACTS_PER_TASK);
         if forces_only {
-            (contacts.map(|i| terms.load(i, trial, dt, moving, couple).map(|l| l.force)))
-                .collect_into_vec(&mut forces);
+            (contacts.map(|i| terms.force(i, trial, dt, moving))).collect_into_vec(&mut forces);
         } else {
             (contacts.map(|i| terms.load(i, trial, dt, moving, couple)))
                 .collect_into_vec(&mut loads);
