@@ -19,6 +19,7 @@ use crate::error::DdaError;
 use crate::settings::Solver;
 
 mod factor;
+mod huge_pages;
 mod pcg;
 mod split;
 mod subnormal;
@@ -231,7 +232,7 @@ impl LinearSolver for SparseCholesky {
             .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
             .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         self.scratch = RefCell::new(MemBuffer::new(need));
-        self.factor = vec![0.0; symbolic.len_val()];
+        self.factor = huge_pages::filled(symbolic.len_val(), 0.0);
         self.single = Vec::new();
         if symbolic.len_val() >= self.single_from {
             let need = symbolic.solve_in_place_scratch::<f32>(1, Par::Seq);
@@ -301,7 +302,9 @@ impl LinearSolver for SparseCholesky {
         if self.factor.len() >= self.single_from {
             // On both cores: a large factor's copy reads 8 bytes an entry.
             const CHUNK: usize = 1 << 16;
-            self.single.resize(self.factor.len(), 0.0);
+            if self.single.len() != self.factor.len() {
+                self.single = huge_pages::filled(self.factor.len(), 0.0);
+            }
             (self
                 .single
                 .par_chunks_mut(CHUNK)
