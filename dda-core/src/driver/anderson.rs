@@ -60,21 +60,34 @@ impl Anderson {
     /// iterates. The first call (or the first after `restart`) leaves `f`
     /// as it is.
     pub fn mix(&mut self, f: &mut [f64]) {
-        let step = self.copy(f);
         // The last m steps before this one, f_{k−m} … f_{k−1}; ΔF column j
         // is f_{k−m+j+1} − f_{k−m+j}, the last one ending at f itself.
         let m = self.steps.len();
+        let mut step = self.spare.pop().unwrap_or_default();
+        step.clear();
+        step.extend_from_slice(f);
         if let Some(last) = self.steps.last() {
             let mut newest = self.spare.pop().unwrap_or_default();
             newest.clear();
-            newest.extend(step.iter().zip(last).map(|(a, b)| a - b));
-            for (j, earlier) in self.differences.iter().enumerate() {
-                self.products[m - 1][j] = dot(&newest, earlier);
-            }
-            self.products[m - 1][m - 1] = dot(&newest, &newest);
+            newest.resize(f.len(), 0.0);
+            // One sweep for the new difference and every dot product the
+            // fit needs: each is summed entry by entry in order, as `dot`
+            // sums it, but the sums run side by side instead of one after
+            // another, each waiting on its own additions (on the
+            // 10,051-block wall 0.36–0.39 ms a mix against 0.57–0.61).
+            let earlier = &self.differences;
+            let (products, mut rhs, own, to_newest) = match earlier.as_slice() {
+                [] => sweep::<0>(f, last, &mut newest, []),
+                [a] => sweep::<1>(f, last, &mut newest, [a]),
+                [a, b] => sweep::<2>(f, last, &mut newest, [a, b]),
+                _ => unreachable!("at most {DEPTH} steps kept"),
+            };
+            rhs[m - 1] = to_newest;
+            self.products[m - 1][..m - 1].copy_from_slice(&products[..m - 1]);
+            self.products[m - 1][m - 1] = own;
             self.differences.push(newest);
             let gram = DMatrix::from_fn(m, m, |i, j| self.products[i.max(j)][i.min(j)]);
-            if let Some(gamma) = fit(gram, &self.differences, &step) {
+            if let Some(gamma) = fit(gram, DVector::from_column_slice(&rhs[..m])) {
                 for ((g, dx), df) in gamma.iter().zip(&self.moves).zip(&self.differences) {
                     for ((f, dx), df) in f.iter_mut().zip(dx).zip(df) {
                         *f -= g * (dx + df);
@@ -103,15 +116,46 @@ impl Anderson {
 }
 
 /// a·b, entry by entry in order.
+#[cfg(test)]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>()
 }
 
+/// Writes `newest` = f − last and returns, each summed entry by entry in
+/// order: its products with the `earlier` differences, theirs with f (in
+/// the first `E` places), its own square and its product with f.
+#[inline(always)]
+fn sweep<const E: usize>(
+    f: &[f64],
+    last: &[f64],
+    newest: &mut [f64],
+    earlier: [&Vec<f64>; E],
+) -> ([f64; DEPTH], [f64; DEPTH], f64, f64) {
+    let n = f.len();
+    let (last, newest) = (&last[..n], &mut newest[..n]);
+    let earlier = earlier.map(|e| &e[..n]);
+    let (mut products, mut rhs) = ([-0.0; DEPTH], [-0.0; DEPTH]);
+    let (mut own, mut to_newest) = (-0.0, -0.0);
+    for k in 0..n {
+        let x = f[k];
+        let d = x - last[k];
+        newest[k] = d;
+        for j in 0..E {
+            products[j] += d * earlier[j][k];
+            rhs[j] += earlier[j][k] * x;
+        }
+        own += d * d;
+        to_newest += d * x;
+    }
+    (products, rhs, own, to_newest)
+}
+
 /// γ minimising |f − Σ γⱼ dfⱼ| by the normal equations (`gram`, the
-/// columns' dot products), which at this size are cheaper than a QR;
+/// columns' dot products; `rhs`, theirs with f), which at this size are
+/// cheaper than a QR;
 /// `None` when the columns are (nearly) dependent.
-fn fit(mut gram: DMatrix<f64>, df: &[Vec<f64>], f: &[f64]) -> Option<DVector<f64>> {
-    let m = df.len();
+fn fit(mut gram: DMatrix<f64>, rhs: DVector<f64>) -> Option<DVector<f64>> {
+    let m = rhs.len();
     let scale = gram.diagonal().max();
     if !(scale > 0.0 && scale.is_finite()) {
         return None;
@@ -119,7 +163,6 @@ fn fit(mut gram: DMatrix<f64>, df: &[Vec<f64>], f: &[f64]) -> Option<DVector<f64
     for i in 0..m {
         gram[(i, i)] += 1e-12 * scale;
     }
-    let rhs = DVector::from_fn(m, |i, _| dot(&df[i], f));
     let gamma = gram.cholesky()?.solve(&rhs);
     gamma.iter().all(|g| g.is_finite()).then_some(gamma)
 }
@@ -177,7 +220,8 @@ mod tests {
             })
             .collect();
         let gram = DMatrix::from_fn(m, m, |i, j| dot(&df[i.max(j)], &df[i.min(j)]));
-        if let Some(gamma) = fit(gram, &df, &step) {
+        let rhs = DVector::from_fn(m, |i, _| dot(&df[i], &step));
+        if let Some(gamma) = fit(gram, rhs) {
             for (j, g) in gamma.iter().enumerate() {
                 for ((f, dx), df) in f.iter_mut().zip(&kept[j].1).zip(&df[j]) {
                     *f -= g * (dx + df);
