@@ -63,9 +63,7 @@ impl Anderson {
         // The last m steps before this one, f_{k−m} … f_{k−1}; ΔF column j
         // is f_{k−m+j+1} − f_{k−m+j}, the last one ending at f itself.
         let m = self.steps.len();
-        let mut step = self.spare.pop().unwrap_or_default();
-        step.clear();
-        step.extend_from_slice(f);
+        let step = self.copy(f);
         if let Some(last) = self.steps.last() {
             let mut newest = self.spare.pop().unwrap_or_default();
             newest.clear();
