@@ -19,6 +19,7 @@ use nalgebra::SVector;
 use rayon::prelude::*;
 
 use crate::assembly::BlockSparse;
+use crate::by_block::ByBlock;
 use crate::contact::{ContactState, DynContactLaw};
 use crate::contacts::{BlockVector, Contact, ContactKey, EntranceRows};
 use crate::error::DdaError;
@@ -184,6 +185,9 @@ pub struct Driver<S: BlockSystem<N, T>, const N: usize, const T: usize> {
     /// Where each contact's block pair sits in the matrix pattern (`None`:
     /// not in it, so the contact must stay open).
     slots: Vec<Option<usize>>,
+    /// The contacts under each slot, in contact order: the tangent's
+    /// off-diagonal blocks are gathered slot by slot on every core.
+    slot_contacts: ByBlock,
     /// Assemble contact by contact on one thread even within a pass (for
     /// tests: the two ways agree to the last bit).
     one_thread_assembly: bool,
@@ -341,6 +345,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             decisions: Vec::new(),
             kept: Vec::new(),
             slots: Vec::new(),
+            slot_contacts: ByBlock::default(),
             one_thread_assembly: false,
             one_core: None,
             pattern_reach: 0.0,

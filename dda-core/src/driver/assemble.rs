@@ -141,11 +141,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         if gather {
             let (contacts, touching, chosen) = (&self.contacts, &self.touching, &self.chosen);
             let entrance = |i: usize| chosen.of(contacts, i, trial.entrances[i]);
-            let (pairs, of_pair) = if tangent {
-                contacts_by_slot(&loads, &self.slots, matrix.pairs().len())
-            } else {
-                (Vec::new(), Vec::new())
-            };
+            let slot_contacts = &self.slot_contacts;
             let parts = matrix.split_blocks(residual);
             let (diagonal, lower, dofs) = matrix.blocks_mut();
             (diagonal.par_iter_mut().zip(parts))
@@ -177,8 +173,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     .enumerate()
                     .for_each(|(s, block)| {
                         block.fill(0.0);
-                        for &i in &of_pair[pairs[s]..pairs[s + 1]] {
-                            let load = loads[i].as_ref().expect("listed with a load");
+                        for &i in slot_contacts.of(s) {
+                            let Some(load) = &loads[i] else { continue };
                             let [a, b] = contacts[i].blocks;
                             spring_terms(load, entrance(i), |g, h, k| {
                                 add_outer_into(block, (dofs[a], dofs[b]), &g[0], &h[1], k, a < b);
@@ -228,32 +224,6 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.matrix = matrix;
         self.stats.times.assembly += started.elapsed();
     }
-}
-
-/// The loaded contacts of each of `count` off-diagonal blocks (by their
-/// `slots`), in contact order: where each block's contacts start in the
-/// list, then the list.
-fn contacts_by_slot<L>(
-    loads: &[Option<L>],
-    slots: &[Option<usize>],
-    count: usize,
-) -> (Vec<usize>, Vec<usize>) {
-    let loaded = || (0..loads.len()).filter(|&i| loads[i].is_some());
-    let slot = |i: usize| slots[i].expect("closed contacts are in the pattern");
-    let mut starts = vec![0; count + 1];
-    for i in loaded() {
-        starts[slot(i) + 1] += 1;
-    }
-    for s in 1..starts.len() {
-        starts[s] += starts[s - 1];
-    }
-    let mut at = starts.clone();
-    let mut list = vec![0; starts[count]];
-    for i in loaded() {
-        list[at[slot(i)]] = i;
-        at[slot(i)] += 1;
-    }
-    (starts, list)
 }
 
 /// A contact's springs as terms k·g·hᵀ over its two blocks' rows (g = [ga,
