@@ -64,11 +64,18 @@ impl PointEntrance {
     /// The two blocks' rows along direction `v`.
     #[inline]
     fn rows(&self, v: &Vector3<f64>) -> [Vector12; 2] {
-        let [a, b] = self.arms.map(|arm| t_matrix_transpose_times_arm(&arm, v));
-        if self.entering_first {
-            [a, -b]
+        [0, 1].map(|side| self.row(side, v))
+    }
+
+    /// Block `side`'s row along direction `v`: the entering block's
+    /// positive, the entered one's negative.
+    #[inline]
+    fn row(&self, side: usize, v: &Vector3<f64>) -> Vector12 {
+        let row = t_matrix_transpose_times_arm(&self.arms[side], v);
+        if self.entering_first == (side == 0) {
+            row
         } else {
-            [-a, b]
+            -row
         }
     }
 }
@@ -87,6 +94,18 @@ impl EntranceRows<12, 2> for PointEntrance {
     #[inline]
     fn tangent(&self, k: usize) -> [Vector12; 2] {
         self.rows(&self.frame[1 + k])
+    }
+
+    /// One block's row alone: a diagonal block of the tangent reads no
+    /// other (half the products).
+    #[inline]
+    fn normal_of(&self, side: usize) -> Vector12 {
+        self.row(side, &self.frame[0])
+    }
+
+    #[inline]
+    fn tangent_of(&self, k: usize, side: usize) -> Vector12 {
+        self.row(side, &self.frame[1 + k])
     }
 
     /// By the points' motion: the rows dotted with the motions, summed
@@ -180,7 +199,8 @@ mod tests {
     }
 
     /// Rows made when read are the rows made once from the points, to the
-    /// last bit, in either block order.
+    /// last bit, in either block order; and so is each block's row read
+    /// alone.
     #[test]
     fn rows_read_are_the_rows_made_from_the_points() {
         let (pa, ca) = (Point3::new(0.3, -1.7, 2.9), Point3::new(0.11, -1.2, 2.5));
@@ -199,6 +219,12 @@ mod tests {
                     [enter, entered]
                 };
                 assert_eq!(rows, made);
+            }
+            for side in [0, 1] {
+                assert_eq!(e.normal_of(side), e.normal()[side]);
+                for k in [0, 1] {
+                    assert_eq!(e.tangent_of(k, side), e.tangent(k)[side]);
+                }
             }
         }
     }

@@ -55,6 +55,17 @@ pub fn add_outer_into<const N: usize>(
     }
 }
 
+/// Zeroes the first `rows` × `cols` entries of `m`, the DOF its blocks
+/// keep: the others are zero from the start and nothing writes them
+/// ([`add_outer_into`] writes kept ones only), so a rigid 3D block's
+/// off-diagonal block is cleared in a quarter of its entries.
+pub fn zero_kept<const N: usize>(m: &mut BlockMatrix<N>, (rows, cols): (usize, usize)) {
+    let m = m.as_mut_slice();
+    for j in 0..cols {
+        m[j * N..j * N + rows].fill(0.0);
+    }
+}
+
 /// x += (b·a)·k entry by entry, over a length the compiler knows.
 #[inline(always)]
 fn scaled_add<const L: usize>(x: &mut [f64], b: &[f64], a: f64, k: f64) {
@@ -244,10 +255,19 @@ impl<const N: usize> BlockSparse<N> {
         add_outer_into(m, (rows, cols), g, h, k, transposed);
     }
 
-    /// The diagonal blocks, the off-diagonal ones and the DOF each block
-    /// keeps, to fill blocks on several threads at once.
-    pub fn blocks_mut(&mut self) -> (&mut [BlockMatrix<N>], &mut [BlockMatrix<N>], &[usize]) {
-        (&mut self.diagonal, &mut self.lower, &self.dofs)
+    /// The diagonal blocks, the off-diagonal ones, the DOF each block
+    /// keeps and the off-diagonal ones' block pairs, to fill blocks on
+    /// several threads at once.
+    #[allow(clippy::type_complexity)]
+    pub fn blocks_mut(
+        &mut self,
+    ) -> (
+        &mut [BlockMatrix<N>],
+        &mut [BlockMatrix<N>],
+        &[usize],
+        &[(usize, usize)],
+    ) {
+        (&mut self.diagonal, &mut self.lower, &self.dofs, &self.pairs)
     }
 
     /// Where block pair (a, b), a ≠ b, is stored, if the pattern holds it.

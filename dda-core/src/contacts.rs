@@ -65,6 +65,18 @@ pub trait EntranceRows<const N: usize, const T: usize>:
     /// Tangent `k`'s rows for the contact's two blocks.
     fn tangent(&self, k: usize) -> [BlockVector<N>; 2];
 
+    /// The gap's row for the contact's block `side` (0 or 1) alone.
+    #[inline]
+    fn normal_of(&self, side: usize) -> BlockVector<N> {
+        self.normal()[side]
+    }
+
+    /// Tangent `k`'s row for the contact's block `side` alone.
+    #[inline]
+    fn tangent_of(&self, k: usize, side: usize) -> BlockVector<N> {
+        self.tangent(k)[side]
+    }
+
     /// Linearised gap at the step displacements of the two blocks.
     fn gap_at(&self, da: &BlockVector<N>, db: &BlockVector<N>) -> f64 {
         let [na, nb] = self.normal();

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use super::terms::ContactLoad;
 use super::woodbury::RankOne;
 use super::{block, Driver, Motion, Trial};
-use crate::assembly::{add_outer_into, BlockSparse};
+use crate::assembly::{add_outer_into, zero_kept, BlockSparse};
 use crate::contacts::{BlockVector, EntranceRows};
 use crate::system::{BlockMatrix, BlockSystem};
 use crate::{BLOCKS_PER_TASK, CONTACTS_PER_TASK};
@@ -86,7 +86,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         }
         if gather {
             let parts = matrix.split_blocks(residual);
-            let (diagonal, _, _) = matrix.blocks_mut();
+            let (diagonal, _, _, _) = matrix.blocks_mut();
             (diagonal.par_iter_mut().zip(parts))
                 .with_min_len(BLOCKS_PER_TASK)
                 .enumerate()
@@ -143,7 +143,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let entrance = |i: usize| chosen.of(contacts, i, trial.entrances[i]);
             let slot_contacts = &self.slot_contacts;
             let parts = matrix.split_blocks(residual);
-            let (diagonal, lower, dofs) = matrix.blocks_mut();
+            let (diagonal, lower, dofs, pairs) = matrix.blocks_mut();
             (diagonal.par_iter_mut().zip(parts))
                 .with_min_len(BLOCKS_PER_TASK)
                 .enumerate()
@@ -156,8 +156,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                             let Some(load) = &loads[i] else { continue };
                             if tangent {
                                 let n = dofs[x];
-                                spring_terms(load, entrance(i), |g, h, k| {
-                                    add_outer_into(diagonal, (n, n), &g[side], &h[side], k, false);
+                                side_terms(load, entrance(i), side, |g, h, k| {
+                                    add_outer_into(diagonal, (n, n), g, h, k, false);
                                 });
                             }
                             &load.force
@@ -172,7 +172,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     .with_min_len(BLOCKS_PER_TASK)
                     .enumerate()
                     .for_each(|(s, block)| {
-                        block.fill(0.0);
+                        let (row, col) = pairs[s];
+                        zero_kept(block, (dofs[row], dofs[col]));
                         for &i in slot_contacts.of(s) {
                             let Some(load) = &loads[i] else { continue };
                             let [a, b] = contacts[i].blocks;
@@ -233,15 +234,38 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 pub(super) fn spring_terms<const N: usize, const T: usize>(
     load: &ContactLoad<N, T>,
     entrance: &impl EntranceRows<N, T>,
-    mut term: impl FnMut(&[BlockVector<N>; 2], &[BlockVector<N>; 2], f64),
+    term: impl FnMut(&[BlockVector<N>; 2], &[BlockVector<N>; 2], f64),
 ) {
-    let mut add = |g: &[BlockVector<N>; 2], h: &[BlockVector<N>; 2], k: f64| {
+    let tangents = std::array::from_fn(|k| entrance.tangent(k));
+    springs(load, entrance.normal(), tangents, term);
+}
+
+/// [`spring_terms`] over one block's rows alone (`side` 0 or 1): the
+/// terms of its diagonal block, the same to the last bit.
+fn side_terms<const N: usize, const T: usize>(
+    load: &ContactLoad<N, T>,
+    entrance: &impl EntranceRows<N, T>,
+    side: usize,
+    term: impl FnMut(&BlockVector<N>, &BlockVector<N>, f64),
+) {
+    let tangents = std::array::from_fn(|k| entrance.tangent_of(k, side));
+    springs(load, entrance.normal_of(side), tangents, term);
+}
+
+/// The springs' terms over rows `normal` and `tangents` (both blocks'
+/// or one block's), in [`spring_terms`]'s order.
+#[inline(always)]
+fn springs<R, const N: usize, const T: usize>(
+    load: &ContactLoad<N, T>,
+    normal: R,
+    tangents: [R; T],
+    mut term: impl FnMut(&R, &R, f64),
+) {
+    let mut add = |g: &R, h: &R, k: f64| {
         if k != 0.0 {
             term(g, h, k);
         }
     };
-    let normal = entrance.normal();
-    let tangents: [[BlockVector<N>; 2]; T] = std::array::from_fn(|k| entrance.tangent(k));
     add(&normal, &normal, load.normal_stiffness);
     for (k, rows) in tangents.iter().enumerate() {
         add(rows, rows, load.shear_stiffness[k]);
