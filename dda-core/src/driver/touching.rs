@@ -5,8 +5,11 @@
 //! contacts in contact order, as the one-thread loop over contacts does,
 //! so both give the same residual to the last bit.
 
+use rayon::prelude::*;
+
 use crate::by_block::ByBlock;
 use crate::contacts::Contact;
+use crate::CONTACTS_PER_TASK;
 
 /// The contacts of each block, in contact order, with the block's side in
 /// each (a block-by-block index of the contact list, made for one pass).
@@ -14,17 +17,28 @@ use crate::contacts::Contact;
 /// looking it up in each contact took a third of a residual's gathering
 /// at ten thousand blocks.
 #[derive(Debug, Default)]
-pub(super) struct Touching(ByBlock);
+pub(super) struct Touching(ByBlock, Vec<[usize; 2]>);
 
 impl Touching {
     /// Indexes `contacts` among `blocks` blocks.
-    pub fn fill<const N: usize, const T: usize, E>(
+    pub fn fill<const N: usize, const T: usize, E: Sync>(
         &mut self,
         blocks: usize,
         contacts: &[Contact<N, T, E>],
     ) {
+        // The contacts' blocks copied side by side on every core first:
+        // the listing reads them twice, on one core, and read in place
+        // (a contact is some 200 bytes) that took 0.6-1.2 ms a pass at
+        // 10,051 blocks in 2D, 2.8-3.1 ms in 3D.
+        let pairs = &mut self.1;
+        pairs.clear();
+        pairs.par_extend(
+            (contacts.par_iter())
+                .with_min_len(CONTACTS_PER_TASK)
+                .map(|c| c.blocks),
+        );
         // Item 2i + s is side s of contact i.
-        let sides = contacts.iter().flat_map(|c| c.blocks.map(|b| [b]));
+        let sides = pairs.iter().flat_map(|blocks| blocks.map(|b| [b]));
         self.0.fill(blocks, sides);
     }
 
