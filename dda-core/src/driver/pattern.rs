@@ -43,16 +43,19 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         transfer_records(&mut self.contacts, &mut fresh);
         let at_start = self.stats.steps == 0;
         let touching = self.settings.contact_tolerance * self.length_scale;
-        for c in &mut fresh {
-            if c.record.history.is_none() {
-                c.record.history = Some(self.laws[c.law].initial_history(at_start));
+        let laws = &self.laws;
+        // On every core: on one, 0.7-1.6 ms a step at 10,051 blocks in 3D.
+        (fresh.par_iter_mut())
+            .with_min_len(CONTACTS_PER_TASK)
+            .filter(|c| c.record.history.is_none())
+            .for_each(|c| {
+                c.record.history = Some(laws[c.law].initial_history(at_start));
                 // Joints closed in the initial geometry start locked, so
                 // their bonds hold from the first step.
                 if at_start && c.entrances.iter().all(|e| e.gap() <= touching) {
                     c.record.state = ContactState::Locked;
                 }
-            }
-        }
+            });
         // Freeing the last step's contacts (a heap block or two each: 4.6
         // ms at ten thousand blocks) is left to a thread that would idle.
         let last = std::mem::replace(&mut self.contacts, fresh);
