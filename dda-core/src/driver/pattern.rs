@@ -125,7 +125,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 .map(|c| matrix.slot(c.blocks[0], c.blocks[1])),
         );
         // Read from the slots alone: listing only the loaded contacts read
-        // each contact's load (256 bytes in 3D) twice on one core, 3-4 ms
+        // each contact's load (256 bytes in 3D) twice on one core, 2-4 ms
         // a tangent at 10,051 blocks in 3D.
         let slots = self.slots.iter().copied();
         self.slot_contacts.fill(matrix.pairs().len(), slots);

@@ -17,7 +17,11 @@ use crate::CONTACTS_PER_TASK;
 /// looking it up in each contact took a third of a residual's gathering
 /// at ten thousand blocks.
 #[derive(Debug, Default)]
-pub(super) struct Touching(ByBlock, Vec<[usize; 2]>);
+pub(super) struct Touching {
+    index: ByBlock,
+    /// Each contact's two blocks, side by side (kept for its storage).
+    blocks: Vec<[usize; 2]>,
+}
 
 impl Touching {
     /// Indexes `contacts` among `blocks` blocks.
@@ -30,7 +34,7 @@ impl Touching {
         // the listing reads them twice, on one core, and read in place
         // (a contact is some 200 bytes) that took 0.6-1.2 ms a pass at
         // 10,051 blocks in 2D, 2.8-3.1 ms in 3D.
-        let pairs = &mut self.1;
+        let pairs = &mut self.blocks;
         pairs.clear();
         pairs.par_extend(
             (contacts.par_iter())
@@ -39,23 +43,26 @@ impl Touching {
         );
         // Item 2i + s is side s of contact i.
         let sides = pairs.iter().flat_map(|blocks| blocks.map(|b| [b]));
-        self.0.fill(blocks, sides);
+        self.index.fill(blocks, sides);
     }
 
     /// Forgets the index (the pass is over).
     pub fn clear(&mut self) {
-        self.0.clear();
+        self.index.clear();
     }
 
     /// Whether a pass's contacts are indexed.
     pub fn is_filled(&self) -> bool {
-        self.0.blocks() > 0
+        self.index.blocks() > 0
     }
 
     /// The contacts of `block` and its side in each (0 or 1), in contact
     /// order.
     pub fn of(&self, block: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.0.of(block).iter().map(|&item| (item / 2, item % 2))
+        self.index
+            .of(block)
+            .iter()
+            .map(|&item| (item / 2, item % 2))
     }
 }
 
