@@ -422,3 +422,15 @@ fn bad_bench_options_are_clear_errors() {
         assert!(!err.contains("panicked"), "{err}");
     }
 }
+
+/// A 3D wall's bricks, all boxes, read one shared topology: the narrow
+/// phase then reads one set of adjacency lists for all of them.
+#[test]
+fn a_3d_walls_bricks_share_one_topology() {
+    let scene = wall(4, 3, Stepping::Fixed, BlockKind::Rigid).unwrap();
+    let model = scene.build_3d().unwrap();
+    let blocks = &model.driver.system.blocks;
+    assert!(blocks.len() > 10);
+    let first = blocks[0].shape();
+    assert!(blocks[1..].iter().all(|b| b.shape().shares_topology(first)));
+}

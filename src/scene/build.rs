@@ -135,7 +135,8 @@ impl Scene {
                 ),
             ));
         }
-        let checked = self.checked::<B, D, S>()?;
+        let mut checked = self.checked::<B, D, S>()?;
+        B::share(&mut checked.shapes);
         let plane = self.analysis.plane;
         let materials = self.materials.iter().map(|(_, m)| B::elastic(m, plane));
         let mut blocks = Vec::with_capacity(checked.blocks.len());

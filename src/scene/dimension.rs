@@ -35,6 +35,10 @@ pub(super) trait SceneElement<const D: usize, const S: usize>: Sized {
 
     fn first_overlap(shapes: &[Self::Shape]) -> Option<(usize, usize)>;
 
+    /// Lets shapes of one topology share it, as they become blocks; an
+    /// outline has none to share.
+    fn share(_shapes: &mut [Self::Shape]) {}
+
     /// How far `p` lies outside the shape (0 inside or on it).
     fn outside(shape: &Self::Shape, p: &Point<f64, D>) -> f64;
 
@@ -144,6 +148,10 @@ impl SceneElement<3, 6> for dda_3d::Block {
 
     fn first_overlap(shapes: &[Polyhedron]) -> Option<(usize, usize)> {
         polyhedra::first_overlap(shapes).first
+    }
+
+    fn share(shapes: &mut [Polyhedron]) {
+        polyhedra::share_topologies(shapes);
     }
 
     fn outside(shape: &Polyhedron, p: &Point3<f64>) -> f64 {
