@@ -13,7 +13,7 @@
 use dda_core::block_set::{Reach, ANGLE_TOLERANCE, PENETRATION_SHARE};
 #[cfg(test)]
 use dda_core::contacts::same_contacts;
-use dda_core::{Contact, ContactKey, ContactRecord, Entrance};
+use dda_core::{Contact, ContactKey, Entrance};
 use nalgebra::{Matrix2x6, Point2, Vector2, Vector6};
 
 use crate::block::{Block, Edge};
@@ -168,20 +168,13 @@ fn contact(
     (length, spring_length): (f64, f64),
     entrances: Vec<Entrance<6, 1>>,
 ) -> Contact2 {
-    Contact {
-        key: ContactKey {
-            block_a: i as u32,
-            feature_a: feature_a as u32,
-            block_b: j as u32,
-            feature_b,
-        },
-        blocks: [i, j],
-        law,
-        length,
-        spring_length,
-        entrances,
-        record: ContactRecord::default(),
-    }
+    let key = ContactKey {
+        block_a: i as u32,
+        feature_a: feature_a as u32,
+        block_b: j as u32,
+        feature_b,
+    };
+    Contact::new(key, law, (length, spring_length), entrances)
 }
 
 fn is_reflex(b: &Block, k: usize) -> bool {

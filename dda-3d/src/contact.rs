@@ -59,7 +59,7 @@ use dda_core::block_set::{Reach, ANGLE_TOLERANCE, PENETRATION_SHARE};
 #[cfg(test)]
 use dda_core::contacts::same_contacts;
 use dda_core::planar;
-use dda_core::{Contact, ContactKey, ContactRecord};
+use dda_core::{Contact, ContactKey};
 use nalgebra::{Point2, Point3, Vector3};
 
 use crate::block::Block;
@@ -444,20 +444,13 @@ fn contact(
     (length, spring_length): (f64, f64),
     entrances: Vec<PointEntrance>,
 ) -> Contact3 {
-    Contact {
-        key: ContactKey {
-            block_a: i as u32,
-            feature_a,
-            block_b: j as u32,
-            feature_b,
-        },
-        blocks: [i, j],
-        law,
-        length,
-        spring_length,
-        entrances,
-        record: ContactRecord::default(),
-    }
+    let key = ContactKey {
+        block_a: i as u32,
+        feature_a,
+        block_b: j as u32,
+        feature_b,
+    };
+    Contact::new(key, law, (length, spring_length), entrances)
 }
 
 /// Whether a convex end of an edge lies within `range` of `p` (a corner

@@ -977,7 +977,13 @@ fn widest_at_rest<const N: usize, const T: usize, E: EntranceRows<N, T>>(
     if c.entrances.len() == 1 {
         return 0;
     }
-    widest_of(c.entrances.iter().map(|e| e.gap()), current, tolerance)
+    // `widest_of` over the gaps, read off the widest kept as the contact
+    // was made and the current entrance alone.
+    let (first, widest) = c.widest_at_start();
+    match c.entrances.get(current) {
+        Some(e) if widest - e.gap() <= tolerance => current,
+        _ => first.unwrap_or(current),
+    }
 }
 
 /// The entrance of the largest of `gaps`, or `current` if within

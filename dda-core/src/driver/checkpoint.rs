@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use super::predict::RecentSteps;
 use super::Driver;
 use crate::contact::ContactState;
-use crate::contacts::{BlockVector, Contact, ContactKey, ContactRecord};
+use crate::contacts::{BlockVector, Contact, ContactKey, ContactRecord, Widest};
 use crate::error::DdaError;
 use crate::statistics::Statistics;
 use crate::system::{BlockSystem, SystemState};
@@ -176,6 +176,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 length: 0.0,
                 spring_length: 0.0,
                 entrances: Vec::new(),
+                widest: Widest::of::<N, T, S::Entrance>(&[]),
                 record: ContactRecord {
                     state: c.state,
                     shear: SVector::from_column_slice(&c.shear),

@@ -168,10 +168,6 @@ fn pattern_wants<const N: usize, const T: usize, E: EntranceRows<N, T>>(
     }
     // Shi's contact closes through its widest entrance, so it is as far
     // from closing as that entrance's gap.
-    let gap = c
-        .entrances
-        .iter()
-        .map(|e| e.gap())
-        .fold(f64::NEG_INFINITY, f64::max);
+    let (_, gap) = c.widest_at_start();
     (gap <= reach, gap <= 2.0 * reach)
 }

@@ -69,23 +69,16 @@ impl Touching {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contacts::{ContactKey, ContactRecord};
+    use crate::contacts::ContactKey;
 
     fn contact(a: usize, b: usize) -> Contact<3, 1> {
-        Contact {
-            key: ContactKey {
-                block_a: a as u32,
-                feature_a: 0,
-                block_b: b as u32,
-                feature_b: 0,
-            },
-            blocks: [a, b],
-            law: 0,
-            length: 1.0,
-            spring_length: 1.0,
-            entrances: Vec::new(),
-            record: ContactRecord::default(),
-        }
+        let key = ContactKey {
+            block_a: a as u32,
+            feature_a: 0,
+            block_b: b as u32,
+            feature_b: 0,
+        };
+        Contact::new(key, 0, (1.0, 1.0), Vec::new())
     }
 
     /// Each block lists exactly the contacts that touch it, in contact
