@@ -934,10 +934,6 @@ fn widest_entrance<const N: usize, const T: usize, E: EntranceRows<N, T>>(
     )
 }
 
-/// [`widest_entrance`] before the blocks move, where each entrance's gap is
-/// the one it starts with: the same choice, reading a 3D group's gaps
-/// alone instead of its rows too (a step starts with every contact's
-/// choice, at ten thousand 3D blocks some 200 MB of rows).
 /// How many contacts ahead a sweep asks for a contact's own allocations.
 const PREFETCH_AHEAD: usize = 8;
 
@@ -969,6 +965,11 @@ fn prefetch<V: ?Sized>(value: &V) {
     let _ = value;
 }
 
+/// [`widest_entrance`] before the blocks move, where each entrance's gap is
+/// the one it starts with: the same choice, read off the widest the
+/// contact keeps from its making ([`Contact::new`]) and the current
+/// entrance, instead of every entrance's gap (at ten thousand 3D blocks
+/// some 320,000 a step).
 fn widest_at_rest<const N: usize, const T: usize, E: EntranceRows<N, T>>(
     c: &Contact<N, T, E>,
     current: usize,
@@ -977,8 +978,6 @@ fn widest_at_rest<const N: usize, const T: usize, E: EntranceRows<N, T>>(
     if c.entrances.len() == 1 {
         return 0;
     }
-    // `widest_of` over the gaps, read off the widest kept as the contact
-    // was made and the current entrance alone.
     let (first, widest) = c.widest_at_start();
     match c.entrances.get(current) {
         Some(e) if widest - e.gap() <= tolerance => current,
