@@ -252,9 +252,7 @@ pub(crate) struct Widest {
 }
 
 impl Widest {
-    pub(crate) fn of<const N: usize, const T: usize, E: EntranceRows<N, T>>(
-        entrances: &[E],
-    ) -> Self {
+    fn of<const N: usize, const T: usize, E: EntranceRows<N, T>>(entrances: &[E]) -> Self {
         let mut widest = Self {
             first: None,
             gap: f64::NEG_INFINITY,

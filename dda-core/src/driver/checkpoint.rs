@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use super::predict::RecentSteps;
 use super::Driver;
 use crate::contact::ContactState;
-use crate::contacts::{BlockVector, Contact, ContactKey, ContactRecord, Widest};
+use crate::contacts::{BlockVector, Contact, ContactKey, ContactRecord};
 use crate::error::DdaError;
 use crate::statistics::Statistics;
 use crate::system::{BlockSystem, SystemState};
@@ -170,13 +170,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 None => None,
             };
             contacts.push(Contact {
-                key: c.key,
                 blocks: c.blocks,
-                law: c.law,
-                length: 0.0,
-                spring_length: 0.0,
-                entrances: Vec::new(),
-                widest: Widest::of::<N, T, S::Entrance>(&[]),
                 record: ContactRecord {
                     state: c.state,
                     shear: SVector::from_column_slice(&c.shear),
@@ -188,6 +182,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     shear_force: c.shear_force,
                     history,
                 },
+                ..Contact::new(c.key, c.law, (0.0, 0.0), Vec::new())
             });
         }
         self.contacts = contacts;
