@@ -50,6 +50,7 @@ mod springs;
 mod step_motion;
 mod terms;
 mod touching;
+mod weighing;
 mod woodbury;
 
 /// The automatic step's ceiling is sqrt(block size / g) over this: a block
@@ -138,6 +139,9 @@ enum Motion<'a> {
     Tangent,
     /// An implicit step's residual alone (the factor is kept).
     Implicit,
+    /// The same, each contact's load kept whole, its springs with its
+    /// force, for `FactorSprings::record` (a kept factor not weighed).
+    Springs,
     /// An explicit step's forces, its dashpots on the displacement its
     /// start velocities make in dt.
     Explicit(&'a [f64]),
@@ -158,6 +162,12 @@ pub struct Driver<S: BlockSystem<N, T>, const N: usize, const T: usize> {
     /// of its values' changes), where it started on it: the matrix stands
     /// still where the next step's is the same (`Driver::factor_fits`).
     factor_change: Option<f64>,
+    /// The last weighing that found the kept factor fitting
+    /// (`weighing.rs`).
+    weighing: Option<weighing::Weighing>,
+    /// The most steps in a row that start on a large factor unweighed
+    /// (`weighing::UNWEIGHED_STEPS`).
+    unweighed_steps: usize,
     /// The contact springs in the factor's matrix, within a step attempt.
     factor_springs: springs::FactorSprings<T>,
     /// The most rank-one terms a later pass applies to a large factor for
@@ -334,6 +344,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             values: Vec::new(),
             factored: None,
             factor_change: None,
+            weighing: None,
+            unweighed_steps: weighing::UNWEIGHED_STEPS,
             factor_springs: Default::default(),
             changed_springs: pass::CHANGED_SPRINGS,
             early_decision: pass::EARLY_DECISION,
@@ -422,6 +434,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     #[doc(hidden)]
     pub fn set_changed_springs(&mut self, limit: usize) {
         self.changed_springs = limit;
+    }
+
+    /// The most steps in a row whose first pass may start on a large kept
+    /// factor without weighing it against the step's tangent (default 3);
+    /// 0 weighs it at every step. For tests and studies of the solve.
+    #[doc(hidden)]
+    pub fn set_unweighed_steps(&mut self, steps: usize) {
+        self.unweighed_steps = steps;
     }
 
     /// The share of the step's first residual at which a pass reads its

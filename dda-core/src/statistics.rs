@@ -59,6 +59,10 @@ pub struct Statistics {
     /// springs changed since it was made as rank-one terms, instead of a
     /// new factorisation.
     pub changed_spring_passes: usize,
+    /// Steps whose first pass started on the kept factor without weighing
+    /// it against the step's tangent.
+    #[serde(default)]
+    pub unweighed_starts: usize,
     /// Open-close passes ended before their tolerance because a contact's
     /// decision read on the way would change (`EARLY_DECISION`).
     pub early_decisions: usize,

@@ -48,7 +48,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let started = Instant::now();
         let (implicit, tangent, approach) = match motion {
             Motion::Tangent => (true, true, None),
-            Motion::Implicit => (true, false, None),
+            Motion::Implicit | Motion::Springs => (true, false, None),
             Motion::Explicit(approach) => (false, false, Some(approach)),
         };
         // Where the dashpots read the blocks' motion in the step.
@@ -126,7 +126,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // A move on a kept factor, gathered, needs the contacts' forces
         // alone: a quarter less to write and read again than their loads
         // (104 bytes a contact against 144 in 2D, 200 against 256 in 3D).
-        let forces_only = gather && !tangent;
+        let forces_only = gather && !tangent && !matches!(motion, Motion::Springs);
         let mut loads = std::mem::take(&mut self.contact_loads);
         let mut forces = std::mem::take(&mut self.contact_forces);
         let terms = self.terms();

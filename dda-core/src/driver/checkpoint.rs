@@ -10,6 +10,7 @@ use nalgebra::SVector;
 use serde::{Deserialize, Serialize};
 
 use super::predict::RecentSteps;
+use super::weighing::Weighing;
 use super::Driver;
 use crate::contact::ContactState;
 use crate::contacts::{BlockVector, Contact, ContactKey, ContactRecord};
@@ -44,6 +45,7 @@ struct Saved {
     /// The matrix values of the factor the next step starts on.
     factored: Option<Vec<f64>>,
     factor_change: Option<f64>,
+    weighing: Option<Weighing>,
     statistics: Statistics,
     system: SystemState,
 }
@@ -129,6 +131,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             pattern: self.matrix.pairs().to_vec(),
             factored: self.factored.clone(),
             factor_change: self.factor_change,
+            weighing: self.weighing.clone(),
             statistics: self.stats.clone(),
             system: self.system.save_state()?,
         };
@@ -209,6 +212,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.energy_floor = saved.energy_floor;
         self.first_potential = saved.first_potential;
         self.factor_change = saved.factor_change;
+        self.weighing = saved.weighing;
         self.stats = saved.statistics;
         self.rebuild_pattern(saved.pattern);
         self.find_slots();

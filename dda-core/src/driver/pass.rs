@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use super::anderson::Anderson;
 use super::woodbury::{update_terms, RankOne, Woodbury};
-use super::{gmres, Driver, Trial};
+use super::{gmres, Driver, Motion, Trial};
 use crate::assembly::Change;
 use crate::contact::ContactState;
 use crate::error::DdaError;
@@ -383,6 +383,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // (`changed_springs`).
         let later = trial.load_scale > 0.0;
         let mut factored = !coupled && !later && self.analysed && self.factored.is_some();
+        // Whether it starts on a large one unweighed (`weighing.rs`).
+        let unweighed = factored && self.large_factor() && self.start_unweighed(dt, trial);
         let mut kept = false;
         let mut keeping = true;
         let (give_way, mut stale, drift) = if self.large_factor() {
@@ -437,18 +439,32 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // The tangent is assembled where a new factor is sure to be
             // needed, and at a pass's start to weigh the last step's factor
             // against it; elsewhere only if the kept one falls short.
-            let tangent = coupled || !keeping || !factored || iteration == 0;
-            self.assemble(
-                dt,
-                masses,
-                trial,
-                &mut residual,
-                coupled.then_some(&mut couplings),
-                tangent,
-            );
+            let tangent = coupled || !keeping || !factored || (iteration == 0 && !unweighed);
+            if iteration == 0 && unweighed {
+                // The springs recorded as the factor's, as where it fits.
+                self.load(dt, masses, trial, &mut residual, None, Motion::Springs);
+            } else {
+                self.assemble(
+                    dt,
+                    masses,
+                    trial,
+                    &mut residual,
+                    coupled.then_some(&mut couplings),
+                    tangent,
+                );
+            }
             if iteration == 0 && factored {
                 let still;
-                (factored, still, measured) = self.factor_fits(drift);
+                if unweighed {
+                    still = false;
+                } else {
+                    (factored, still, measured) = self.factor_fits(drift);
+                    if self.large_factor() {
+                        let share =
+                            measured.map_or(f64::INFINITY, |c| c.largest / (drift * c.scale));
+                        self.weighed(dt, trial, share, factored && !still);
+                    }
+                }
                 carried = factored;
                 if still {
                     stale = STALE_FACTOR_MOVES;

@@ -1,0 +1,152 @@
+//! A step's first pass on a large kept factor weighs it against the step's
+//! tangent only every fourth step while the blocks move and nothing else
+//! changes (`driver/weighing.rs`); the steps between start on it
+//! unweighed, on a residual alone. Where every skipped weighing would have
+//! kept the factor, a run takes the same path to the last bit: these
+//! tests run walls with the rule and without it (`set_unweighed_steps(0)`).
+
+use dda::bench::{wall, Stepping};
+use dda::Scene;
+use dda_core::solve::{LinearSolver, SparseCholesky};
+use dda_core::{BlockKind, Statistics};
+
+/// The direct solver.
+fn direct() -> Box<dyn LinearSolver> {
+    Box::new(SparseCholesky::default())
+}
+
+/// `scene` (2D, or its 3D model with `three`) run to `end` s with at most
+/// `unweighed` steps in a row unweighed, on the solver `solver` makes: the
+/// statistics and every block's centroid.
+fn run(
+    scene: &Scene,
+    end: f64,
+    three: bool,
+    unweighed: usize,
+    solver: fn() -> Box<dyn LinearSolver>,
+) -> (Statistics, Vec<[f64; 3]>) {
+    if three {
+        let mut driver = scene.build_3d().unwrap().driver.with_solver(solver());
+        driver.set_unweighed_steps(unweighed);
+        driver.advance_to(end).unwrap();
+        let at = (driver.system.blocks.iter()).map(|b| b.centroid().coords.into());
+        (driver.statistics().clone(), at.collect())
+    } else {
+        let mut driver = scene.build().unwrap().driver.with_solver(solver());
+        driver.set_unweighed_steps(unweighed);
+        driver.advance_to(end).unwrap();
+        let at = (driver.system.blocks.iter()).map(|b| [b.centroid().x, b.centroid().y, 0.0]);
+        (driver.statistics().clone(), at.collect())
+    }
+}
+
+/// The two runs took the same path: the same passes, moves and
+/// factorisations, and every centroid the same to the last bit; the
+/// first started at least `skipped` steps unweighed, the second none.
+fn same_path(on: &(Statistics, Vec<[f64; 3]>), off: &(Statistics, Vec<[f64; 3]>), skipped: usize) {
+    let (a, b) = (&on.0, &off.0);
+    println!(
+        "unweighed starts {} of {} steps; passes {} and {}, moves {} and {}, factorisations {} and {}",
+        a.unweighed_starts,
+        a.steps,
+        a.open_close_iterations,
+        b.open_close_iterations,
+        a.newton_iterations,
+        b.newton_iterations,
+        a.factorizations,
+        b.factorizations
+    );
+    assert_eq!(b.unweighed_starts, 0);
+    assert!(
+        a.unweighed_starts >= skipped,
+        "{} unweighed starts",
+        a.unweighed_starts
+    );
+    assert_eq!(a.steps, b.steps);
+    assert_eq!(a.open_close_iterations, b.open_close_iterations);
+    assert_eq!(a.newton_iterations, b.newton_iterations);
+    assert_eq!(a.factorizations, b.factorizations);
+    assert!(on.1 == off.1, "the walls ended apart");
+}
+
+/// The 40 × 40 deformable wall's first 20 steps at dt 1 ms (a factor of
+/// 1.3 million entries): while it falls onto its base, steps start
+/// unweighed, and it takes the same path as weighing at every step.
+#[test]
+fn a_moving_wall_skips_weighings_on_the_same_path() {
+    let scene = wall(40, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
+    let end = 0.02 - 1e-9;
+    let on = run(&scene, end, false, 3, direct);
+    let off = run(&scene, end, false, 0, direct);
+    same_path(&on, &off, 6);
+}
+
+/// The 3D model of the 40 × 40 deformable wall at dt 1 ms, its first 20
+/// steps: the factor made at the fifth step reads 0.90 and 0.95 of its
+/// limit at the next two, and would read 1.15 at the third, where a new
+/// one is made. Its change's growth between weighings (`MARGIN`) weighs
+/// that step, so the run takes the same path; without that bound it
+/// started the step unweighed and went another way.
+#[test]
+fn a_factor_near_its_limit_is_weighed_in_3d() {
+    let scene = wall(40, 3, Stepping::Fixed, BlockKind::Deformable).unwrap();
+    let end = 0.02 - 1e-9;
+    let on = run(&scene, end, true, 3, direct);
+    let off = run(&scene, end, true, 0, direct);
+    same_path(&on, &off, 5);
+}
+
+/// The 40 × 40 deformable wall at its automatic step and penalty for
+/// 0.4 s: it settles, moving less than 1e-4 of a brick a step from its
+/// third, and comes to stand still at about 0.11 s, where its factor is
+/// given up (`STILL_MATRIX`). Steps start unweighed only while the blocks
+/// move (`MOVING`), here none, so that happens where it would; started
+/// unweighed through it, it happened six steps later, with 20 moves more.
+#[test]
+fn a_wall_that_comes_to_rest_gives_its_factor_up_in_time() {
+    let scene = wall(40, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
+    let on = run(&scene, 0.4, false, 3, direct);
+    let off = run(&scene, 0.4, false, 0, direct);
+    same_path(&on, &off, 0);
+}
+
+/// A wall saved while its steps start unweighed and resumed in a driver
+/// built afresh takes its next steps bit for bit as the saved run does,
+/// starting the same steps unweighed: the checkpoint keeps the last
+/// weighing.
+#[test]
+fn a_wall_starting_steps_unweighed_resumes_bit_for_bit() {
+    let scene = wall(40, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
+    let fresh = || scene.build().unwrap().driver.with_solver(direct());
+    let steps = |driver: &mut dda_2d::Driver2d, n: usize| {
+        for _ in 0..n {
+            driver.step(1.0).unwrap();
+        }
+        let s = driver.statistics();
+        let centroids: Vec<_> = driver.system.blocks.iter().map(|b| b.centroid()).collect();
+        (
+            s.newton_iterations,
+            s.factorizations,
+            s.unweighed_starts,
+            centroids,
+        )
+    };
+    let mut going = fresh();
+    let before = steps(&mut going, 9);
+    let saved = going.save().unwrap();
+    let went = steps(&mut going, 10);
+    let mut resumed = fresh();
+    resumed.restore(&saved).unwrap();
+    let came = steps(&mut resumed, 10);
+    println!(
+        "unweighed starts {} before the save, {} after it; resumed {}",
+        before.2, went.2, came.2
+    );
+    assert!(
+        before.2 >= 1 && went.2 >= before.2 + 3,
+        "{} then {}",
+        before.2,
+        went.2
+    );
+    assert!(came == went);
+}
