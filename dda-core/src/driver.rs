@@ -162,8 +162,8 @@ pub struct Driver<S: BlockSystem<N, T>, const N: usize, const T: usize> {
     /// of its values' changes), where it started on it: the matrix stands
     /// still where the next step's is the same (`Driver::factor_fits`).
     factor_change: Option<f64>,
-    /// The last weighing that found the kept factor fitting
-    /// (`weighing.rs`).
+    /// The last weighing of the kept factor against a step's tangent, and
+    /// the steps started on it unweighed since (`weighing.rs`).
     weighing: Option<weighing::Weighing>,
     /// The most steps in a row that start on a large factor unweighed
     /// (`weighing::UNWEIGHED_STEPS`).

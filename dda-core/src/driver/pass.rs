@@ -438,7 +438,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let mut measured = None;
             // The tangent is assembled where a new factor is sure to be
             // needed, and at a pass's start to weigh the last step's factor
-            // against it; elsewhere only if the kept one falls short.
+            // against it (unless the step starts on it unweighed);
+            // elsewhere only if the kept one falls short.
             let tangent = coupled || !keeping || !factored || (iteration == 0 && !unweighed);
             if iteration == 0 && unweighed {
                 // The springs recorded as the factor's, as where it fits.
