@@ -97,6 +97,9 @@ pub struct PerStep {
     pub whole_tangent_moves_per_step: f64,
     pub whole_tangent_products_per_step: f64,
     pub whole_tangent_factorizations_per_step: f64,
+    /// Steps whose first pass started on the kept factor unweighed (the
+    /// step's tangent not assembled to weigh it), as a share of the steps.
+    pub unweighed_starts_per_step: f64,
     /// Milliseconds per step in each phase, in step order, then `other`:
     /// the rest of the driver's step (each attempt's setup, the checks of
     /// its motion and penetration, impacts), so the phases add up to it.
@@ -116,6 +119,7 @@ impl PerStep {
             whole_tangent_moves_per_step: per_step(stats.whole_tangent_moves),
             whole_tangent_products_per_step: per_step(stats.whole_tangent_products),
             whole_tangent_factorizations_per_step: per_step(stats.whole_tangent_factorizations),
+            unweighed_starts_per_step: per_step(stats.unweighed_starts),
             phase_ms_per_step: phase_ms_per_step(stats, steps),
         }
     }
@@ -248,6 +252,7 @@ fn difference(after: &Statistics, before: &Statistics) -> Statistics {
         whole_tangent_factorizations: after.whole_tangent_factorizations
             - before.whole_tangent_factorizations,
         whole_tangent_products: after.whole_tangent_products - before.whole_tangent_products,
+        unweighed_starts: after.unweighed_starts - before.unweighed_starts,
         symbolic_analyses: after.symbolic_analyses - before.symbolic_analyses,
         open_close_cuts: after.open_close_cuts - before.open_close_cuts,
         displacement_cuts: after.displacement_cuts - before.displacement_cuts,
@@ -343,8 +348,8 @@ fn bench_one(
 mod tests {
     use super::*;
 
-    /// The whole-tangent moves, their products and factorisations since
-    /// the untimed step, per timed step.
+    /// The whole-tangent moves, their products and factorisations, and
+    /// the unweighed starts, since the untimed step, per timed step.
     #[test]
     fn whole_tangent_work_is_counted_per_timed_step() {
         let before = Statistics {
@@ -352,6 +357,7 @@ mod tests {
             whole_tangent_moves: 2,
             whole_tangent_products: 9,
             whole_tangent_factorizations: 1,
+            unweighed_starts: 1,
             ..Statistics::default()
         };
         let after = Statistics {
@@ -359,12 +365,14 @@ mod tests {
             whole_tangent_moves: 8,
             whole_tangent_products: 39,
             whole_tangent_factorizations: 3,
+            unweighed_starts: 4,
             ..Statistics::default()
         };
         let work = PerStep::of(&difference(&after, &before));
         assert_eq!(work.whole_tangent_moves_per_step, 1.5);
         assert_eq!(work.whole_tangent_products_per_step, 7.5);
         assert_eq!(work.whole_tangent_factorizations_per_step, 0.5);
+        assert_eq!(work.unweighed_starts_per_step, 0.75);
     }
 
     /// Timed steps' statistics keep their own wall time, and the phases
