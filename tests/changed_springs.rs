@@ -13,7 +13,7 @@ use dda_core::{BlockKind, Statistics};
 use std::sync::{Arc, Mutex};
 
 mod common;
-use common::{apart, LargeLogged, Posing};
+use common::{apart, save_and_resume, LargeLogged, Posing};
 
 /// A solver posing as large (beyond the floor of changes left to the
 /// moves), writing down what it is asked.
@@ -210,26 +210,7 @@ fn a_wall_moving_on_the_changed_springs_resumes_bit_for_bit() {
         let (solver, _) = large();
         scene.build().unwrap().driver.with_solver(solver)
     };
-    let steps = |driver: &mut dda_2d::Driver2d, n: usize| {
-        for _ in 0..n {
-            driver.step(1.0).unwrap();
-        }
-        let s = driver.statistics();
-        let centroids: Vec<_> = driver.system.blocks.iter().map(|b| b.centroid()).collect();
-        (
-            s.newton_iterations,
-            s.factorizations,
-            s.changed_spring_passes,
-            centroids,
-        )
-    };
-    let mut going = fresh();
-    let before = steps(&mut going, 150);
-    let saved = going.save().unwrap();
-    let went = steps(&mut going, 100);
-    let mut resumed = fresh();
-    resumed.restore(&saved).unwrap();
-    let came = steps(&mut resumed, 100);
+    let [before, went, came] = save_and_resume(fresh, 150, 100, |s| s.changed_spring_passes);
     println!(
         "resumed: {} moves, {} factorisations, {} passes on changed springs; went on: {}, {} and {}",
         came.0, came.1, came.2, went.0, went.1, went.2

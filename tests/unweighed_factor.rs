@@ -7,32 +7,25 @@
 
 use dda::bench::{wall, Stepping};
 use dda::Scene;
-use dda_core::solve::{LinearSolver, SparseCholesky};
+use dda_core::solve::SparseCholesky;
 use dda_core::{BlockKind, Statistics};
 
-/// The direct solver.
-fn direct() -> Box<dyn LinearSolver> {
-    Box::new(SparseCholesky::default())
-}
+mod common;
+use common::save_and_resume;
 
 /// `scene` (2D, or its 3D model with `three`) run to `end` s with at most
-/// `unweighed` steps in a row unweighed, on the solver `solver` makes: the
-/// statistics and every block's centroid.
-fn run(
-    scene: &Scene,
-    end: f64,
-    three: bool,
-    unweighed: usize,
-    solver: fn() -> Box<dyn LinearSolver>,
-) -> (Statistics, Vec<[f64; 3]>) {
+/// `unweighed` steps in a row unweighed: the statistics and every block's
+/// centroid.
+fn run(scene: &Scene, end: f64, three: bool, unweighed: usize) -> (Statistics, Vec<[f64; 3]>) {
+    let solver = Box::new(SparseCholesky::default());
     if three {
-        let mut driver = scene.build_3d().unwrap().driver.with_solver(solver());
+        let mut driver = scene.build_3d().unwrap().driver.with_solver(solver);
         driver.set_unweighed_steps(unweighed);
         driver.advance_to(end).unwrap();
         let at = (driver.system.blocks.iter()).map(|b| b.centroid().coords.into());
         (driver.statistics().clone(), at.collect())
     } else {
-        let mut driver = scene.build().unwrap().driver.with_solver(solver());
+        let mut driver = scene.build().unwrap().driver.with_solver(solver);
         driver.set_unweighed_steps(unweighed);
         driver.advance_to(end).unwrap();
         let at = (driver.system.blocks.iter()).map(|b| [b.centroid().x, b.centroid().y, 0.0]);
@@ -40,10 +33,13 @@ fn run(
     }
 }
 
-/// The two runs took the same path: the same passes, moves and
-/// factorisations, and every centroid the same to the last bit; the
-/// first started at least `skipped` steps unweighed, the second none.
-fn same_path(on: &(Statistics, Vec<[f64; 3]>), off: &(Statistics, Vec<[f64; 3]>), skipped: usize) {
+/// `scene` run to `end` s with steps started unweighed and without takes
+/// the same path: the same passes, moves and factorisations, and every
+/// centroid the same to the last bit; the first run started at least
+/// `skipped` steps unweighed, the second none.
+fn same_path(scene: &Scene, end: f64, three: bool, skipped: usize) {
+    let on = run(scene, end, three, 3);
+    let off = run(scene, end, three, 0);
     let (a, b) = (&on.0, &off.0);
     println!(
         "unweighed starts {} of {} steps; passes {} and {}, moves {} and {}, factorisations {} and {}",
@@ -75,10 +71,7 @@ fn same_path(on: &(Statistics, Vec<[f64; 3]>), off: &(Statistics, Vec<[f64; 3]>)
 #[test]
 fn a_moving_wall_skips_weighings_on_the_same_path() {
     let scene = wall(40, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
-    let end = 0.02 - 1e-9;
-    let on = run(&scene, end, false, 3, direct);
-    let off = run(&scene, end, false, 0, direct);
-    same_path(&on, &off, 6);
+    same_path(&scene, 0.02 - 1e-9, false, 6);
 }
 
 /// The 3D model of the 40 × 40 deformable wall at dt 1 ms, its first 20
@@ -90,10 +83,7 @@ fn a_moving_wall_skips_weighings_on_the_same_path() {
 #[test]
 fn a_factor_near_its_limit_is_weighed_in_3d() {
     let scene = wall(40, 3, Stepping::Fixed, BlockKind::Deformable).unwrap();
-    let end = 0.02 - 1e-9;
-    let on = run(&scene, end, true, 3, direct);
-    let off = run(&scene, end, true, 0, direct);
-    same_path(&on, &off, 5);
+    same_path(&scene, 0.02 - 1e-9, true, 5);
 }
 
 /// The 40 × 40 deformable wall at its automatic step and penalty for
@@ -105,9 +95,7 @@ fn a_factor_near_its_limit_is_weighed_in_3d() {
 #[test]
 fn a_wall_that_comes_to_rest_gives_its_factor_up_in_time() {
     let scene = wall(40, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
-    let on = run(&scene, 0.4, false, 3, direct);
-    let off = run(&scene, 0.4, false, 0, direct);
-    same_path(&on, &off, 0);
+    same_path(&scene, 0.4, false, 0);
 }
 
 /// A wall saved while its steps start unweighed and resumed in a driver
@@ -117,27 +105,11 @@ fn a_wall_that_comes_to_rest_gives_its_factor_up_in_time() {
 #[test]
 fn a_wall_starting_steps_unweighed_resumes_bit_for_bit() {
     let scene = wall(40, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
-    let fresh = || scene.build().unwrap().driver.with_solver(direct());
-    let steps = |driver: &mut dda_2d::Driver2d, n: usize| {
-        for _ in 0..n {
-            driver.step(1.0).unwrap();
-        }
-        let s = driver.statistics();
-        let centroids: Vec<_> = driver.system.blocks.iter().map(|b| b.centroid()).collect();
-        (
-            s.newton_iterations,
-            s.factorizations,
-            s.unweighed_starts,
-            centroids,
-        )
+    let fresh = || {
+        let solver = Box::new(SparseCholesky::default());
+        scene.build().unwrap().driver.with_solver(solver)
     };
-    let mut going = fresh();
-    let before = steps(&mut going, 9);
-    let saved = going.save().unwrap();
-    let went = steps(&mut going, 10);
-    let mut resumed = fresh();
-    resumed.restore(&saved).unwrap();
-    let came = steps(&mut resumed, 10);
+    let [before, went, came] = save_and_resume(fresh, 9, 10, |s| s.unweighed_starts);
     println!(
         "unweighed starts {} before the save, {} after it; resumed {}",
         before.2, went.2, came.2

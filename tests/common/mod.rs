@@ -374,3 +374,46 @@ pub fn apart(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
         .map(|(a, b)| (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt())
         .fold(0.0, f64::max)
 }
+
+/// A 2D run's moves, factorisations, one more count of its statistics,
+/// and every block's centroid (x, y).
+pub type Progress = (usize, usize, usize, Vec<[f64; 2]>);
+
+/// Steps `driver` `n` times; its progress, with `count` read off its
+/// statistics.
+pub fn steps(
+    driver: &mut dda_2d::Driver2d,
+    n: usize,
+    count: fn(&dda_core::Statistics) -> usize,
+) -> Progress {
+    for _ in 0..n {
+        driver.step(1.0).unwrap();
+    }
+    let s = driver.statistics();
+    let centroids = (driver.system.blocks.iter()).map(|b| [b.centroid().x, b.centroid().y]);
+    (
+        s.newton_iterations,
+        s.factorizations,
+        count(s),
+        centroids.collect(),
+    )
+}
+
+/// A driver made by `fresh`, run `before` steps, saved and run `after`
+/// more; and one made afresh, restored from the save and run `after`:
+/// the progress at the save, after it, and resumed.
+pub fn save_and_resume(
+    fresh: impl Fn() -> dda_2d::Driver2d,
+    before: usize,
+    after: usize,
+    count: fn(&dda_core::Statistics) -> usize,
+) -> [Progress; 3] {
+    let mut going = fresh();
+    let saved_at = steps(&mut going, before, count);
+    let saved = going.save().unwrap();
+    let went = steps(&mut going, after, count);
+    let mut resumed = fresh();
+    resumed.restore(&saved).unwrap();
+    let came = steps(&mut resumed, after, count);
+    [saved_at, went, came]
+}
