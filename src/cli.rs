@@ -117,6 +117,12 @@ enum Command {
         /// Time this study instead, on one core and on all: its wall time against the sum of its runs' times
         #[arg(long, value_name = "STUDY.ron", conflicts_with_all = ["simulate", "chart", "rigid", "kinds", "dimension"])]
         study: Option<PathBuf>,
+        /// Measure every speed target of the walls in one run instead (40 × 40 against MuJoCo, 20 × 20 against ntdda, 10 × 10 at dt 1 ms, 10,051 blocks in 2D and 3D, the growth from 1,621 to 10,051 blocks; a few minutes): a Markdown table with each verdict, the machine and the date
+        #[arg(long, conflicts_with_all = ["study", "simulate", "chart", "rigid", "kinds", "dimension", "sizes", "steps", "repeats", "dt"])]
+        targets: bool,
+        /// With --targets: MuJoCo's run of the 40 × 40 wall, the JSON of benches/mujoco_wall.py 40 run just before on the same machine
+        #[arg(long, value_name = "FILE", requires = "targets")]
+        mujoco: Option<PathBuf>,
     },
     /// Charts of a run (DIR/history.csv, DIR/contacts.csv): displacement, speed and rotation of chosen blocks, contact forces; SVG and PNG into DIR/plots
     Plot {
@@ -352,6 +358,23 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             }
         }
         Command::Bench {
+            targets: true,
+            mujoco,
+            json,
+            max_wall,
+            ..
+        } => {
+            let mujoco = mujoco
+                .map(|path| crate::bench::targets::MujocoRun::load(&path))
+                .transpose()?;
+            let options = crate::bench::targets::TargetOptions {
+                mujoco,
+                max_wall,
+                ..Default::default()
+            };
+            crate::bench::targets::command(&options, json)?;
+        }
+        Command::Bench {
             study: Some(study),
             repeats,
             json,
@@ -395,6 +418,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             json,
             solver,
             study: None,
+            ..
         } => {
             let solver = match solver.as_str() {
                 "iterative" => dda_core::Solver::iterative(),

@@ -3,6 +3,7 @@
 use dda::bench::simulate::{simulate, SimulateOptions};
 use dda::bench::{bench, wall, wall_scene, BenchOptions, Stepping};
 use dda::scene::{BlockKind, Solver};
+mod common;
 
 #[test]
 fn bench_reports_medians_and_ratios_to_the_smallest_wall() {
@@ -433,4 +434,61 @@ fn a_3d_walls_bricks_share_one_topology() {
     assert!(blocks.len() > 10);
     let first = blocks[0].shape();
     assert!(blocks[1..].iter().all(|b| b.shape().shares_topology(first)));
+}
+
+/// `dda bench --targets` on small walls (10 × 10 compared, 20 × 20 the
+/// largest, 0.05 s simulated): every target has its row, written to the
+/// JSON as it goes; the compared wall's verdict follows MuJoCo's time, and
+/// a MuJoCo run of another wall is refused.
+#[test]
+fn targets_report_every_target_with_its_verdict() {
+    use dda::bench::targets::{targets, MujocoRun, TargetOptions};
+    let dir = common::out_dir("bench_targets");
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("targets.json");
+    let mujoco = |wall_s: f64| MujocoRun {
+        engine: "mujoco".into(),
+        courses: 10,
+        wall_s,
+        drift_m: 1e-2,
+    };
+    let options = |m: MujocoRun| TargetOptions {
+        compared: 10,
+        ntdda: 10,
+        standing: 10,
+        largest: 20,
+        seconds: 0.05,
+        steps_2d: 2,
+        steps_3d: 1,
+        max_wall: 600.0,
+        mujoco: Some(m),
+    };
+    // MuJoCo far slower: the compared wall's verdict is its drift's.
+    let report = targets(&options(mujoco(1e6)), Some(&json)).unwrap();
+    assert_eq!(report.targets.len(), 15, "{report:#?}");
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(written["targets"].as_array().unwrap().len(), 15);
+    for t in &report.targets {
+        assert!(t.met.is_some(), "{t:?}");
+        assert!(!t.measured.is_empty());
+    }
+    let compared = &report.targets[..2];
+    for t in compared {
+        let drift: f64 = t.measured.split("drift ").nth(1).unwrap()[..8]
+            .trim()
+            .parse()
+            .unwrap();
+        assert_eq!(t.met, Some(drift <= 1.8e-4), "{t:?}");
+    }
+    // MuJoCo far faster: not met.
+    let fast = targets(&options(mujoco(1e-9)), None).unwrap();
+    assert!(fast.targets[..2].iter().all(|t| t.met == Some(false)));
+    let mut other = mujoco(1.0);
+    other.courses = 40;
+    let refused = targets(&options(other), None).unwrap_err().to_string();
+    assert!(
+        refused.contains("--mujoco") && refused.contains("mujoco_wall.py 10"),
+        "{refused}"
+    );
 }

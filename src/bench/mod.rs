@@ -12,6 +12,7 @@ pub mod report;
 pub mod scaling;
 pub mod simulate;
 pub mod study;
+pub mod targets;
 pub mod walls;
 
 use std::time::{Duration, Instant};

@@ -1,0 +1,519 @@
+//! `dda bench --targets`: the walls' speed targets measured in one run,
+//! each with what was measured and its verdict, under the machine and the
+//! date, as a Markdown table (and JSON). MuJoCo's time on the compared
+//! wall comes from `benches/mujoco_wall.py`, run just before on the same
+//! machine (`benches/targets.sh` runs both).
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, SystemTime};
+
+use anyhow::Context;
+use serde::{Deserialize, Serialize};
+
+use super::simulate::{simulate, SimulateOptions, SimulateRow};
+use super::{bench, BenchOptions, BenchRow};
+use crate::scene::BlockKind;
+use dda_core::Solver;
+
+/// The share of MuJoCo's wall time the compared wall may take (1/10).
+const MUJOCO_SHARE: f64 = 0.1;
+/// The compared wall's largest drift over its simulated second, m.
+const DRIFT_LIMIT: f64 = 1.8e-4;
+/// Doolin's DDA (ntdda) on the 20 × 20 wall (411 blocks), ms a step, and
+/// the speed-up asked of it (10).
+const NTDDA_MS: f64 = 28.0;
+const NTDDA_SPEEDUP: f64 = 10.0;
+/// The drift that counts a wall at rest as standing, m: it settles
+/// micrometres (ntdda's 10 × 10 wall drifted 0.155 m within 0.2 s).
+const STANDING_DRIFT: f64 = 1e-4;
+/// The largest walls' time a step, ms, and the process's peak memory, MB.
+const LARGEST_MS: f64 = 100.0;
+const MEMORY_MB: f64 = 2000.0;
+/// The largest exponent p of time a step ∝ N^p between the compared
+/// wall and the largest.
+const EXPONENT: f64 = 1.3;
+
+/// The walls and runs of a targets run; [`TargetOptions::default`] is the
+/// issue's.
+#[derive(Debug, Clone)]
+pub struct TargetOptions {
+    /// Courses of the wall compared with MuJoCo, and the first wall of the
+    /// exponent (40: 1,621 blocks).
+    pub compared: usize,
+    /// Courses of the wall compared with ntdda (20: 411 blocks).
+    pub ntdda: usize,
+    /// Courses of the wall ntdda blows up on at dt 1 ms (10).
+    pub standing: usize,
+    /// Courses of the largest walls, 2D and 3D (100: 10,051 blocks).
+    pub largest: usize,
+    /// Simulated time of the automatic-step and dt 1 ms runs, s (1).
+    pub seconds: f64,
+    /// Steps timed at dt 1 ms on the largest 2D and 3D walls (20 and 10).
+    pub steps_2d: usize,
+    pub steps_3d: usize,
+    /// Wall-clock cap per simulated run, s (600).
+    pub max_wall: f64,
+    /// MuJoCo's run of the compared wall, if measured.
+    pub mujoco: Option<MujocoRun>,
+}
+
+impl Default for TargetOptions {
+    fn default() -> Self {
+        Self {
+            compared: 40,
+            ntdda: 20,
+            standing: 10,
+            largest: 100,
+            seconds: 1.0,
+            steps_2d: 20,
+            steps_3d: 10,
+            max_wall: 600.0,
+            mujoco: None,
+        }
+    }
+}
+
+/// What `benches/mujoco_wall.py` prints of its run.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct MujocoRun {
+    pub engine: String,
+    pub courses: usize,
+    /// Seconds of `mj_step` over the run, and the largest drift, m.
+    pub wall_s: f64,
+    pub drift_m: f64,
+}
+
+impl MujocoRun {
+    /// Reads `benches/mujoco_wall.py`'s JSON.
+    pub fn load(path: &Path) -> anyhow::Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("--mujoco: cannot read {}", path.display()))?;
+        serde_json::from_str(&text).with_context(|| {
+            format!(
+                "--mujoco {}: not the JSON of benches/mujoco_wall.py (engine, courses, wall_s, drift_m)",
+                path.display()
+            )
+        })
+    }
+}
+
+/// One target's reading.
+#[derive(Debug, Clone, Serialize)]
+pub struct Target {
+    pub target: String,
+    pub measured: String,
+    /// Met, not met, or not measured (`None`).
+    pub met: Option<bool>,
+}
+
+/// The whole run: where and when, and the targets.
+#[derive(Debug, Clone, Serialize)]
+pub struct TargetReport {
+    pub date: String,
+    pub machine: String,
+    pub targets: Vec<Target>,
+}
+
+/// `rows`' row of this wall, kind and dimension.
+fn row_of<R>(
+    rows: &[R],
+    courses: usize,
+    kind: BlockKind,
+    key: impl Fn(&R) -> (usize, BlockKind),
+) -> anyhow::Result<&R> {
+    (rows.iter().find(|r| key(r) == (courses, kind)))
+        .with_context(|| format!("no run of the {courses} × {courses} {kind:?} wall"))
+}
+
+fn kind_name(kind: BlockKind) -> &'static str {
+    match kind {
+        BlockKind::Rigid => "rigid",
+        BlockKind::Deformable => "deformable",
+    }
+}
+
+/// The exponent between two walls' times a step.
+fn exponent(a: (usize, f64), b: (usize, f64)) -> f64 {
+    (b.1 / a.1).ln() / (b.0 as f64 / a.0 as f64).ln()
+}
+
+/// The compared wall against MuJoCo (or dda's side alone).
+fn against_mujoco(row: &SimulateRow, mujoco: Option<&MujocoRun>) -> Target {
+    let kind = kind_name(row.kind);
+    let ours = format!(
+        "{:.2} s for {:.2} s simulated, drift {:.2e} m",
+        row.wall_s, row.reached, row.drift
+    );
+    let drift_met = row.completed && row.drift <= DRIFT_LIMIT;
+    let (measured, met) = match mujoco {
+        Some(m) => {
+            let share = row.wall_s / m.wall_s;
+            (
+                format!(
+                    "{ours}; {} {:.1} s, drift {:.2e} m: 1/{:.0} of its time",
+                    m.engine,
+                    m.wall_s,
+                    m.drift_m,
+                    1.0 / share
+                ),
+                Some(drift_met && share <= MUJOCO_SHARE),
+            )
+        }
+        None => (
+            format!("{ours}; MuJoCo not measured (--mujoco)"),
+            (!drift_met).then_some(false),
+        ),
+    };
+    Target {
+        target: format!(
+            "{0} × {0} wall, {kind}, {1} s simulated at the automatic dt and penalty: at most 1/10 of MuJoCo's wall time, drift at most {DRIFT_LIMIT:.1e} m",
+            row.courses, row.seconds
+        ),
+        measured,
+        met,
+    }
+}
+
+/// Runs every target's walls and prints each target as it is measured;
+/// with `json`, the report so far is written after each.
+pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<TargetReport> {
+    if let Some(m) = &options.mujoco {
+        anyhow::ensure!(
+            m.courses == options.compared,
+            "--mujoco: MuJoCo ran the {0} × {0} wall, the targets compare the {1} × {1}; run benches/mujoco_wall.py {1}",
+            m.courses,
+            options.compared
+        );
+    }
+    let kinds = [BlockKind::Rigid, BlockKind::Deformable];
+    let mut report = TargetReport {
+        date: humantime::format_rfc3339_seconds(SystemTime::now()).to_string(),
+        machine: machine(),
+        targets: Vec::new(),
+    };
+    println!(
+        "Speed targets of the walls, measured in one run: {}, {}",
+        report.date, report.machine
+    );
+    println!("| target | measured | verdict |\n|---|---|---|");
+    let add = |report: &mut TargetReport, found: Target| -> anyhow::Result<()> {
+        println!("{}", markdown_row(&found));
+        report.targets.push(found);
+        if let Some(path) = json {
+            crate::output::write_atomically(
+                path,
+                serde_json::to_string_pretty(report)?.as_bytes(),
+            )?;
+        }
+        Ok(())
+    };
+    let simulated = |sizes: Vec<usize>, dts: Vec<f64>| {
+        simulate(&SimulateOptions {
+            sizes,
+            kinds: kinds.to_vec(),
+            dimensions: vec![2],
+            seconds: options.seconds,
+            max_wall: options.max_wall,
+            repeats: 1,
+            progress_every: Some(Duration::from_secs(5)),
+            solver: Solver::Direct,
+            dts,
+        })
+    };
+    let sim_key = |r: &SimulateRow| (r.courses, r.kind);
+    let steps_key = |r: &BenchRow| (r.courses, r.kind);
+    let (c, n, s, l) = (
+        options.compared,
+        options.ntdda,
+        options.standing,
+        options.largest,
+    );
+    let automatic = simulated(vec![n, c, l], Vec::new())?;
+    for kind in kinds {
+        let row = row_of(&automatic, c, kind, sim_key)?;
+        add(&mut report, against_mujoco(row, options.mujoco.as_ref()))?;
+    }
+    let at_1ms = simulated(vec![s, n], vec![1e-3])?;
+    let limit = NTDDA_MS / NTDDA_SPEEDUP;
+    let mut readings = Vec::new();
+    let mut met = true;
+    for (rows, how) in [(&automatic, "automatic step"), (&at_1ms, "dt 1 ms")] {
+        for kind in kinds {
+            let r = row_of(rows, n, kind, sim_key)?;
+            readings.push(format!(
+                "{how}, {}: {:.2} ms ({:.1}×)",
+                kind_name(kind),
+                r.ms_per_step,
+                NTDDA_MS / r.ms_per_step
+            ));
+            met &= r.completed && r.ms_per_step <= limit;
+        }
+    }
+    add(
+        &mut report,
+        Target {
+            target: format!(
+                "{n} × {n} wall at least {NTDDA_SPEEDUP}× faster a step than ntdda ({NTDDA_MS} ms), over {} s",
+                options.seconds
+            ),
+            measured: readings.join("; "),
+            met: Some(met),
+        },
+    )?;
+    let mut readings = Vec::new();
+    let mut met = true;
+    for kind in kinds {
+        let r = row_of(&at_1ms, s, kind, sim_key)?;
+        readings.push(format!(
+            "{}: {} cuts, {} unconverged steps, drift {:.2e} m",
+            kind_name(kind),
+            r.cuts,
+            r.unconverged_steps,
+            r.drift
+        ));
+        met &= r.completed && r.cuts == 0 && r.unconverged_steps == 0;
+        met &= r.drift < STANDING_DRIFT;
+    }
+    add(
+        &mut report,
+        Target {
+            target: format!(
+                "stable where ntdda blows up ({s} × {s}, dt 1 ms, {} s): no cut, no unconverged step, drift below {STANDING_DRIFT:.0e} m",
+                options.seconds
+            ),
+            measured: readings.join("; "),
+            met: Some(met),
+        },
+    )?;
+    let stepped = |sizes: Vec<usize>, dimension: u32, steps: usize| {
+        bench(&BenchOptions {
+            sizes,
+            steps,
+            repeats: 1,
+            kinds: kinds.to_vec(),
+            dimensions: vec![dimension],
+            solver: Solver::Direct,
+        })
+    };
+    let steps_2d = stepped(vec![c, l], 2, options.steps_2d)?;
+    let steps_3d = stepped(vec![l], 3, options.steps_3d)?;
+    let blocks = row_of(&steps_2d, l, BlockKind::Rigid, steps_key)?.blocks;
+    let first = row_of(&steps_2d, c, BlockKind::Rigid, steps_key)?.blocks;
+    let mut peak: f64 = 0.0;
+    for kind in kinds {
+        let name = kind_name(kind);
+        let large = [
+            (
+                row_of(&steps_2d, l, kind, steps_key)?,
+                "2D at dt 1 ms",
+                options.steps_2d,
+            ),
+            (
+                row_of(&steps_3d, l, kind, steps_key)?,
+                "3D at dt 1 ms",
+                options.steps_3d,
+            ),
+        ];
+        for (r, how, steps) in large {
+            peak = peak.max(r.peak_memory_mb);
+            add(
+                &mut report,
+                Target {
+                    target: format!(
+                        "{} blocks, {how}, {name}: a step in at most {LARGEST_MS} ms",
+                        thousands(blocks)
+                    ),
+                    measured: format!("{:.1} ms a step over {steps} steps", r.median_ms_per_step),
+                    met: Some(r.median_ms_per_step <= LARGEST_MS),
+                },
+            )?;
+        }
+        let r = row_of(&automatic, l, kind, sim_key)?;
+        peak = peak.max(r.peak_memory_mb);
+        add(
+            &mut report,
+            Target {
+                target: format!(
+                    "{} blocks, 2D at the automatic step, {name}: a step in at most {LARGEST_MS} ms",
+                    thousands(blocks)
+                ),
+                measured: format!(
+                    "{:.1} ms a step over {:.2} s simulated (dt {:.2e} s)",
+                    r.ms_per_step, r.reached, r.dt
+                ),
+                met: Some(r.completed && r.ms_per_step <= LARGEST_MS),
+            },
+        )?;
+    }
+    add(
+        &mut report,
+        Target {
+            target: format!(
+                "{} blocks: memory at most {MEMORY_MB} MB",
+                thousands(blocks)
+            ),
+            measured: format!(
+                "the process's peak resident memory over all the runs above: {peak:.0} MB"
+            ),
+            met: Some(peak <= MEMORY_MB),
+        },
+    )?;
+    for kind in kinds {
+        let name = kind_name(kind);
+        let (a, b) = (
+            row_of(&steps_2d, c, kind, steps_key)?,
+            row_of(&steps_2d, l, kind, steps_key)?,
+        );
+        let ms = (a.median_ms_per_step, b.median_ms_per_step);
+        let (p, q) = (
+            exponent((a.blocks, ms.0), (b.blocks, ms.1)),
+            row_of(&automatic, c, kind, sim_key)?,
+        );
+        let r = row_of(&automatic, l, kind, sim_key)?;
+        let auto = exponent((q.blocks, q.ms_per_step), (r.blocks, r.ms_per_step));
+        for (how, p, from, to) in [
+            ("dt 1 ms", p, ms.0, ms.1),
+            ("the automatic step", auto, q.ms_per_step, r.ms_per_step),
+        ] {
+            add(
+                &mut report,
+                Target {
+                    target: format!(
+                        "2D at {how}, {name}: time a step growing at most as N^{EXPONENT} from {} to {} blocks",
+                        thousands(first),
+                        thousands(blocks)
+                    ),
+                    measured: format!("N^{p:.2} ({from:.1} → {to:.1} ms a step)"),
+                    met: Some(p <= EXPONENT),
+                },
+            )?;
+        }
+    }
+    Ok(report)
+}
+
+/// `n` with a comma between each three digits.
+fn thousands(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// A target as a row of the Markdown table.
+pub fn markdown_row(t: &Target) -> String {
+    let verdict = match t.met {
+        Some(true) => "**met**",
+        Some(false) => "not met",
+        None => "not measured",
+    };
+    format!("| {} | {} | {verdict} |", t.target, t.measured)
+}
+
+/// The processor's model, its cores and the memory (Linux; less
+/// elsewhere).
+fn machine() -> String {
+    let read = |path: &str| std::fs::read_to_string(path).unwrap_or_default();
+    let field = |text: &str, name: &str| {
+        (text.lines())
+            .find(|l| l.starts_with(name))
+            .and_then(|l| l.split(':').nth(1))
+            .map(|v| v.trim().to_string())
+    };
+    let cpu =
+        field(&read("/proc/cpuinfo"), "model name").unwrap_or_else(|| "processor unknown".into());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let memory = field(&read("/proc/meminfo"), "MemTotal")
+        .and_then(|v| v.split_whitespace().next()?.parse::<f64>().ok())
+        .map_or(String::new(), |kb| {
+            format!(", {:.0} GiB", kb / 1024.0 / 1024.0)
+        });
+    format!("{cpu}, {cores} cores{memory}")
+}
+
+/// `dda bench --targets`: every target, then the report's JSON.
+pub fn command(options: &TargetOptions, json: Option<PathBuf>) -> anyhow::Result<()> {
+    let report = targets(options, json.as_deref())?;
+    let met = report
+        .targets
+        .iter()
+        .filter(|t| t.met == Some(true))
+        .count();
+    println!("{met} of {} targets met", report.targets.len());
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The compared wall's run: `wall_s` s for a simulated second,
+    /// drifting `drift` m.
+    fn compared(wall_s: f64, drift: f64) -> SimulateRow {
+        SimulateRow {
+            courses: 40,
+            dimension: 2,
+            kind: BlockKind::Rigid,
+            blocks: 1621,
+            dt: 9.5e-3,
+            dt_given: false,
+            penalty: 2.8e10,
+            seconds: 1.0,
+            reached: 1.0,
+            completed: true,
+            wall_s,
+            seconds_per_simulated_second: wall_s,
+            steps: 106,
+            ms_per_step: wall_s * 1e3 / 106.0,
+            cuts: 0,
+            unconverged_steps: 0,
+            per_step: Default::default(),
+            drift,
+            peak_memory_mb: 80.0,
+        }
+    }
+
+    /// Met only within a tenth of MuJoCo's time and the drift's limit;
+    /// without MuJoCo, not measured unless the drift alone fails it.
+    #[test]
+    fn the_compared_wall_needs_both_time_and_drift() {
+        let mujoco = MujocoRun {
+            engine: "mujoco 3".into(),
+            courses: 40,
+            wall_s: 50.0,
+            drift_m: 0.02,
+        };
+        let verdict =
+            |wall_s, drift, m: Option<&MujocoRun>| against_mujoco(&compared(wall_s, drift), m).met;
+        assert_eq!(verdict(4.9, 1.7e-4, Some(&mujoco)), Some(true));
+        assert_eq!(verdict(5.1, 1.7e-4, Some(&mujoco)), Some(false));
+        assert_eq!(verdict(4.9, 1.9e-4, Some(&mujoco)), Some(false));
+        assert_eq!(verdict(4.9, 1.7e-4, None), None);
+        assert_eq!(verdict(4.9, 1.9e-4, None), Some(false));
+        let mut short = compared(1.0, 1e-5);
+        short.completed = false;
+        assert_eq!(against_mujoco(&short, Some(&mujoco)).met, Some(false));
+    }
+
+    #[test]
+    fn exponents_and_thousands() {
+        assert!((exponent((1000, 10.0), (10_000, 100.0)) - 1.0).abs() < 1e-12);
+        assert!(
+            (exponent(
+                (1621, 10.0),
+                (10_051, 10.0 * (10_051.0f64 / 1621.0).powf(1.3))
+            ) - 1.3)
+                .abs()
+                < 1e-12
+        );
+        assert_eq!(thousands(10_051), "10,051");
+        assert_eq!(thousands(1_621), "1,621");
+        assert_eq!(thousands(411), "411");
+        assert_eq!(thousands(1_000_000), "1,000,000");
+    }
+}
