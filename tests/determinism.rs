@@ -81,7 +81,9 @@ fn a_wall_on_several_threads_is_the_same_every_time() {
 /// by contact on one thread they come out the same to the last bit: the
 /// same moves and factorisations, the same positions. A collapsing arch
 /// (joints opening, closing and sliding), a settling wall of deformable
-/// bricks, and a sliding 3D wedge (whose friction turns with its stretch).
+/// bricks, one whose sliding contacts' friction is coupled to their
+/// normal gaps (whole-tangent moves), and a sliding 3D wedge (whose
+/// friction turns with its stretch).
 #[test]
 fn assembly_block_by_block_is_contact_by_contact_to_the_last_bit() {
     use dda::bench::{wall, Stepping};
@@ -96,17 +98,37 @@ fn assembly_block_by_block_is_contact_by_contact_to_the_last_bit() {
         let at: Vec<f64> = (model.driver.system.blocks.iter())
             .flat_map(|b| b.centroid().coords.iter().copied().collect::<Vec<_>>())
             .collect();
-        (stats.newton_iterations, stats.factorizations, at)
+        (
+            stats.newton_iterations,
+            stats.factorizations,
+            at,
+            stats.whole_tangent_moves,
+        )
     };
     let arch = example("arch_heyman_collapse_2d.ron");
     let bricks = wall(10, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
-    for (scene, until) in [(&arch, 0.3), (&bricks, 0.02)] {
-        let (moves, factorizations, at) = plane(scene, until, false);
+    // At dt 1 ms and its automatic penalty the 40 × 40 deformable wall's
+    // passes couple its sliding contacts' friction to their normal gaps
+    // (whole-tangent moves), whose terms are gathered too.
+    let coupled = wall(40, 2, Stepping::Given(1e-3), BlockKind::Deformable).unwrap();
+    for (scene, until, whole) in [
+        (&arch, 0.3, false),
+        (&bricks, 0.02, false),
+        (&coupled, 0.03, true),
+    ] {
+        let (moves, factorizations, at, whole_tangent) = plane(scene, until, false);
+        println!("whole-tangent moves {whole_tangent}");
         assert!(moves > 0 && factorizations > 0);
-        assert_eq!(
-            (moves, factorizations, at.clone()),
-            plane(scene, until, true)
+        assert!(
+            !whole || whole_tangent > 0,
+            "{whole_tangent} whole-tangent moves"
         );
+        let (one_moves, one_factorizations, one_at, one_whole) = plane(scene, until, true);
+        assert_eq!(
+            (moves, factorizations, whole_tangent),
+            (one_moves, one_factorizations, one_whole)
+        );
+        assert!(at == one_at, "the blocks ended apart");
     }
     let wedge = example("wedge_3d.ron");
     let solid = |one_thread: bool| {

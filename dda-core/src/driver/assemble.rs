@@ -80,7 +80,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // matrix's off-diagonal blocks pair by pair) on every core; each
         // sum is made in the same order as below, so the two agree to the
         // last bit.
-        let gather = couplings.is_none() && self.touching.is_filled() && !self.one_thread_assembly;
+        let gather = self.touching.is_filled() && !self.one_thread_assembly;
         if tangent && !gather {
             matrix.clear();
         }
@@ -183,6 +183,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                         }
                     });
             }
+            if let Some(couplings) = couplings {
+                // In the contacts' order, as below.
+                let (contacts, chosen) = (&self.contacts, &self.chosen);
+                let found = (loads.par_iter().enumerate()).filter_map(|(i, load)| {
+                    let entrance = chosen.of(contacts, i, trial.entrances[i]);
+                    coupling(load.as_ref()?, entrance, contacts[i].blocks)
+                });
+                couplings.par_extend(found);
+            }
             self.contact_loads = loads;
             self.contact_forces = forces;
             self.matrix = matrix;
@@ -196,26 +205,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let c = &self.contacts[i];
             let [a, b] = c.blocks;
             let entrance = self.chosen.of(&self.contacts, i, trial.entrances[i]);
-            let [na, nb] = &entrance.normal();
             if tangent {
                 let slot = self.slots[i].expect("closed contacts are in the pattern");
                 spring_terms(load, entrance, |g, h, k| {
                     add_coupling(&mut matrix, slot, a, b, (&g[0], &g[1]), (&h[0], &h[1]), k);
                 });
             }
-            if let (Some(couplings), true) = (couplings.as_deref_mut(), load.slope != 0.0) {
-                let mut u = [BlockVector::<N>::zeros(), BlockVector::<N>::zeros()];
-                for k in 0..T {
-                    let [ta, tb] = entrance.tangent(k);
-                    u[0] += ta * load.direction[k];
-                    u[1] += tb * load.direction[k];
-                }
-                couplings.push(RankOne {
-                    blocks: [a, b],
-                    u,
-                    v: [*na, *nb],
-                    slope: load.slope,
-                });
+            if let Some(couplings) = couplings.as_deref_mut() {
+                couplings.extend(coupling(load, entrance, [a, b]));
             }
             matrix.add_block(residual, a, &load.force[0]);
             matrix.add_block(residual, b, &load.force[1]);
@@ -225,6 +222,31 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.matrix = matrix;
         self.stats.times.assembly += started.elapsed();
     }
+}
+
+/// A sliding contact's friction coupled to its normal gap, as a rank-one
+/// term of the whole tangent (none where its slope is zero).
+fn coupling<const N: usize, const T: usize>(
+    load: &ContactLoad<N, T>,
+    entrance: &impl EntranceRows<N, T>,
+    blocks: [usize; 2],
+) -> Option<RankOne<N>> {
+    if load.slope == 0.0 {
+        return None;
+    }
+    let mut u = [BlockVector::<N>::zeros(), BlockVector::<N>::zeros()];
+    for k in 0..T {
+        let [ta, tb] = entrance.tangent(k);
+        u[0] += ta * load.direction[k];
+        u[1] += tb * load.direction[k];
+    }
+    let [na, nb] = entrance.normal();
+    Some(RankOne {
+        blocks,
+        u,
+        v: [na, nb],
+        slope: load.slope,
+    })
 }
 
 /// A contact's springs as terms k·g·hᵀ over its two blocks' rows (g = [ga,
