@@ -174,6 +174,218 @@ fn against_mujoco(row: &SimulateRow, mujoco: Option<&MujocoRun>) -> Target {
     }
 }
 
+/// The report as it is made: each target printed, and the JSON written
+/// again, as it is added.
+struct Writer<'a> {
+    report: TargetReport,
+    json: Option<&'a Path>,
+}
+
+impl Writer<'_> {
+    fn add(&mut self, found: Target) -> anyhow::Result<()> {
+        println!("{}", markdown_row(&found));
+        self.report.targets.push(found);
+        if let Some(path) = self.json {
+            let text = serde_json::to_string_pretty(&self.report)?;
+            crate::output::write_atomically(path, text.as_bytes())?;
+        }
+        Ok(())
+    }
+}
+
+const KINDS: [BlockKind; 2] = [BlockKind::Rigid, BlockKind::Deformable];
+
+fn sim_key(r: &SimulateRow) -> (usize, BlockKind) {
+    (r.courses, r.kind)
+}
+
+fn steps_key(r: &BenchRow) -> (usize, BlockKind) {
+    (r.courses, r.kind)
+}
+
+/// The 2D walls of `sizes`, both kinds, run for the options' simulated
+/// time at the automatic step, or at each of `dts`.
+fn simulated(
+    options: &TargetOptions,
+    sizes: Vec<usize>,
+    dts: Vec<f64>,
+) -> anyhow::Result<Vec<SimulateRow>> {
+    simulate(&SimulateOptions {
+        sizes,
+        kinds: KINDS.to_vec(),
+        dimensions: vec![2],
+        seconds: options.seconds,
+        max_wall: options.max_wall,
+        repeats: 1,
+        progress_every: Some(Duration::from_secs(5)),
+        solver: Solver::Direct,
+        dts,
+    })
+}
+
+/// The walls of `sizes`, both kinds, `steps` steps timed at dt 1 ms.
+fn stepped(sizes: Vec<usize>, dimension: u32, steps: usize) -> anyhow::Result<Vec<BenchRow>> {
+    bench(&BenchOptions {
+        sizes,
+        steps,
+        repeats: 1,
+        kinds: KINDS.to_vec(),
+        dimensions: vec![dimension],
+        solver: Solver::Direct,
+    })
+}
+
+/// The ntdda wall at both steps, both kinds, against a tenth of ntdda's
+/// time a step.
+fn against_ntdda(
+    options: &TargetOptions,
+    automatic: &[SimulateRow],
+    at_1ms: &[SimulateRow],
+) -> anyhow::Result<Target> {
+    let n = options.ntdda;
+    let mut readings = Vec::new();
+    let mut met = true;
+    for (rows, how) in [(automatic, "automatic step"), (at_1ms, "dt 1 ms")] {
+        for kind in KINDS {
+            let r = row_of(rows, n, kind, sim_key)?;
+            readings.push(format!(
+                "{how}, {}: {:.2} ms ({:.1}×)",
+                kind_name(kind),
+                r.ms_per_step,
+                NTDDA_MS / r.ms_per_step
+            ));
+            met &= r.completed && r.ms_per_step <= NTDDA_MS / NTDDA_SPEEDUP;
+        }
+    }
+    Ok(Target {
+        target: format!(
+            "{n} × {n} wall at least {NTDDA_SPEEDUP}× faster a step than ntdda ({NTDDA_MS} ms), over {} s",
+            options.seconds
+        ),
+        measured: readings.join("; "),
+        met: Some(met),
+    })
+}
+
+/// The wall ntdda blows up on, at dt 1 ms: no cut, no unconverged step,
+/// standing.
+fn standing(options: &TargetOptions, at_1ms: &[SimulateRow]) -> anyhow::Result<Target> {
+    let s = options.standing;
+    let mut readings = Vec::new();
+    let mut met = true;
+    for kind in KINDS {
+        let r = row_of(at_1ms, s, kind, sim_key)?;
+        readings.push(format!(
+            "{}: {} cuts, {} unconverged steps, drift {:.2e} m",
+            kind_name(kind),
+            r.cuts,
+            r.unconverged_steps,
+            r.drift
+        ));
+        met &= r.completed && r.cuts == 0 && r.unconverged_steps == 0;
+        met &= r.drift < STANDING_DRIFT;
+    }
+    Ok(Target {
+        target: format!(
+            "stable where ntdda blows up ({s} × {s}, dt 1 ms, {} s): no cut, no unconverged step, drift below {STANDING_DRIFT:.0e} m",
+            options.seconds
+        ),
+        measured: readings.join("; "),
+        met: Some(met),
+    })
+}
+
+/// The largest walls: a step in 2D and 3D at dt 1 ms and in 2D at the
+/// automatic step, each kind; then the process's peak memory.
+fn largest(
+    options: &TargetOptions,
+    automatic: &[SimulateRow],
+    steps_2d: &[BenchRow],
+    steps_3d: &[BenchRow],
+) -> anyhow::Result<Vec<Target>> {
+    let l = options.largest;
+    let blocks = thousands(row_of(steps_2d, l, BlockKind::Rigid, steps_key)?.blocks);
+    let mut found = Vec::new();
+    let mut peak: f64 = 0.0;
+    for kind in KINDS {
+        let name = kind_name(kind);
+        let at_1ms = [
+            (steps_2d, "2D", options.steps_2d),
+            (steps_3d, "3D", options.steps_3d),
+        ];
+        for (rows, dimension, steps) in at_1ms {
+            let r = row_of(rows, l, kind, steps_key)?;
+            peak = peak.max(r.peak_memory_mb);
+            found.push(Target {
+                target: format!(
+                    "{blocks} blocks, {dimension} at dt 1 ms, {name}: a step in at most {LARGEST_MS} ms"
+                ),
+                measured: format!("{:.1} ms a step over {steps} steps", r.median_ms_per_step),
+                met: Some(r.median_ms_per_step <= LARGEST_MS),
+            });
+        }
+        let r = row_of(automatic, l, kind, sim_key)?;
+        peak = peak.max(r.peak_memory_mb);
+        found.push(Target {
+            target: format!(
+                "{blocks} blocks, 2D at the automatic step, {name}: a step in at most {LARGEST_MS} ms"
+            ),
+            measured: format!(
+                "{:.1} ms a step over {:.2} s simulated (dt {:.2e} s)",
+                r.ms_per_step, r.reached, r.dt
+            ),
+            met: Some(r.completed && r.ms_per_step <= LARGEST_MS),
+        });
+    }
+    found.push(Target {
+        target: format!("{blocks} blocks: memory at most {MEMORY_MB} MB"),
+        measured: format!(
+            "the process's peak resident memory over all the runs above: {peak:.0} MB"
+        ),
+        met: Some(peak <= MEMORY_MB),
+    });
+    Ok(found)
+}
+
+/// How time a step grows from the compared wall to the largest, in 2D at
+/// dt 1 ms and at the automatic step, each kind.
+fn growth(
+    options: &TargetOptions,
+    automatic: &[SimulateRow],
+    steps_2d: &[BenchRow],
+) -> anyhow::Result<Vec<Target>> {
+    let (c, l) = (options.compared, options.largest);
+    let mut found = Vec::new();
+    for kind in KINDS {
+        let (a, b) = (
+            row_of(steps_2d, c, kind, steps_key)?,
+            row_of(steps_2d, l, kind, steps_key)?,
+        );
+        let (q, r) = (
+            row_of(automatic, c, kind, sim_key)?,
+            row_of(automatic, l, kind, sim_key)?,
+        );
+        let readings = [
+            ("dt 1 ms", a.median_ms_per_step, b.median_ms_per_step),
+            ("the automatic step", q.ms_per_step, r.ms_per_step),
+        ];
+        for (how, from, to) in readings {
+            let p = exponent((a.blocks, from), (b.blocks, to));
+            found.push(Target {
+                target: format!(
+                    "2D at {how}, {}: time a step growing at most as N^{EXPONENT} from {} to {} blocks",
+                    kind_name(kind),
+                    thousands(a.blocks),
+                    thousands(b.blocks)
+                ),
+                measured: format!("N^{p:.2} ({from:.1} → {to:.1} ms a step)"),
+                met: Some(p <= EXPONENT),
+            });
+        }
+    }
+    Ok(found)
+}
+
 /// Runs every target's walls and prints each target as it is measured;
 /// with `json`, the report so far is written after each.
 pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<TargetReport> {
@@ -185,211 +397,37 @@ pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<T
             options.compared
         );
     }
-    let kinds = [BlockKind::Rigid, BlockKind::Deformable];
-    let mut report = TargetReport {
-        date: humantime::format_rfc3339_seconds(SystemTime::now()).to_string(),
-        machine: machine(),
-        targets: Vec::new(),
+    let mut out = Writer {
+        report: TargetReport {
+            date: humantime::format_rfc3339_seconds(SystemTime::now()).to_string(),
+            machine: machine(),
+            targets: Vec::new(),
+        },
+        json,
     };
     println!(
         "Speed targets of the walls, measured in one run: {}, {}",
-        report.date, report.machine
+        out.report.date, out.report.machine
     );
     println!("| target | measured | verdict |\n|---|---|---|");
-    let add = |report: &mut TargetReport, found: Target| -> anyhow::Result<()> {
-        println!("{}", markdown_row(&found));
-        report.targets.push(found);
-        if let Some(path) = json {
-            crate::output::write_atomically(
-                path,
-                serde_json::to_string_pretty(report)?.as_bytes(),
-            )?;
-        }
-        Ok(())
-    };
-    let simulated = |sizes: Vec<usize>, dts: Vec<f64>| {
-        simulate(&SimulateOptions {
-            sizes,
-            kinds: kinds.to_vec(),
-            dimensions: vec![2],
-            seconds: options.seconds,
-            max_wall: options.max_wall,
-            repeats: 1,
-            progress_every: Some(Duration::from_secs(5)),
-            solver: Solver::Direct,
-            dts,
-        })
-    };
-    let sim_key = |r: &SimulateRow| (r.courses, r.kind);
-    let steps_key = |r: &BenchRow| (r.courses, r.kind);
-    let (c, n, s, l) = (
-        options.compared,
-        options.ntdda,
-        options.standing,
-        options.largest,
-    );
-    let automatic = simulated(vec![n, c, l], Vec::new())?;
-    for kind in kinds {
+    let (c, l) = (options.compared, options.largest);
+    let automatic = simulated(options, vec![options.ntdda, c, l], Vec::new())?;
+    for kind in KINDS {
         let row = row_of(&automatic, c, kind, sim_key)?;
-        add(&mut report, against_mujoco(row, options.mujoco.as_ref()))?;
+        out.add(against_mujoco(row, options.mujoco.as_ref()))?;
     }
-    let at_1ms = simulated(vec![s, n], vec![1e-3])?;
-    let limit = NTDDA_MS / NTDDA_SPEEDUP;
-    let mut readings = Vec::new();
-    let mut met = true;
-    for (rows, how) in [(&automatic, "automatic step"), (&at_1ms, "dt 1 ms")] {
-        for kind in kinds {
-            let r = row_of(rows, n, kind, sim_key)?;
-            readings.push(format!(
-                "{how}, {}: {:.2} ms ({:.1}×)",
-                kind_name(kind),
-                r.ms_per_step,
-                NTDDA_MS / r.ms_per_step
-            ));
-            met &= r.completed && r.ms_per_step <= limit;
-        }
-    }
-    add(
-        &mut report,
-        Target {
-            target: format!(
-                "{n} × {n} wall at least {NTDDA_SPEEDUP}× faster a step than ntdda ({NTDDA_MS} ms), over {} s",
-                options.seconds
-            ),
-            measured: readings.join("; "),
-            met: Some(met),
-        },
-    )?;
-    let mut readings = Vec::new();
-    let mut met = true;
-    for kind in kinds {
-        let r = row_of(&at_1ms, s, kind, sim_key)?;
-        readings.push(format!(
-            "{}: {} cuts, {} unconverged steps, drift {:.2e} m",
-            kind_name(kind),
-            r.cuts,
-            r.unconverged_steps,
-            r.drift
-        ));
-        met &= r.completed && r.cuts == 0 && r.unconverged_steps == 0;
-        met &= r.drift < STANDING_DRIFT;
-    }
-    add(
-        &mut report,
-        Target {
-            target: format!(
-                "stable where ntdda blows up ({s} × {s}, dt 1 ms, {} s): no cut, no unconverged step, drift below {STANDING_DRIFT:.0e} m",
-                options.seconds
-            ),
-            measured: readings.join("; "),
-            met: Some(met),
-        },
-    )?;
-    let stepped = |sizes: Vec<usize>, dimension: u32, steps: usize| {
-        bench(&BenchOptions {
-            sizes,
-            steps,
-            repeats: 1,
-            kinds: kinds.to_vec(),
-            dimensions: vec![dimension],
-            solver: Solver::Direct,
-        })
-    };
+    let at_1ms = simulated(options, vec![options.standing, options.ntdda], vec![1e-3])?;
+    out.add(against_ntdda(options, &automatic, &at_1ms)?)?;
+    out.add(standing(options, &at_1ms)?)?;
     let steps_2d = stepped(vec![c, l], 2, options.steps_2d)?;
     let steps_3d = stepped(vec![l], 3, options.steps_3d)?;
-    let blocks = row_of(&steps_2d, l, BlockKind::Rigid, steps_key)?.blocks;
-    let first = row_of(&steps_2d, c, BlockKind::Rigid, steps_key)?.blocks;
-    let mut peak: f64 = 0.0;
-    for kind in kinds {
-        let name = kind_name(kind);
-        let large = [
-            (
-                row_of(&steps_2d, l, kind, steps_key)?,
-                "2D at dt 1 ms",
-                options.steps_2d,
-            ),
-            (
-                row_of(&steps_3d, l, kind, steps_key)?,
-                "3D at dt 1 ms",
-                options.steps_3d,
-            ),
-        ];
-        for (r, how, steps) in large {
-            peak = peak.max(r.peak_memory_mb);
-            add(
-                &mut report,
-                Target {
-                    target: format!(
-                        "{} blocks, {how}, {name}: a step in at most {LARGEST_MS} ms",
-                        thousands(blocks)
-                    ),
-                    measured: format!("{:.1} ms a step over {steps} steps", r.median_ms_per_step),
-                    met: Some(r.median_ms_per_step <= LARGEST_MS),
-                },
-            )?;
-        }
-        let r = row_of(&automatic, l, kind, sim_key)?;
-        peak = peak.max(r.peak_memory_mb);
-        add(
-            &mut report,
-            Target {
-                target: format!(
-                    "{} blocks, 2D at the automatic step, {name}: a step in at most {LARGEST_MS} ms",
-                    thousands(blocks)
-                ),
-                measured: format!(
-                    "{:.1} ms a step over {:.2} s simulated (dt {:.2e} s)",
-                    r.ms_per_step, r.reached, r.dt
-                ),
-                met: Some(r.completed && r.ms_per_step <= LARGEST_MS),
-            },
-        )?;
+    for found in largest(options, &automatic, &steps_2d, &steps_3d)? {
+        out.add(found)?;
     }
-    add(
-        &mut report,
-        Target {
-            target: format!(
-                "{} blocks: memory at most {MEMORY_MB} MB",
-                thousands(blocks)
-            ),
-            measured: format!(
-                "the process's peak resident memory over all the runs above: {peak:.0} MB"
-            ),
-            met: Some(peak <= MEMORY_MB),
-        },
-    )?;
-    for kind in kinds {
-        let name = kind_name(kind);
-        let (a, b) = (
-            row_of(&steps_2d, c, kind, steps_key)?,
-            row_of(&steps_2d, l, kind, steps_key)?,
-        );
-        let ms = (a.median_ms_per_step, b.median_ms_per_step);
-        let (p, q) = (
-            exponent((a.blocks, ms.0), (b.blocks, ms.1)),
-            row_of(&automatic, c, kind, sim_key)?,
-        );
-        let r = row_of(&automatic, l, kind, sim_key)?;
-        let auto = exponent((q.blocks, q.ms_per_step), (r.blocks, r.ms_per_step));
-        for (how, p, from, to) in [
-            ("dt 1 ms", p, ms.0, ms.1),
-            ("the automatic step", auto, q.ms_per_step, r.ms_per_step),
-        ] {
-            add(
-                &mut report,
-                Target {
-                    target: format!(
-                        "2D at {how}, {name}: time a step growing at most as N^{EXPONENT} from {} to {} blocks",
-                        thousands(first),
-                        thousands(blocks)
-                    ),
-                    measured: format!("N^{p:.2} ({from:.1} → {to:.1} ms a step)"),
-                    met: Some(p <= EXPONENT),
-                },
-            )?;
-        }
+    for found in growth(options, &automatic, &steps_2d)? {
+        out.add(found)?;
     }
-    Ok(report)
+    Ok(out.report)
 }
 
 /// `n` with a comma between each three digits.
