@@ -361,7 +361,6 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             targets: true,
             mujoco,
             json,
-            max_wall,
             ..
         } => {
             let mujoco = mujoco
@@ -369,7 +368,6 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 .transpose()?;
             let options = crate::bench::targets::TargetOptions {
                 mujoco,
-                max_wall,
                 ..Default::default()
             };
             crate::bench::targets::command(&options, json)?;

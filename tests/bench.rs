@@ -443,9 +443,8 @@ fn a_3d_walls_bricks_share_one_topology() {
 #[test]
 fn targets_report_every_target_with_its_verdict() {
     use dda::bench::targets::{targets, MujocoRun, TargetOptions};
-    let dir = common::out_dir("bench_targets");
-    std::fs::create_dir_all(&dir).unwrap();
-    let json = dir.join("targets.json");
+    // The JSON's folder is made as the run starts.
+    let json = common::out_dir("bench_targets").join("targets.json");
     let mujoco = |wall_s: f64| MujocoRun {
         engine: "mujoco".into(),
         courses: 10,

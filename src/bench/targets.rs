@@ -397,6 +397,13 @@ pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<T
             options.compared
         );
     }
+    if let Some(dir) = json
+        .and_then(Path::parent)
+        .filter(|d| !d.as_os_str().is_empty())
+    {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("--json: cannot create {}", dir.display()))?;
+    }
     let mut out = Writer {
         report: TargetReport {
             date: humantime::format_rfc3339_seconds(SystemTime::now()).to_string(),
