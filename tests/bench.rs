@@ -437,7 +437,7 @@ fn a_3d_walls_bricks_share_one_topology() {
 }
 
 /// `dda bench --targets` on small walls (10 × 10 compared, 20 × 20 the
-/// largest, 0.05 s simulated): every target has its row, written to the
+/// largest, 0.05 s simulated): every target has its row (17), written to the
 /// JSON as it goes; the compared wall's verdict follows MuJoCo's time, and
 /// a MuJoCo run of another wall is refused.
 #[test]
@@ -464,10 +464,10 @@ fn targets_report_every_target_with_its_verdict() {
     };
     // MuJoCo far slower: the compared wall's verdict is its drift's.
     let report = targets(&options(mujoco(1e6)), Some(&json)).unwrap();
-    assert_eq!(report.targets.len(), 15, "{report:#?}");
+    assert_eq!(report.targets.len(), 17, "{report:#?}");
     let written: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(written["targets"].as_array().unwrap().len(), 15);
+    assert_eq!(written["targets"].as_array().unwrap().len(), 17);
     for t in &report.targets {
         assert!(t.met.is_some(), "{t:?}");
         assert!(!t.measured.is_empty());

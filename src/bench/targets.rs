@@ -347,12 +347,13 @@ fn largest(
     Ok(found)
 }
 
-/// How time a step grows from the compared wall to the largest, in 2D at
-/// dt 1 ms and at the automatic step, each kind.
+/// How time a step grows from the compared wall to the largest: in 2D at
+/// dt 1 ms and at the automatic step, and in 3D at dt 1 ms, each kind.
 fn growth(
     options: &TargetOptions,
     automatic: &[SimulateRow],
     steps_2d: &[BenchRow],
+    steps_3d: &[BenchRow],
 ) -> anyhow::Result<Vec<Target>> {
     let (c, l) = (options.compared, options.largest);
     let mut found = Vec::new();
@@ -365,15 +366,20 @@ fn growth(
             row_of(automatic, c, kind, sim_key)?,
             row_of(automatic, l, kind, sim_key)?,
         );
+        let (u, v) = (
+            row_of(steps_3d, c, kind, steps_key)?,
+            row_of(steps_3d, l, kind, steps_key)?,
+        );
         let readings = [
-            ("dt 1 ms", a.median_ms_per_step, b.median_ms_per_step),
-            ("the automatic step", q.ms_per_step, r.ms_per_step),
+            ("2D at dt 1 ms", a.median_ms_per_step, b.median_ms_per_step),
+            ("2D at the automatic step", q.ms_per_step, r.ms_per_step),
+            ("3D at dt 1 ms", u.median_ms_per_step, v.median_ms_per_step),
         ];
         for (how, from, to) in readings {
             let p = exponent((a.blocks, from), (b.blocks, to));
             found.push(Target {
                 target: format!(
-                    "2D at {how}, {}: time a step growing at most as N^{EXPONENT} from {} to {} blocks",
+                    "{how}, {}: time a step growing at most as N^{EXPONENT} from {} to {} blocks",
                     kind_name(kind),
                     thousands(a.blocks),
                     thousands(b.blocks)
@@ -427,11 +433,11 @@ pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<T
     out.add(against_ntdda(options, &automatic, &at_1ms)?)?;
     out.add(standing(options, &at_1ms)?)?;
     let steps_2d = stepped(vec![c, l], 2, options.steps_2d)?;
-    let steps_3d = stepped(vec![l], 3, options.steps_3d)?;
+    let steps_3d = stepped(vec![c, l], 3, options.steps_3d)?;
     for found in largest(options, &automatic, &steps_2d, &steps_3d)? {
         out.add(found)?;
     }
-    for found in growth(options, &automatic, &steps_2d)? {
+    for found in growth(options, &automatic, &steps_2d, &steps_3d)? {
         out.add(found)?;
     }
     Ok(out.report)
