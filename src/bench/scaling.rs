@@ -64,8 +64,7 @@ pub fn fits(points: &[Point]) -> Vec<Fit> {
         .filter(|(_, _, v)| v.len() >= 2)
         .map(|(dimension, kind, v)| {
             let (a, b) = (v[v.len() - 2], v[v.len() - 1]);
-            let exponent =
-                (b.ms_per_step / a.ms_per_step).ln() / (b.blocks as f64 / a.blocks as f64).ln();
+            let exponent = exponent((a.blocks, a.ms_per_step), (b.blocks, b.ms_per_step));
             Fit {
                 dimension,
                 kind,
@@ -76,6 +75,11 @@ pub fn fits(points: &[Point]) -> Vec<Fit> {
             }
         })
         .collect()
+}
+
+/// The exponent p of t ∝ N^p between two walls' (blocks, ms a step).
+pub(crate) fn exponent(a: (usize, f64), b: (usize, f64)) -> f64 {
+    (b.1 / a.1).ln() / (b.0 as f64 / a.0 as f64).ln()
 }
 
 /// The least-squares slope of ln t against ln N.
@@ -94,7 +98,7 @@ fn slope(v: &[Point]) -> f64 {
     sxy / sxx
 }
 
-fn kind_name(kind: BlockKind) -> &'static str {
+pub(crate) fn kind_name(kind: BlockKind) -> &'static str {
     match kind {
         BlockKind::Rigid => "rigid",
         BlockKind::Deformable => "deformable",

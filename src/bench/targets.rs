@@ -10,6 +10,7 @@ use std::time::{Duration, SystemTime};
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
+use super::scaling::{exponent, kind_name};
 use super::simulate::{simulate, SimulateOptions, SimulateRow};
 use super::{bench, BenchOptions, BenchRow};
 use crate::scene::BlockKind;
@@ -114,7 +115,7 @@ pub struct TargetReport {
     pub targets: Vec<Target>,
 }
 
-/// `rows`' row of this wall, kind and dimension.
+/// `rows`' row of the wall of `courses` courses and this kind.
 fn row_of<R>(
     rows: &[R],
     courses: usize,
@@ -123,18 +124,6 @@ fn row_of<R>(
 ) -> anyhow::Result<&R> {
     (rows.iter().find(|r| key(r) == (courses, kind)))
         .with_context(|| format!("no run of the {courses} × {courses} {kind:?} wall"))
-}
-
-fn kind_name(kind: BlockKind) -> &'static str {
-    match kind {
-        BlockKind::Rigid => "rigid",
-        BlockKind::Deformable => "deformable",
-    }
-}
-
-/// The exponent between two walls' times a step.
-fn exponent(a: (usize, f64), b: (usize, f64)) -> f64 {
-    (b.1 / a.1).ln() / (b.0 as f64 / a.0 as f64).ln()
 }
 
 /// The compared wall against MuJoCo (or dda's side alone).
