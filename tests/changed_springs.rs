@@ -128,9 +128,9 @@ fn fewer_factorisations(a: &Statistics, b: &Statistics, fewer: usize, more: usiz
 /// The 10 × 10 deformable wall settling at dt 1 ms for 0.3 s, posing as a
 /// large factor under the floor (springs compared exactly): 62 later
 /// passes start with at most 64 rank-one terms. Those make no
-/// factorisation (319 → 260 in all), in as many moves (1,521 against
-/// 1,520), and the wall ends 1.5e-14 m from where a new factor at every
-/// later pass leaves it. A wrong term (its sign turned) makes the moves
+/// factorisation (317 → 257 in all), in as many moves (1,412 both ways),
+/// and the wall ends 1.2e-14 m from where a new factor at every later
+/// pass leaves it. A wrong term (its sign turned) makes the moves
 /// on such a factor fall short, and the pass factorises after all.
 #[test]
 fn a_later_pass_moves_on_the_factor_with_the_changed_springs() {
@@ -152,10 +152,10 @@ fn a_later_pass_moves_on_the_factor_with_the_changed_springs() {
 
 /// The 3D 10-course rigid wall settling at dt 1 ms for 0.3 s: a sliding
 /// contact's friction turns with its slip, so its terms change with each
-/// pass; beyond the floor the small ones are left to the moves, and 31
-/// later passes start so. They make no factorisation (388 → 357), in as
-/// many moves (2,242 against 2,243), and the wall ends where it would
-/// (1.7e-14 m apart).
+/// pass; beyond the floor the small ones are left to the moves, and 30
+/// later passes start so. They make no factorisation (387 → 357), in
+/// about as many moves (1,969 against 1,966), and the wall ends where it
+/// would (1.2e-14 m apart).
 #[test]
 fn a_later_pass_in_3d_moves_on_the_factor_with_the_changed_springs() {
     let scene = wall(10, 3, Stepping::Fixed, BlockKind::Rigid).unwrap();
@@ -174,9 +174,9 @@ fn a_later_pass_in_3d_moves_on_the_factor_with_the_changed_springs() {
 /// largest: the sliding contacts whose shear stiffness the return map
 /// changed from one pass to the next are left to the moves. The 20 × 20
 /// deformable wall over 0.3 s at dt 1 ms, posing beyond the floor and
-/// under it: 179 later passes on the factor against 98, 317
-/// factorisations against 399, for 2,891 moves against 2,715; the walls
-/// end 3.0e-13 m apart. With no floor the two runs are the same.
+/// under it: 179 later passes on the factor against 99, 317
+/// factorisations against 397, for 2,662 moves against 2,494; the walls
+/// end 5.5e-13 m apart. With no floor the two runs are the same.
 #[test]
 fn beyond_the_floor_small_changes_are_left_to_the_moves() {
     let scene = wall(20, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();

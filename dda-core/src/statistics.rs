@@ -63,6 +63,10 @@ pub struct Statistics {
     /// it against the step's tangent.
     #[serde(default)]
     pub unweighed_starts: usize,
+    /// Steps whose first pass started from the foreseen motion instead of
+    /// at rest (`WARM_START_MISS`).
+    #[serde(default)]
+    pub warm_starts: usize,
     /// Open-close passes ended before their tolerance because a contact's
     /// decision read on the way would change (`EARLY_DECISION`).
     pub early_decisions: usize,

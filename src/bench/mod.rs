@@ -101,6 +101,9 @@ pub struct PerStep {
     /// Steps whose first pass started on the kept factor unweighed (the
     /// step's tangent not assembled to weigh it), as a share of the steps.
     pub unweighed_starts_per_step: f64,
+    /// Steps whose first pass started from the foreseen motion instead of
+    /// at rest, as a share of the steps.
+    pub warm_starts_per_step: f64,
     /// Milliseconds per step in each phase, in step order, then `other`:
     /// the rest of the driver's step (each attempt's setup, the checks of
     /// its motion and penetration, impacts), so the phases add up to it.
@@ -121,6 +124,7 @@ impl PerStep {
             whole_tangent_products_per_step: per_step(stats.whole_tangent_products),
             whole_tangent_factorizations_per_step: per_step(stats.whole_tangent_factorizations),
             unweighed_starts_per_step: per_step(stats.unweighed_starts),
+            warm_starts_per_step: per_step(stats.warm_starts),
             phase_ms_per_step: phase_ms_per_step(stats, steps),
         }
     }
@@ -254,6 +258,7 @@ fn difference(after: &Statistics, before: &Statistics) -> Statistics {
             - before.whole_tangent_factorizations,
         whole_tangent_products: after.whole_tangent_products - before.whole_tangent_products,
         unweighed_starts: after.unweighed_starts - before.unweighed_starts,
+        warm_starts: after.warm_starts - before.warm_starts,
         symbolic_analyses: after.symbolic_analyses - before.symbolic_analyses,
         open_close_cuts: after.open_close_cuts - before.open_close_cuts,
         displacement_cuts: after.displacement_cuts - before.displacement_cuts,
@@ -350,7 +355,8 @@ mod tests {
     use super::*;
 
     /// The whole-tangent moves, their products and factorisations, and
-    /// the unweighed starts, since the untimed step, per timed step.
+    /// the unweighed and warm starts, since the untimed step, per timed
+    /// step.
     #[test]
     fn whole_tangent_work_is_counted_per_timed_step() {
         let before = Statistics {
@@ -359,6 +365,7 @@ mod tests {
             whole_tangent_products: 9,
             whole_tangent_factorizations: 1,
             unweighed_starts: 1,
+            warm_starts: 1,
             ..Statistics::default()
         };
         let after = Statistics {
@@ -367,6 +374,7 @@ mod tests {
             whole_tangent_products: 39,
             whole_tangent_factorizations: 3,
             unweighed_starts: 4,
+            warm_starts: 3,
             ..Statistics::default()
         };
         let work = PerStep::of(&difference(&after, &before));
@@ -374,6 +382,7 @@ mod tests {
         assert_eq!(work.whole_tangent_products_per_step, 7.5);
         assert_eq!(work.whole_tangent_factorizations_per_step, 0.5);
         assert_eq!(work.unweighed_starts_per_step, 0.75);
+        assert_eq!(work.warm_starts_per_step, 0.5);
     }
 
     /// Timed steps' statistics keep their own wall time, and the phases

@@ -20,7 +20,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             *v = block(&trial.d, i) * (2.0 / dt) - *v * ratio - self.struck_early[i] * 2.0
                 + self.struck[i];
         }
-        self.recent.push(dt, &trial.d);
+        self.recent.push(dt, &trial.d, trial.first_moves);
         self.finish_step(&trial.d, dt, spring_energy);
     }
 

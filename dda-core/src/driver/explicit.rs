@@ -206,6 +206,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             within: vec![false; self.contacts.len()],
             load_scale: 0.0,
             foreseen: Vec::new(),
+            first_moves: 0,
         }
     }
 

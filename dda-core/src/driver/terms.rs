@@ -569,6 +569,7 @@ mod tests {
             within: vec![false],
             load_scale: 0.0,
             foreseen: Vec::new(),
+            first_moves: 0,
         }
     }
 
