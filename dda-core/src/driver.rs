@@ -70,8 +70,8 @@ const AUTO_MOTION_SHARE: f64 = 2.5e-4;
 /// within this share of its own foresight. A standing wall at dt 1 ms is
 /// foreseen within 0.3-1.2 %, and its first residual there is 0.3-4 % of
 /// the one at rest: the 10,051-block walls then take a move less a step
-/// (2D 7.75 → 7.00 rigid, 8.10 → 7.20 deformable; 3D 7.80 → 6.80 and
-/// 7.60 → 6.50). A settling wall at its automatic step misses its
+/// (2D 7.75 → 7.00 rigid, 8.10 → 7.25 deformable; 3D 7.80 → 6.80 and
+/// 7.60 → 6.60). A settling wall at its automatic step misses its
 /// foresight by 40-230 %, and started from it took more moves and GMRES
 /// products, not fewer. The step's first assembly is still made at rest
 /// (the factor is weighed there, and the step's tolerance is a share of

@@ -389,9 +389,6 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut warm = (!later && !coupled)
             .then(|| self.warm_start.take())
             .flatten();
-        if warm.is_some() {
-            self.stats.warm_starts += 1;
-        }
         let mut factored = !coupled && !later && self.analysed && self.factored.is_some();
         // Whether it starts on a large one unweighed (`weighing.rs`).
         let unweighed = factored && self.large_factor() && self.start_unweighed(dt, trial);
@@ -648,6 +645,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 // factorisations a step, against 1.89 started at rest and
                 // 1.85 weighed at rest.
                 trial.d = start;
+                self.stats.warm_starts += 1;
                 self.load(dt, masses, trial, &mut residual, None, Motion::Implicit);
                 let norm = residual.iter().map(|r| r * r).sum::<f64>().sqrt();
                 if norm < best.0 {
