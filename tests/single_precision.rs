@@ -16,7 +16,7 @@ use nalgebra::Point2;
 use std::sync::{Arc, Mutex};
 
 mod common;
-use common::LargeLogged;
+use common::{ran_clean, LargeLogged};
 
 /// Runs `scene` for `steps` steps of 1 ms, with every factor's copy or
 /// none: the statistics and the blocks' centroids.
@@ -43,15 +43,6 @@ fn run_on(
     driver.advance_to(steps as f64 * 1e-3 - 1e-9).unwrap();
     let centroids = driver.system.blocks.iter().map(|b| b.centroid()).collect();
     (driver.statistics().clone(), centroids)
-}
-
-/// Every one of `steps` steps taken, none cut, none accepted unconverged,
-/// no Newton-Raphson iteration failed.
-fn ran_clean(s: &Statistics, steps: usize) {
-    assert_eq!(s.steps, steps);
-    assert_eq!(s.open_close_cuts, 0);
-    assert_eq!(s.unconverged_steps, 0);
-    assert_eq!(s.newton_failures, 0);
 }
 
 /// The largest distance between two runs' centroids, m.

@@ -368,6 +368,15 @@ impl<S: LinearSolver> LinearSolver for Posing<S> {
     }
 }
 
+/// A run took its `steps` steps, none cut, none accepted unconverged, no
+/// Newton-Raphson iteration left at its best iterate.
+pub fn ran_clean(s: &dda_core::Statistics, steps: usize) {
+    assert_eq!(s.steps, steps);
+    assert_eq!(s.open_close_cuts, 0);
+    assert_eq!(s.unconverged_steps, 0);
+    assert_eq!(s.newton_failures, 0);
+}
+
 /// The largest distance between two runs' centroids (x, y, z), m.
 pub fn apart(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
     (a.iter().zip(b))
