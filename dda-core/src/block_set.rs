@@ -14,7 +14,7 @@ use crate::constitutive::ConstitutiveLaw;
 use crate::contacts::{BlockVector, Contact, EntranceRows};
 use crate::error::DdaError;
 use crate::loads::{held_energy, FixedPoint, MeasuredPoint, PointLoad};
-use crate::system::each_pair_contacts;
+use crate::system::{each_pair_contacts, Carry};
 use crate::system::{BlockKind, BlockMatrix, BlockState, BlockSystem, SystemState};
 use crate::{BLOCKS_PER_TASK, PAIRS_PER_TASK};
 
@@ -591,13 +591,14 @@ where
         B::pair_contacts(&self.blocks, i, j, range, self.law(i, j))
     }
 
-    fn pairs_contacts(
+    fn pairs_contacts_carried(
         &self,
         pairs: &[(usize, usize)],
         range: f64,
+        carry: &Carry<'_, N, T, B::Entrance>,
     ) -> Vec<Contact<N, T, B::Entrance>> {
         if !B::KEEPS_FEATURES {
-            return each_pair_contacts(self, pairs, range);
+            return each_pair_contacts(self, pairs, range, carry);
         }
         let blocks = &self.blocks;
         let vertices = || blocks.iter().flat_map(|b| b.vertices());
@@ -608,7 +609,7 @@ where
             (store.kept.as_ref()).is_some_and(|k| k.serve(vertices(), &kinds, pairs, range));
         match store.plan(serve) {
             Search::Kept => {}
-            Search::Plain => return each_pair_contacts(self, pairs, range),
+            Search::Plain => return each_pair_contacts(self, pairs, range, carry),
             Search::Keeping => {
                 let wide = range * (1.0 + FEATURE_SKIN);
                 store.kept = Some(KeptFeatures {
@@ -625,10 +626,12 @@ where
             }
         }
         let features = &store.kept.as_ref().expect("kept above").features;
-        (pairs.par_iter().zip(features))
+        (pairs.par_iter().zip(features).enumerate())
             .with_min_len(PAIRS_PER_TASK)
-            .flat_map_iter(|(&(i, j), f)| {
-                B::pair_contacts_among(blocks, i, j, range, self.law(i, j), f)
+            .flat_map_iter(|(k, (&(i, j), f))| {
+                let mut found = B::pair_contacts_among(blocks, i, j, range, self.law(i, j), f);
+                carry(k, &mut found);
+                found
             })
             .collect()
     }

@@ -7,6 +7,7 @@
 //! what they are.
 
 use nalgebra::SVector;
+use std::sync::Mutex;
 
 use crate::contact::{ContactState, History};
 
@@ -411,6 +412,94 @@ fn transfer_within<const N: usize, const T: usize, E>(
     }
 }
 
+/// Where a search's contacts lie in its list: each block pair searched
+/// (i < j, increasing) and the end of its contacts.
+#[derive(Clone, Debug, Default)]
+pub struct SearchedPairs {
+    pairs: Vec<(usize, usize)>,
+    ends: Vec<usize>,
+}
+
+impl SearchedPairs {
+    /// The pairs searched and how many contacts each made, if the pairs
+    /// increase (as the broad phase gives them); none otherwise.
+    pub fn of(pairs: &[(usize, usize)], counts: impl IntoIterator<Item = usize>) -> Self {
+        if !increasing(pairs) {
+            return Self::default();
+        }
+        let mut end = 0;
+        let ends = counts.into_iter().map(|n| {
+            end += n;
+            end
+        });
+        Self {
+            pairs: pairs.to_vec(),
+            ends: ends.collect(),
+        }
+    }
+}
+
+/// Whether each pair is (i, j) with i < j and the pairs increase.
+fn increasing(pairs: &[(usize, usize)]) -> bool {
+    pairs.windows(2).all(|w| w[0] < w[1]) && pairs.iter().all(|&(i, j)| i < j)
+}
+
+/// `old`, the contacts of the search `searched` describes, cut into each
+/// of `pairs`' own (empty where a pair is new), to move their records pair
+/// by pair as this search makes its contacts ([`carry_records`]); `None`
+/// where `searched` does not describe `old` or `pairs` do not increase,
+/// and [`transfer_records`] must walk the two lists.
+pub fn pair_chunks<'a, const N: usize, const T: usize, E>(
+    old: &'a mut [Contact<N, T, E>],
+    searched: &SearchedPairs,
+    pairs: &[(usize, usize)],
+) -> Option<Vec<Mutex<&'a mut [Contact<N, T, E>]>>> {
+    if !increasing(pairs) || searched.ends.last().copied().unwrap_or(0) != old.len() {
+        return None;
+    }
+    let mut chunks = Vec::with_capacity(pairs.len());
+    let (mut rest, mut start, mut k) = (old, 0, 0);
+    for pair in pairs {
+        while k < searched.pairs.len() && searched.pairs[k] < *pair {
+            let (_, tail) = std::mem::take(&mut rest).split_at_mut(searched.ends[k] - start);
+            rest = tail;
+            start = searched.ends[k];
+            k += 1;
+        }
+        let chunk = if searched.pairs.get(k) == Some(pair) {
+            let (head, tail) = std::mem::take(&mut rest).split_at_mut(searched.ends[k] - start);
+            rest = tail;
+            start = searched.ends[k];
+            k += 1;
+            head
+        } else {
+            &mut []
+        };
+        chunks.push(Mutex::new(chunk));
+    }
+    Some(chunks)
+}
+
+/// [`transfer_records`] between one block pair's contacts, `old` of the
+/// last search and `new` of this one: the same records move.
+pub fn carry_records<const N: usize, const T: usize, E>(
+    old: &mut [Contact<N, T, E>],
+    new: &mut [Contact<N, T, E>],
+) {
+    if old.is_empty() || new.is_empty() {
+        return;
+    }
+    let mut few = [false; 32];
+    let mut many = Vec::new();
+    let taken = if old.len() <= few.len() {
+        &mut few[..old.len()]
+    } else {
+        many.resize(old.len(), false);
+        &mut many[..]
+    };
+    transfer_within(old, new, taken);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -526,5 +615,82 @@ mod tests {
             2,
             "coarse matches drop their shear"
         );
+    }
+
+    /// A search's contacts of the pairs of blocks 0-7 that `keep` keeps,
+    /// each pair's made from `seed`: vertices 0-3 of either block against
+    /// features 0-2 (some keys twice), law 0 or 1, their records marked
+    /// (some closed) where `marked`.
+    fn search(seed: u64, keep: u64, marked: bool) -> (Vec<(usize, usize)>, Vec<Contact<2, 1>>) {
+        let mut state = seed;
+        let mut next = |n: u64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) % n
+        };
+        let (mut pairs, mut list) = (Vec::new(), Vec::new());
+        for (i, j) in (0..8).flat_map(|i| (i + 1..8).map(move |j| (i, j))) {
+            if next(4) >= keep {
+                continue;
+            }
+            pairs.push((i, j));
+            for _ in 0..next(6) {
+                let (a, b) = if next(2) == 0 { (i, j) } else { (j, i) };
+                let mark = marked.then(|| (list.len() as f64 + 1.0, next(2) == 0));
+                let law = usize::from(next(5) == 0);
+                list.push(contact(
+                    a as u32,
+                    next(4) as u32,
+                    b as u32,
+                    next(3) as u32,
+                    law,
+                    mark,
+                ));
+            }
+        }
+        (pairs, list)
+    }
+
+    /// Records moved pair by pair as a search makes its contacts land where
+    /// the walk over the two whole lists puts them.
+    #[test]
+    fn records_carried_pair_by_pair_are_those_the_whole_walk_moves() {
+        for seed in 0..200 {
+            let (old_pairs, mut old) = search(seed, 3, true);
+            let (pairs, mut new) = search(seed + 1000, 3, false);
+            let (_, mut walked_old) = search(seed, 3, true);
+            let (_, mut walked) = search(seed + 1000, 3, false);
+            transfer_records(&mut walked_old, &mut walked);
+            let count = |p: &(usize, usize)| new.iter().filter(|c| pair(c) == *p).count();
+            let counts: Vec<usize> = pairs.iter().map(count).collect();
+            let old_counts = old_pairs
+                .iter()
+                .map(|p| old.iter().filter(|c| pair(c) == *p).count());
+            let searched = SearchedPairs::of(&old_pairs, old_counts.collect::<Vec<_>>());
+            let chunks = pair_chunks(&mut old, &searched, &pairs).expect("increasing pairs");
+            let mut start = 0;
+            for (k, n) in counts.iter().enumerate() {
+                let mut chunk = chunks[k].lock().unwrap();
+                carry_records(&mut chunk, &mut new[start..start + n]);
+                start += n;
+            }
+            assert_eq!(marks(&new), marks(&walked), "seed {seed}");
+            let shear =
+                |l: &[Contact<2, 1>]| l.iter().map(|c| c.record.shear[0]).collect::<Vec<_>>();
+            assert_eq!(shear(&new), shear(&walked), "seed {seed}");
+        }
+    }
+
+    /// Contacts the last search did not make (a checkpoint's) are walked.
+    #[test]
+    fn contacts_of_another_search_are_not_cut_by_its_pairs() {
+        let (pairs, mut old) = search(7, 4, true);
+        let searched = SearchedPairs::of(&pairs, [old.len() - 1]);
+        assert!(pair_chunks(&mut old, &searched, &pairs).is_none());
+        assert!(pair_chunks(&mut old, &SearchedPairs::default(), &pairs).is_none());
+        let backwards: Vec<_> = pairs.iter().rev().copied().collect();
+        let all = SearchedPairs::of(&pairs, [old.len()]);
+        assert!(pair_chunks(&mut old, &all, &backwards).is_none());
     }
 }

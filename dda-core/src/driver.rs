@@ -21,7 +21,7 @@ use rayon::prelude::*;
 use crate::assembly::BlockSparse;
 use crate::by_block::ByBlock;
 use crate::contact::{ContactState, DynContactLaw};
-use crate::contacts::{BlockVector, Contact, ContactKey, EntranceRows};
+use crate::contacts::{BlockVector, Contact, ContactKey, EntranceRows, SearchedPairs};
 use crate::error::DdaError;
 use crate::loads::Support;
 use crate::settings::{Integrator, Settings};
@@ -175,6 +175,9 @@ pub struct Driver<S: BlockSystem<N, T>, const N: usize, const T: usize> {
     pub system: S,
     laws: Vec<Box<dyn DynContactLaw>>,
     contacts: Vec<Contact<N, T, S::Entrance>>,
+    /// Where the last search's pairs lie in `contacts` (none where the
+    /// contacts came from elsewhere: a checkpoint).
+    searched: SearchedPairs,
     velocity: Vec<BlockVector<N>>,
     settings: Settings,
     solver: Box<dyn LinearSolver>,
@@ -367,6 +370,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             system,
             laws,
             contacts: Vec::new(),
+            searched: SearchedPairs::default(),
             settings,
             solver,
             values: Vec::new(),

@@ -134,7 +134,20 @@ pub trait BlockSystem<const N: usize, const T: usize>: Send + Sync {
         pairs: &[(usize, usize)],
         range: f64,
     ) -> Vec<Contact<N, T, Self::Entrance>> {
-        each_pair_contacts(self, pairs, range)
+        self.pairs_contacts_carried(pairs, range, &|_, _| {})
+    }
+
+    /// [`BlockSystem::pairs_contacts`], handing each pair's contacts to
+    /// `carry` (with the pair's index in `pairs`) as they are made, before
+    /// they join the others: the driver moves the last step's records onto
+    /// them there, on the core that made them.
+    fn pairs_contacts_carried(
+        &self,
+        pairs: &[(usize, usize)],
+        range: f64,
+        carry: &Carry<'_, N, T, Self::Entrance>,
+    ) -> Vec<Contact<N, T, Self::Entrance>> {
+        each_pair_contacts(self, pairs, range, carry)
     }
 
     /// Contact candidates within `range` of each other: the narrow phase of
@@ -223,16 +236,25 @@ pub(crate) fn each_pair_contacts<S, const N: usize, const T: usize>(
     system: &S,
     pairs: &[(usize, usize)],
     range: f64,
+    carry: &Carry<'_, N, T, S::Entrance>,
 ) -> Vec<Contact<N, T, S::Entrance>>
 where
     S: BlockSystem<N, T> + ?Sized,
 {
-    pairs
-        .par_iter()
+    (pairs.par_iter().enumerate())
         .with_min_len(PAIRS_PER_TASK)
-        .flat_map_iter(|&(i, j)| system.pair_contacts(i, j, range))
+        .flat_map_iter(|(k, &(i, j))| {
+            let mut found = system.pair_contacts(i, j, range);
+            carry(k, &mut found);
+            found
+        })
         .collect()
 }
+
+/// What [`BlockSystem::pairs_contacts_carried`] hands each pair's contacts
+/// to: the pair's index and its contacts.
+pub type Carry<'a, const N: usize, const T: usize, E> =
+    dyn Fn(usize, &mut [Contact<N, T, E>]) + Sync + 'a;
 
 #[cfg(test)]
 mod tests {

@@ -189,6 +189,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             });
         }
         self.contacts = contacts;
+        self.searched = Default::default();
         self.chosen.clear();
         self.velocity = saved
             .velocity
