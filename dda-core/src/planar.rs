@@ -212,12 +212,12 @@ fn cut(input: &[Point2<f64>], a: &Point2<f64>, b: &Point2<f64>, mut keep: impl F
     }
 }
 
-/// The edges (v[k], v[k + 1]), closing back to the first vertex.
+/// The edges (v\[k\], v\[k + 1\]), closing back to the first vertex.
 pub fn edges(poly: &[Point2<f64>]) -> impl Iterator<Item = (&Point2<f64>, &Point2<f64>)> {
     poly.iter().zip(poly.iter().cycle().skip(1))
 }
 
-/// Edge k: (v[k], v[k + 1]).
+/// Edge k: (v\[k\], v\[k + 1\]).
 pub fn edge(poly: &[Point2<f64>], k: usize) -> (&Point2<f64>, &Point2<f64>) {
     (&poly[k], &poly[(k + 1) % poly.len()])
 }
