@@ -423,8 +423,8 @@ pub struct SearchedPairs {
 impl SearchedPairs {
     /// The pairs searched and how many contacts each made, if the pairs
     /// increase (as the broad phase gives them); none otherwise.
-    pub fn of(pairs: &[(usize, usize)], counts: impl IntoIterator<Item = usize>) -> Self {
-        if !increasing(pairs) {
+    pub fn of(pairs: Vec<(usize, usize)>, counts: impl IntoIterator<Item = usize>) -> Self {
+        if !increasing(&pairs) {
             return Self::default();
         }
         let mut end = 0;
@@ -433,7 +433,7 @@ impl SearchedPairs {
             end
         });
         Self {
-            pairs: pairs.to_vec(),
+            pairs,
             ends: ends.collect(),
         }
     }
@@ -667,7 +667,8 @@ mod tests {
             let old_counts = old_pairs
                 .iter()
                 .map(|p| old.iter().filter(|c| pair(c) == *p).count());
-            let searched = SearchedPairs::of(&old_pairs, old_counts.collect::<Vec<_>>());
+            let old_counts: Vec<usize> = old_counts.collect();
+            let searched = SearchedPairs::of(old_pairs, old_counts);
             let chunks = pair_chunks(&mut old, &searched, &pairs).expect("increasing pairs");
             let mut start = 0;
             for (k, n) in counts.iter().enumerate() {
@@ -686,11 +687,11 @@ mod tests {
     #[test]
     fn contacts_of_another_search_are_not_cut_by_its_pairs() {
         let (pairs, mut old) = search(7, 4, true);
-        let searched = SearchedPairs::of(&pairs, [old.len() - 1]);
+        let searched = SearchedPairs::of(pairs.clone(), [old.len() - 1]);
         assert!(pair_chunks(&mut old, &searched, &pairs).is_none());
         assert!(pair_chunks(&mut old, &SearchedPairs::default(), &pairs).is_none());
         let backwards: Vec<_> = pairs.iter().rev().copied().collect();
-        let all = SearchedPairs::of(&pairs, [old.len()]);
+        let all = SearchedPairs::of(pairs.clone(), [old.len()]);
         assert!(pair_chunks(&mut old, &all, &backwards).is_none());
     }
 }

@@ -84,7 +84,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
         };
         let counts = counts.into_iter().map(AtomicUsize::into_inner);
-        self.searched = SearchedPairs::of(&pairs, counts);
+        self.searched = SearchedPairs::of(pairs, counts);
         // Freeing the last step's contacts (a heap block or two each: 4.6
         // ms at ten thousand blocks) is left to a thread that would idle.
         let last = std::mem::replace(&mut self.contacts, fresh);
