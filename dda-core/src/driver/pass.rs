@@ -5,6 +5,8 @@
 
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use super::anderson::Anderson;
 use super::woodbury::{update_terms, RankOne, Woodbury};
 use super::{gmres, Driver, Motion, Trial};
@@ -13,6 +15,7 @@ use crate::contact::ContactState;
 use crate::error::DdaError;
 use crate::solve::FactorUpdate;
 use crate::system::{BlockMatrix, BlockSystem};
+use crate::BLOCKS_PER_TASK;
 
 /// Couplings (sliding contacts) up to this many are applied by the
 /// Sherman-Morrison-Woodbury formula, one back-substitution each; more, by
@@ -738,13 +741,19 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 trial.d = start;
                 residual = step.iter().map(|dd| dd * scale).collect();
             }
-            let mut largest: f64 = 0.0;
-            for (i, d) in trial.d.chunks_exact_mut(N).enumerate() {
-                for (d, dd) in d.iter_mut().zip(self.matrix.block(&residual, i).iter()) {
-                    *d += dd;
-                    largest = largest.max(dd.abs());
-                }
-            }
+            // On every core; the largest entry is the same in any order.
+            let matrix = &self.matrix;
+            let largest = (trial.d.par_chunks_exact_mut(N).enumerate())
+                .with_min_len(BLOCKS_PER_TASK)
+                .map(|(i, d)| {
+                    let mut largest: f64 = 0.0;
+                    for (d, dd) in d.iter_mut().zip(matrix.block(&residual, i).iter()) {
+                        *d += dd;
+                        largest = largest.max(dd.abs());
+                    }
+                    largest
+                })
+                .reduce(|| 0.0, f64::max);
             if !largest.is_finite() {
                 return Err(DdaError::NotFinite {
                     time: self.time + dt,

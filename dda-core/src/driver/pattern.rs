@@ -115,8 +115,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.find_slots();
         let mut missing = self.matrix.block_count() == 0;
         let mut held = vec![false; self.matrix.pairs().len()];
-        for (c, slot) in self.contacts.iter().zip(&self.slots) {
-            let (wanted, kept) = pattern_wants(c, reach);
+        // Read off the contacts on every core (a contact is some 200 bytes
+        // in 3D: one core took 1.2 ms at 10,051 blocks), entered in order.
+        let wants: Vec<(bool, bool)> = (self.contacts.par_iter())
+            .with_min_len(CONTACTS_PER_TASK)
+            .map(|c| pattern_wants(c, reach))
+            .collect();
+        for (&(wanted, kept), slot) in wants.iter().zip(&self.slots) {
             match slot {
                 None => missing |= wanted,
                 Some(s) => held[*s] |= kept,
@@ -124,11 +129,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         }
         let stale = held.iter().filter(|h| !**h).count();
         if missing || 8 * stale > held.len() {
-            let kept: Vec<(usize, usize)> = self
-                .contacts
-                .iter()
-                .filter(|c| pattern_wants(c, reach).1)
-                .map(|c| (c.blocks[0], c.blocks[1]))
+            let kept: Vec<(usize, usize)> = (self.contacts.iter().zip(&wants))
+                .filter(|(_, w)| w.1)
+                .map(|(c, _)| (c.blocks[0], c.blocks[1]))
                 .collect();
             self.rebuild_pattern(kept);
             self.find_slots();

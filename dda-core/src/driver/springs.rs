@@ -4,12 +4,14 @@
 //! (`woodbury.rs`), instead of factorising again.
 
 use nalgebra::SVector;
+use rayon::prelude::*;
 
 use super::assemble::spring_terms;
 use super::chosen::Chosen;
 use super::terms::ContactLoad;
 use super::woodbury::RankOne;
 use crate::contacts::{BlockVector, Contact, EntranceRows};
+use crate::CONTACTS_PER_TASK;
 
 /// One closed contact's springs as a matrix holds them.
 #[derive(Clone, Copy)]
@@ -78,12 +80,13 @@ impl<const T: usize> FactorSprings<T> {
         loads: &[Option<ContactLoad<N, T>>],
         entrances: &[usize],
     ) {
+        // On every core: a contact's load is some 200 bytes in 3D, and one
+        // core walking 119,400 of them took 2.7 ms a step.
         let held = self.held.get_or_insert_with(Vec::new);
-        held.clear();
-        held.extend(
-            (loads.iter().zip(entrances))
-                .map(|(load, &e)| load.as_ref().map(|l| Springs::of(l, e))),
-        );
+        (loads.par_iter().zip(entrances))
+            .with_min_len(CONTACTS_PER_TASK)
+            .map(|(load, &e)| load.as_ref().map(|l| Springs::of(l, e)))
+            .collect_into_vec(held);
     }
 
     /// The factor's springs are unknown (a new attempt, a new factor made

@@ -5,11 +5,13 @@
 //! (deformable), 22 against 8 in 3D (rigid), and each weighing found the
 //! factor fitting.
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::{Driver, Trial};
 use crate::contacts::ContactKey;
 use crate::system::BlockSystem;
+use crate::CONTACTS_PER_TASK;
 
 /// Steps in a row that may start on a large factor unweighed after a
 /// weighing found it fitting, while nothing but the blocks' motion has
@@ -95,12 +97,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             && passes.is_some()
             && passes == steps
             && w.contacts.len() == contacts.len()
-            && (w.contacts.iter().zip(contacts).enumerate())
+            && (w.contacts.par_iter().zip(contacts).enumerate())
+                .with_min_len(CONTACTS_PER_TASK)
                 .filter(|&(i, (w, c))| {
                     *w != (c.key, trial.states[i].is_closed(), trial.entrances[i])
                 })
-                .nth(UNWEIGHED_CHANGES)
-                .is_none();
+                .count()
+                <= UNWEIGHED_CHANGES;
         if same {
             w.unweighed += 1;
             self.stats.unweighed_starts += 1;
@@ -120,7 +123,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             _ => f64::INFINITY,
         };
         let contacts = if fits {
-            (self.contacts.iter().enumerate())
+            (self.contacts.par_iter().enumerate())
+                .with_min_len(CONTACTS_PER_TASK)
                 .map(|(i, c)| (c.key, trial.states[i].is_closed(), trial.entrances[i]))
                 .collect()
         } else {
