@@ -369,17 +369,13 @@ impl<F, const D: usize> KeptFeatures<F, D> {
         if pairs != self.pairs || kinds != self.kinds || range < self.asked {
             return false;
         }
-        let starts: Vec<usize> = (vertices.iter())
-            .scan(0, |at, v| {
-                let start = *at;
-                *at += v.len();
-                Some(start)
-            })
-            .collect();
-        let count = starts
-            .last()
-            .zip(vertices.last())
-            .map_or(0, |(s, v)| s + v.len());
+        // Where each block's vertices start among the kept ones.
+        let mut starts = Vec::with_capacity(vertices.len());
+        let mut count = 0;
+        for v in vertices {
+            starts.push(count);
+            count += v.len();
+        }
         if count != self.vertices.len() {
             return false;
         }
