@@ -618,15 +618,16 @@ where
         }
         let blocks = &self.blocks;
         let vertices: Vec<&[Point<f64, D>]> = blocks.iter().map(|b| b.vertices()).collect();
-        // Each block's kinds on any core, in block order.
+        // Each block's kinds on any core, a list a task (not a block),
+        // joined in block order.
         let kinds: Vec<u8> = (blocks.par_iter())
             .with_min_len(BLOCKS_PER_TASK)
-            .flat_map_iter(|b| {
-                let mut kinds = Vec::new();
+            .fold(Vec::new, |mut kinds, b| {
                 b.feature_kinds(&mut kinds);
                 kinds
             })
-            .collect();
+            .collect::<Vec<Vec<u8>>>()
+            .concat();
         let mut store = self.features.lock().unwrap_or_else(|e| e.into_inner());
         let serve = (store.kept.as_ref()).is_some_and(|k| k.serve(&vertices, &kinds, pairs, range));
         match store.plan(serve) {
