@@ -55,6 +55,10 @@ pub struct Statistics {
     /// the factor, what such a move costs.
     #[serde(default)]
     pub whole_tangent_products: usize,
+    /// Residuals assembled by those moves' line searches, each a trial
+    /// share of a move (`LINE_SEARCH_GROWTH`).
+    #[serde(default)]
+    pub line_search_residuals: usize,
     /// Open-close passes that moved on the factor at hand with the
     /// springs changed since it was made as rank-one terms, instead of a
     /// new factorisation.

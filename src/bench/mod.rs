@@ -98,6 +98,9 @@ pub struct PerStep {
     pub whole_tangent_moves_per_step: f64,
     pub whole_tangent_products_per_step: f64,
     pub whole_tangent_factorizations_per_step: f64,
+    /// Residuals those moves' line searches assembled, per step: each an
+    /// assembly of the contacts' forces at a trial share of a move.
+    pub line_search_residuals_per_step: f64,
     /// Steps whose first pass started on the kept factor unweighed (the
     /// step's tangent not assembled to weigh it), as a share of the steps.
     pub unweighed_starts_per_step: f64,
@@ -123,6 +126,7 @@ impl PerStep {
             whole_tangent_moves_per_step: per_step(stats.whole_tangent_moves),
             whole_tangent_products_per_step: per_step(stats.whole_tangent_products),
             whole_tangent_factorizations_per_step: per_step(stats.whole_tangent_factorizations),
+            line_search_residuals_per_step: per_step(stats.line_search_residuals),
             unweighed_starts_per_step: per_step(stats.unweighed_starts),
             warm_starts_per_step: per_step(stats.warm_starts),
             phase_ms_per_step: phase_ms_per_step(stats, steps),
@@ -257,6 +261,7 @@ fn difference(after: &Statistics, before: &Statistics) -> Statistics {
         whole_tangent_factorizations: after.whole_tangent_factorizations
             - before.whole_tangent_factorizations,
         whole_tangent_products: after.whole_tangent_products - before.whole_tangent_products,
+        line_search_residuals: after.line_search_residuals - before.line_search_residuals,
         unweighed_starts: after.unweighed_starts - before.unweighed_starts,
         warm_starts: after.warm_starts - before.warm_starts,
         symbolic_analyses: after.symbolic_analyses - before.symbolic_analyses,
@@ -363,6 +368,7 @@ mod tests {
             steps: 1,
             whole_tangent_moves: 2,
             whole_tangent_products: 9,
+            line_search_residuals: 6,
             whole_tangent_factorizations: 1,
             unweighed_starts: 1,
             warm_starts: 1,
@@ -372,6 +378,7 @@ mod tests {
             steps: 5,
             whole_tangent_moves: 8,
             whole_tangent_products: 39,
+            line_search_residuals: 20,
             whole_tangent_factorizations: 3,
             unweighed_starts: 4,
             warm_starts: 3,
@@ -380,6 +387,7 @@ mod tests {
         let work = PerStep::of(&difference(&after, &before));
         assert_eq!(work.whole_tangent_moves_per_step, 1.5);
         assert_eq!(work.whole_tangent_products_per_step, 7.5);
+        assert_eq!(work.line_search_residuals_per_step, 3.5);
         assert_eq!(work.whole_tangent_factorizations_per_step, 0.5);
         assert_eq!(work.unweighed_starts_per_step, 0.75);
         assert_eq!(work.warm_starts_per_step, 0.5);

@@ -79,13 +79,17 @@ fn print_phases(rows: &[(String, &PerStep)], dt_column: bool) {
         .any(|(_, p)| p.whole_tangent_moves_per_step > 0.0)
     {
         println!("moves on the whole tangent (friction coupled to the normal force), per step (median run):");
-        println!("{head} {:>9} {:>9} {:>9}", "moves", "products", "factor.");
+        println!(
+            "{head} {:>9} {:>9} {:>9} {:>9}",
+            "moves", "products", "factor.", "searched"
+        );
         for (label, p) in rows {
             println!(
-                "{label} {:>9.2} {:>9.2} {:>9.2}",
+                "{label} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
                 p.whole_tangent_moves_per_step,
                 p.whole_tangent_products_per_step,
-                p.whole_tangent_factorizations_per_step
+                p.whole_tangent_factorizations_per_step,
+                p.line_search_residuals_per_step
             );
         }
     }
