@@ -368,7 +368,7 @@ fn a_whole_tangent_move_near_the_tolerance_is_solved_only_as_far_as_it_needs() {
 /// moves and 212 GMRES products; 84, 51 and 228 with every search started
 /// at the whole move.
 #[test]
-fn a_crawling_passs_line_searches_start_near_their_last_share() {
+fn a_crawling_pass_starts_each_line_search_near_its_last_share() {
     let scene = dda::bench::wall(70, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
     let mut model = scene.build().unwrap();
     let driver = &mut model.driver;
