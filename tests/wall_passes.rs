@@ -196,11 +196,7 @@ fn a_damped_wall_steps_at_1_ms() {
 /// pass to close it again: 62 passes over these 32 steps.)
 #[test]
 fn a_deformable_wall_at_its_automatic_step_takes_one_pass_a_step() {
-    let scene = dda::bench::wall(20, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
-    let mut model = scene.build().unwrap();
-    let driver = &mut model.driver;
-    driver.advance_to(0.3).unwrap();
-    let stats = driver.statistics();
+    let stats = deformable_wall_at_its_automatic_step(20, 0.3);
     println!(
         "automatic step: {} steps, {} passes, {} factorisations, {} moves, {} foreseen, {} missed",
         stats.steps,
@@ -236,6 +232,15 @@ fn a_deformable_wall_at_its_automatic_step_takes_one_pass_a_step() {
         stats.newton_iterations,
         stats.steps
     );
+}
+
+/// The statistics of the wall of `n` courses of deformable bricks at its
+/// automatic step, run to `until`, s.
+fn deformable_wall_at_its_automatic_step(n: usize, until: f64) -> dda_core::Statistics {
+    let scene = dda::bench::wall(n, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
+    let mut model = scene.build().unwrap();
+    model.driver.advance_to(until).unwrap();
+    model.driver.statistics().clone()
 }
 
 /// The statistics of the wall of `n` courses of rigid bricks over its
@@ -369,11 +374,7 @@ fn a_whole_tangent_move_near_the_tolerance_is_solved_only_as_far_as_it_needs() {
 /// at the whole move.
 #[test]
 fn a_crawling_pass_starts_each_line_search_near_its_last_share() {
-    let scene = dda::bench::wall(70, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
-    let mut model = scene.build().unwrap();
-    let driver = &mut model.driver;
-    driver.advance_to(0.1).unwrap();
-    let stats = driver.statistics();
+    let stats = deformable_wall_at_its_automatic_step(70, 0.1);
     println!(
         "{} steps, {} whole-tangent moves, {} line-search residuals, {} GMRES products",
         stats.steps,
