@@ -75,6 +75,22 @@ pub(super) struct Weighing {
     contacts: Vec<(ContactKey, bool, usize)>,
 }
 
+/// Whether at most `UNWEIGHED_CHANGES` contacts differ from the weighing's
+/// (`now(i)`: contact i's key, whether it is closed, and its entrance).
+fn few_changed(
+    then: &[(ContactKey, bool, usize)],
+    now: impl Fn(usize) -> (ContactKey, bool, usize) + Sync,
+) -> bool {
+    (then.par_iter().enumerate())
+        .with_min_len(CONTACTS_PER_TASK)
+        .filter(|&(i, w)| *w != now(i))
+        // Past the limit the count does not matter: the cores stop at one
+        // more than it.
+        .take_any(UNWEIGHED_CHANGES + 1)
+        .count()
+        <= UNWEIGHED_CHANGES
+}
+
 impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// Whether the step's first pass, about to start on the kept factor,
     /// may do so unweighed (`UNWEIGHED_STEPS`); if so it is counted.
@@ -97,13 +113,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             && passes.is_some()
             && passes == steps
             && w.contacts.len() == contacts.len()
-            && (w.contacts.par_iter().zip(contacts).enumerate())
-                .with_min_len(CONTACTS_PER_TASK)
-                .filter(|&(i, (w, c))| {
-                    *w != (c.key, trial.states[i].is_closed(), trial.entrances[i])
-                })
-                .count()
-                <= UNWEIGHED_CHANGES;
+            && few_changed(&w.contacts, |i| {
+                (
+                    contacts[i].key,
+                    trial.states[i].is_closed(),
+                    trial.entrances[i],
+                )
+            });
         if same {
             w.unweighed += 1;
             self.stats.unweighed_starts += 1;
@@ -142,5 +158,48 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             unweighed: 0,
             contacts,
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Up to `UNWEIGHED_CHANGES` contacts may differ from the weighing's
+    /// (come, gone, opened or closed, on another entrance); one more calls
+    /// for a weighing.
+    #[test]
+    fn a_weighing_serves_while_at_most_its_limit_of_contacts_changed() {
+        let key = |k: u32| ContactKey {
+            block_a: k,
+            feature_a: 0,
+            block_b: k + 1,
+            feature_b: 0,
+        };
+        let then: Vec<_> = (0..5_000).map(|k| (key(k), true, 0)).collect();
+        let changed = |n: usize| {
+            few_changed(&then, |i| {
+                let (key, closed, entrance) = then[i];
+                // Every 37th contact changed, up to n of them, each in
+                // one of the three ways.
+                match (i % 37 == 0 && i / 37 < n, i % 3) {
+                    (false, _) => (key, closed, entrance),
+                    (true, 0) => (key, !closed, entrance),
+                    (true, 1) => (key, closed, entrance + 1),
+                    (true, _) => (
+                        ContactKey {
+                            feature_b: 1,
+                            ..key
+                        },
+                        closed,
+                        entrance,
+                    ),
+                }
+            })
+        };
+        assert!(changed(0));
+        assert!(changed(UNWEIGHED_CHANGES));
+        assert!(!changed(UNWEIGHED_CHANGES + 1));
+        assert!(!changed(135));
     }
 }
