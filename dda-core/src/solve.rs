@@ -379,8 +379,9 @@ impl LinearSolver for SparseCholesky {
         }
         let (single, stack) = &mut *self.single_scratch.borrow_mut();
         if let Some((split, tree, forward, inverse)) = self.split_parts() {
-            // The permutations on every core: one core took 1.5 ms a step
-            // of the 10,051-block 3D wall's moves.
+            // The permutations on every core: on one, the scaling and the
+            // permutations of both precisions took 3.3 ms a step of the
+            // 10,051-block 3D wall's moves.
             let rhs_in: &[f64] = rhs;
             (single.par_iter_mut().zip(forward))
                 .with_min_len(ENTRIES_PER_TASK)
