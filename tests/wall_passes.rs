@@ -166,7 +166,9 @@ fn a_deformable_wall_steps_at_1_ms_without_a_cut() {
 /// force, so no strength) would pass between locked, whose shear dashpot
 /// passes that strength of zero, and sliding at every pass: its first step
 /// could not settle even at the smallest step. Forces at round-off level
-/// no longer decide between the two, and the wall steps.
+/// no longer decide between the two (`ROUND_OFF_FORCE`), and the wall
+/// steps: 20 steps of 2.80 passes and no cut (measured). With that rule
+/// off, its first 0.02 s took 440 steps of 14.23 passes and 157 cuts.
 #[test]
 fn a_damped_wall_steps_at_1_ms() {
     let text = scene_text("Rigid", "Coulomb(friction_angle: 35.0)")
@@ -186,6 +188,13 @@ fn a_damped_wall_steps_at_1_ms() {
     );
     assert_eq!(stats.unconverged_steps, 0);
     assert!(driver.time() > 0.0199);
+    assert_eq!(stats.open_close_cuts, 0);
+    assert!(
+        stats.open_close_iterations <= 4 * stats.steps,
+        "{} passes in {} steps",
+        stats.open_close_iterations,
+        stats.steps
+    );
 }
 
 /// The 20 × 20 wall of deformable bricks at its automatic step (9.5 ms)
