@@ -196,6 +196,31 @@ fn a_sliding_block_slides_coulombs_distance_at_the_automatic_step() {
     assert!(((moved - exact) / exact).abs() < 1e-3);
 }
 
+/// A block thrown at 1 km/s could keep its flight within 2.5e-4 of its
+/// size only in steps of 2.5e-7 s; the automatic step stops at its floor,
+/// 1e-4 of its ceiling (1.6e-6 s for this 1 m block), so the run still
+/// advances: 0.01 s in about 6,300 steps, not 40,000. Its flight, free of
+/// contacts, stays exact at any step.
+#[test]
+fn a_fast_block_steps_no_shorter_than_the_floor() {
+    let text = r#"Scene(
+    analysis: (duration: 0.01),
+    materials: { "rock": (density: 2700.0, young: 1e10, poisson: 0.25) },
+    blocks: [Rectangle(center: (0.0, 0.0), width: 1.0, height: 1.0, velocity: (1000.0, 0.0, 0.0))],
+)"#;
+    let mut model = build(text, "thrown.ron");
+    let driver = &mut model.driver;
+    let ceiling = (1.0f64 / 9.81).sqrt() / 20.0;
+    let floor = 1e-4 * ceiling;
+    assert!((driver.shortest_dt() - floor).abs() < 1e-12 * floor);
+    driver.advance_to(0.01).unwrap();
+    let steps = driver.statistics().steps;
+    let x = driver.system.blocks[0].centroid().x;
+    println!("{steps} steps, floor {floor:.3e} s, flew {x:.9} m");
+    assert!((steps as f64) <= 0.01 / floor + 2.0, "{steps} steps");
+    assert!((x - 10.0).abs() < 1e-9, "flew {x} m");
+}
+
 #[test]
 fn without_gravity_the_step_resolves_the_contact_springs() {
     let text = r#"Scene(
