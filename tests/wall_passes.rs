@@ -400,26 +400,14 @@ fn a_crawling_pass_starts_each_line_search_near_its_last_share() {
     );
     assert_eq!(stats.open_close_cuts + stats.unconverged_steps, 0);
     assert!(stats.whole_tangent_moves >= 40, "{stats:?}");
-    assert!(
-        stats.newton_iterations <= 144,
-        "{} moves",
-        stats.newton_iterations
-    );
-    assert!(
-        stats.factorizations <= 14,
-        "{} factorisations",
-        stats.factorizations
-    );
-    assert!(
-        stats.line_search_residuals <= 76,
-        "{} line-search residuals",
-        stats.line_search_residuals
-    );
-    assert!(
-        stats.whole_tangent_products <= 240,
-        "{} GMRES products",
-        stats.whole_tangent_products
-    );
+    for (count, bound, what) in [
+        (stats.newton_iterations, 144, "moves"),
+        (stats.factorizations, 14, "factorisations"),
+        (stats.line_search_residuals, 76, "line-search residuals"),
+        (stats.whole_tangent_products, 240, "GMRES products"),
+    ] {
+        assert!(count <= bound, "{count} {what}, at most {bound}");
+    }
 }
 
 /// The 10 × 10 rigid wall standing at dt 1 ms with its automatic penalty,
