@@ -76,19 +76,19 @@ fn a_moving_wall_skips_weighings_on_the_same_path() {
     same_path(&scene, 0.02 - 1e-9, false, 6);
 }
 
-/// The 3D model of the 40 × 40 deformable wall at dt 1 ms, its first 20
-/// steps: the factor made at the fifth step reads 0.90 and 0.95 of its
-/// limit at the next two, and would read 1.15 at the third, where a new
-/// one is made. Its change's growth between weighings (`MARGIN`) weighs
-/// that step, so the run takes the same path; without that bound it
-/// started the step unweighed and went another way. The wall's path has
-/// changed since: with the bound or without it (`MARGIN` 0) it now starts
-/// the same 8 of its 20 steps unweighed, so this test no longer holds the
-/// bound (`docs/driver-rules.md`).
+/// The 3D model of the 36 × 36 deformable wall at dt 1 ms, its first 50
+/// steps: steps start on the kept factor unweighed only while its
+/// matrix's change, grown at twice its rate between the last two
+/// weighings (`MARGIN`), stays within its limit. So the four steps that
+/// start unweighed are steps a weighing would have started on the same
+/// factor, and the run takes the same path as weighing every step. Grown
+/// at its rate alone (`MARGIN` 1), seven steps started unweighed, the run
+/// went another way (412 moves and 85 factorisations against 406 and 87)
+/// and this test fails; at 1.5 it still holds.
 #[test]
 fn a_factor_near_its_limit_is_weighed_in_3d() {
-    let scene = wall(40, 3, Stepping::Fixed, BlockKind::Deformable).unwrap();
-    same_path(&scene, 0.02 - 1e-9, true, 5);
+    let scene = wall(36, 3, Stepping::Fixed, BlockKind::Deformable).unwrap();
+    same_path(&scene, 0.05 - 1e-9, true, 4);
 }
 
 /// The 40 × 40 deformable wall at its automatic step and penalty for
