@@ -105,6 +105,14 @@ enum Command {
             allow_negative_numbers = true
         )]
         dt: Vec<f64>,
+        /// With --simulate: shake each wall's base along the wall by a 2 Hz sine of this acceleration amplitude, in m/s², for the whole run (a rigid wall's bed joints slide beyond 6.87)
+        #[arg(
+            long,
+            value_name = "M/S2",
+            requires = "simulate",
+            allow_negative_numbers = true
+        )]
+        shake: Option<f64>,
         /// Also draw time per step against blocks, log-log with the N^1 line, into this file (.png or .svg)
         #[arg(long, value_name = "FILE")]
         chart: Option<PathBuf>,
@@ -412,6 +420,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             simulate,
             max_wall,
             dt,
+            shake,
             chart,
             json,
             solver,
@@ -436,6 +445,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 simulate,
                 max_wall,
                 dts: dt,
+                shake,
                 chart,
                 json,
                 solver,

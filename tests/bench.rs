@@ -285,6 +285,7 @@ fn rigid_wall(n: usize, seconds: f64, dts: Vec<f64>) -> SimulateOptions {
         progress_every: None,
         solver: Solver::Direct,
         dts,
+        shake: None,
     }
 }
 
@@ -361,6 +362,50 @@ fn the_wall_that_blew_up_in_ntdda_stands_at_1_ms() {
     assert_eq!((r.cuts, r.unconverged_steps), (0, 0), "{r:?}");
     assert!(r.steps >= 300, "{r:?}");
     assert!(r.drift < 1e-4, "the wall drifted {} m", r.drift);
+}
+
+/// `--shake`: a wall well within its friction limit (a 2 Hz sine of 3
+/// m/s² at its base; its bed joints hold to 6.87) rides its base, so its
+/// drift is the base's own displacement, A/ω·(t − sin ωt/ω) from rest
+/// (measured 2.6e-6 of it apart).
+#[test]
+fn a_shaken_wall_rides_its_base() {
+    let (a, seconds) = (3.0, 0.2);
+    let options = SimulateOptions {
+        shake: Some(a),
+        ..rigid_wall(4, seconds, vec![0.002])
+    };
+    let rows = simulate(&options).unwrap();
+    let r = &rows[0];
+    assert!(r.completed && r.shake == Some(a), "{r:?}");
+    let w = std::f64::consts::TAU * dda::bench::SHAKE_FREQUENCY;
+    let base = a / w * (seconds - (w * seconds).sin() / w);
+    println!("drift {} m, the base's displacement {base} m", r.drift);
+    assert!(
+        (r.drift - base).abs() < 2e-5 * base,
+        "drift {} m against the base's {base} m",
+        r.drift
+    );
+    // At rest it stays put.
+    let rest = simulate(&rigid_wall(4, seconds, vec![0.002])).unwrap();
+    assert!(
+        rest[0].shake.is_none() && rest[0].drift < 1e-4 * base,
+        "{:?}",
+        rest[0]
+    );
+}
+
+#[test]
+fn shaking_needs_an_amplitude_above_zero() {
+    let options = SimulateOptions {
+        shake: Some(0.0),
+        ..rigid_wall(2, 0.01, Vec::new())
+    };
+    let message = simulate(&options).unwrap_err().to_string();
+    assert!(
+        message.contains("--shake") && message.contains("more than 0"),
+        "{message}"
+    );
 }
 
 /// A run past its wall-clock cap stops and says how far it got.

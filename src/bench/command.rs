@@ -32,6 +32,9 @@ pub struct Command {
     /// With `simulate`: time steps to run each wall at, s (empty:
     /// automatic).
     pub dts: Vec<f64>,
+    /// With `simulate`: the amplitude of the 2 Hz horizontal sine the
+    /// walls' bases are shaken by, m/s² (`None`: at rest).
+    pub shake: Option<f64>,
     /// The scaling chart's file, `.png` or `.svg`.
     pub chart: Option<PathBuf>,
     pub json: Option<PathBuf>,
@@ -104,6 +107,7 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
                 progress_every: Some(Duration::from_secs(5)),
                 solver: c.solver,
                 dts: c.dts.clone(),
+                shake: c.shake,
             })?;
             print_simulate(&rows, repeats);
             let (points, json) = fitted("simulate", &rows, SimulateRow::point)?;

@@ -26,7 +26,7 @@ use crate::simulation::Simulation;
 
 pub use command::{command, Command};
 pub use study::{bench_study, StudyBenchRow};
-pub use walls::{wall, wall_scene, Stepping};
+pub use walls::{shake, wall, wall_scene, Stepping, SHAKE_FREQUENCY};
 
 /// What to measure.
 #[derive(Debug, Clone)]

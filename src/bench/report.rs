@@ -2,7 +2,7 @@
 
 use super::scaling::{series_name, Fit};
 use super::simulate::SimulateRow;
-use super::{BenchRow, PerStep};
+use super::{BenchRow, PerStep, SHAKE_FREQUENCY};
 use crate::scene::BlockKind;
 
 /// The step-timing table, then where each step's time goes.
@@ -108,6 +108,11 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
         "running-bond walls of n × n bricks, {seconds} s simulated with {stepping}, median of {}",
         runs(repeats)
     );
+    if let Some(a) = rows.first().and_then(|r| r.shake) {
+        println!(
+            "the bases shaken along the walls by a {SHAKE_FREQUENCY} Hz sine of {a} m/s² (drift includes the base's motion)"
+        );
+    }
     println!(
         "{:>4} {:>15} {:>7} {:>10} {:>9} {:>9} {:>9} {:>10} {:>8} {:>9} {:>7} {:>7} {:>7} {:>6} {:>11} {:>10} {:>7}",
         "n",

@@ -10,7 +10,7 @@ use serde::Serialize;
 use dda_core::Solver;
 
 use super::{
-    centroids, check_walls, drift, peak_memory_mb, scaling, wall, PerStep, Stepping, Timed,
+    centroids, check_walls, drift, peak_memory_mb, scaling, shake, wall, PerStep, Stepping, Timed,
 };
 use crate::scene::{AnyModel, BlockKind};
 
@@ -36,6 +36,9 @@ pub struct SimulateOptions {
     /// Time steps to run each wall at, s, the penalty automatic; empty:
     /// the automatic step.
     pub dts: Vec<f64>,
+    /// The amplitude of the horizontal sine (2 Hz) each wall's base is
+    /// shaken by for the whole run, m/s² ([`shake`]); `None`: at rest.
+    pub shake: Option<f64>,
 }
 
 /// One wall's run (the median of its repeats).
@@ -50,6 +53,9 @@ pub struct SimulateRow {
     pub dt: f64,
     /// Whether the time step was given rather than automatic.
     pub dt_given: bool,
+    /// The amplitude of the sine the base was shaken by, m/s² (`None`: at
+    /// rest).
+    pub shake: Option<f64>,
     pub penalty: f64,
     /// Simulated time asked and reached, s.
     pub seconds: f64,
@@ -69,7 +75,8 @@ pub struct SimulateRow {
     #[serde(flatten)]
     pub per_step: PerStep,
     /// The largest centroid displacement of any brick from where it was
-    /// built, over every step of the run, m.
+    /// built, over every step of the run, m; on a shaken base, with the
+    /// base's own motion.
     pub drift: f64,
     /// The process's peak resident memory so far, MB (Linux; 0 elsewhere).
     pub peak_memory_mb: f64,
@@ -100,6 +107,12 @@ pub fn simulate(options: &SimulateOptions) -> anyhow::Result<Vec<SimulateRow>> {
         "--max-wall takes wall-clock seconds, more than 0, got {}",
         options.max_wall
     );
+    if let Some(a) = options.shake {
+        anyhow::ensure!(
+            a.is_finite() && a > 0.0,
+            "--shake takes the amplitude of the base's acceleration in m/s², more than 0, got {a}"
+        );
+    }
     for &dt in &options.dts {
         anyhow::ensure!(
             dt.is_finite() && dt > 0.0,
@@ -141,6 +154,9 @@ fn run(
 ) -> anyhow::Result<SimulateRow> {
     let mut scene = wall(n, dimension, stepping, kind)?;
     scene.analysis.solver = options.solver;
+    if let Some(amplitude) = options.shake {
+        shake(&mut scene, amplitude, options.seconds);
+    }
     let what = format!("{n} × {n} wall, {}", scaling::series_name(dimension, kind));
     let mut row = match scene.build_any()? {
         AnyModel::Plane(mut m) => simulate_driver(&mut m.driver, options, &what)?,
@@ -150,6 +166,7 @@ fn run(
     row.dimension = dimension;
     row.kind = kind;
     row.dt_given = matches!(stepping, Stepping::Given(_));
+    row.shake = options.shake;
     Ok(row)
 }
 
@@ -197,6 +214,7 @@ fn simulate_driver<D: Timed>(
         blocks: driver.block_count(),
         dt: driver.dt(),
         dt_given: false,
+        shake: None,
         penalty: driver.penalty(),
         seconds: options.seconds,
         reached,

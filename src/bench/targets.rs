@@ -209,6 +209,7 @@ fn simulated(
         progress_every: Some(Duration::from_secs(5)),
         solver: Solver::Direct,
         dts,
+        shake: None,
     })
 }
 
@@ -502,6 +503,7 @@ mod tests {
             blocks: 1621,
             dt: 9.5e-3,
             dt_given: false,
+            shake: None,
             penalty: 2.8e10,
             seconds: 1.0,
             reached: 1.0,

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::scene::{BlockKind, Scene};
+use crate::scene::{BlockKind, Coords, GroundMotionSpec, MotionSpec, Scene};
 
 /// The bricks' depth in the 3D wall (one brick deep), m.
 pub const DEPTH_3D: f64 = 0.25;
@@ -66,4 +66,26 @@ pub fn wall(
         3 => Ok(crate::extrude::extrude(&scene, DEPTH_3D)?),
         d => anyhow::bail!("a wall is 2D or 3D, not {d}D"),
     }
+}
+
+/// The frequency of the sine a shaken wall's base follows (`dda bench
+/// --shake`), Hz.
+pub const SHAKE_FREQUENCY: f64 = 2.0;
+
+/// Shakes `scene`'s wall (built by [`wall`]) through its base: a
+/// horizontal ground acceleration `amplitude`·sin(2π·2 Hz·t) along the
+/// wall (m/s², toward +x) for `seconds`. The bed joints of a rigid wall
+/// slide beyond g·tan 35° = 6.87 m/s².
+pub fn shake(scene: &mut Scene, amplitude: f64, seconds: f64) {
+    let mut along = vec![0.0; scene.dimension as usize];
+    along[0] = amplitude;
+    scene.ground_motion = Some(GroundMotionSpec {
+        // The base is the wall scene's first block.
+        blocks: vec![0],
+        motion: MotionSpec::Sine {
+            amplitude: Coords(along),
+            frequency: SHAKE_FREQUENCY,
+            duration: seconds,
+        },
+    });
 }
