@@ -366,26 +366,33 @@ fn the_wall_that_blew_up_in_ntdda_stands_at_1_ms() {
 
 /// `--shake`: a wall well within its friction limit (a 2 Hz sine of 3
 /// m/s² at its base; its bed joints hold to 6.87) rides its base, so its
-/// drift is the base's own displacement, A/ω·(t − sin ωt/ω) from rest
-/// (measured 2.6e-6 of it apart).
+/// drift is the base's own displacement, A/ω·(t − sin ωt/ω) from rest,
+/// in 2D and in its 3D prism model (measured within 2.6e-6 of it).
 #[test]
 fn a_shaken_wall_rides_its_base() {
     let (a, seconds) = (3.0, 0.2);
     let options = SimulateOptions {
         shake: Some(a),
+        dimensions: vec![2, 3],
         ..rigid_wall(4, seconds, vec![0.002])
     };
     let rows = simulate(&options).unwrap();
-    let r = &rows[0];
-    assert!(r.completed && r.shake == Some(a), "{r:?}");
     let w = std::f64::consts::TAU * dda::bench::SHAKE_FREQUENCY;
     let base = a / w * (seconds - (w * seconds).sin() / w);
-    println!("drift {} m, the base's displacement {base} m", r.drift);
-    assert!(
-        (r.drift - base).abs() < 2e-5 * base,
-        "drift {} m against the base's {base} m",
-        r.drift
-    );
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        assert!(r.completed && r.shake == Some(a), "{r:?}");
+        println!(
+            "{}D: drift {} m, the base's displacement {base} m",
+            r.dimension, r.drift
+        );
+        assert!(
+            (r.drift - base).abs() < 2e-5 * base,
+            "{}D: drift {} m against the base's {base} m",
+            r.dimension,
+            r.drift
+        );
+    }
     // At rest it stays put.
     let rest = simulate(&rigid_wall(4, seconds, vec![0.002])).unwrap();
     assert!(
