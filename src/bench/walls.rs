@@ -1,5 +1,6 @@
 //! The walls `dda bench` times: running bond, 0.5 m × 0.25 m bricks on a
-//! fixed base, in 2D or as their 3D prism model.
+//! fixed base, in 2D or as their 3D prism model, and the sine their base
+//! is shaken by (`--shake`).
 
 use serde::Serialize;
 
