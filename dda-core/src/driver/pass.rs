@@ -19,8 +19,20 @@ use crate::BLOCKS_PER_TASK;
 
 /// Couplings (sliding contacts) up to this many are applied by the
 /// Sherman-Morrison-Woodbury formula, one back-substitution each; more, by
-/// GMRES on the symmetric factor (`driver/gmres.rs`), one a product.
-const SMW_COUPLINGS: usize = 64;
+/// GMRES on the whole tangent preconditioned by the factor at hand
+/// (`PRECONDITIONED_PRODUCTS`), one back-substitution a product. GMRES
+/// needs about a dozen products at 65-250 couplings, so at 64 the formula
+/// spent four times what GMRES would: the 10 × 10 deformable wall shaken
+/// near its sliding limit (6.5 m/s², dt 2 ms, 1 s) applied it 2,697 times
+/// with 46 couplings on average, 125,000 back-substitutions beside
+/// GMRES's 171,000 products. At 16 (with small factors preconditioning as
+/// large ones do) that second took 8.4 s against 15.7; at 32, 11.1 s.
+const SMW_COUPLINGS: usize = 16;
+
+/// Sliding contacts up to this many are few (`RISES_BEFORE_WHOLE_TANGENT`,
+/// `OWN_LARGE_FACTOR_CONTRACTION`). At 16, as `SMW_COUPLINGS`, the shaken
+/// wall above took the same time (8.4 s; the rigid one 6.2 s against 6.6).
+const FEW_SLIDING: usize = 64;
 
 /// A step's first pass starts on the last step's factor where its matrix
 /// changed by at most this share of its largest value. A rigid wall's
@@ -104,7 +116,7 @@ const ROUND_OFF_FACTOR_ENTRIES: usize = 1 << 12;
 /// deformable one's step 94 → 161 ms).
 const STILL_MATRIX: f64 = 1e-5;
 
-/// With more sliding contacts than `SMW_COUPLINGS`, moves on fresh factors
+/// With more sliding contacts than `FEW_SLIDING`, moves on fresh factors
 /// that raise the residual this many times in a row end the symmetric
 /// iteration, and the whole tangent takes over: there the symmetric one
 /// climbs on to the iteration limit (a wall at a fine contact tolerance
@@ -119,8 +131,8 @@ const STILL_MATRIX: f64 = 1e-5;
 /// 29.6, 33.9 s.
 const RISES_BEFORE_WHOLE_TANGENT: usize = 1;
 
-/// A large factor's whole-tangent moves with more than `SMW_COUPLINGS`
-/// couplings are GMRES's on the whole tangent itself, the factor at hand
+/// Whole-tangent moves with more than `SMW_COUPLINGS` couplings are
+/// GMRES's on the whole tangent itself, the factor at hand
 /// (the symmetric iteration's or an earlier move's) only its
 /// preconditioner, kept while GMRES needs at most this many products: the
 /// move is the whole tangent's whatever the factor's age. With a factor at
@@ -143,6 +155,11 @@ const RISES_BEFORE_WHOLE_TANGENT: usize = 1;
 /// the default contact tolerance, posing as large, fresh factors' moves
 /// needed 12–15 products, and replacing each made 27 factorisations in 66
 /// whole-tangent moves; twice, 10 in 56.
+///
+/// A small factor serves so too. It costs only a few products, but made
+/// afresh at every such move (GMRES then on the symmetric factor's
+/// x + K⁻¹USVᵀx = y), the shaken 10 × 10 wall of `SMW_COUPLINGS` made
+/// 23 of its 32 factorisations a step there; so, 1.7 of 11.3.
 const PRECONDITIONED_PRODUCTS: usize = 10;
 
 /// GMRES's relative tolerance for such a move, at its tightest: an
@@ -280,7 +297,7 @@ const KEPT_LARGE_FACTOR_CONTRACTION: f64 = 0.6;
 /// its automatic step took 20.8 moves and 8.1 factorisations a step with a
 /// factor at every move, 765 ms a step; 30.1 and 5.4 with this rule, 567
 /// ms (with 1.0, a factor kept until a move raised the residual: 559 ms).
-/// With no more contacts sliding than `SMW_COUPLINGS`, a kept move that
+/// With no more contacts sliding than `FEW_SLIDING`, a kept move that
 /// raised the residual hands the pass to the small factor's rule. The
 /// wedge at FS 0.99 with stiff springs (dt 5 ms, 100 × the penalty), on
 /// a solver posing as a large factor, looped without it: a fresh factor's
@@ -355,7 +372,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let sliding = (trial.states.iter())
             .filter(|s| **s == ContactState::Sliding)
             .count();
-        let hand_over = sliding > SMW_COUPLINGS;
+        let hand_over = sliding > FEW_SLIDING;
         if self.iterate(dt, masses, trial, false, hand_over)? {
             return Ok(());
         }
@@ -611,7 +628,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     continue;
                 }
             }
-            let preconditioned = coupled && couplings.len() > SMW_COUPLINGS && self.large_factor();
+            let preconditioned = coupled && couplings.len() > SMW_COUPLINGS;
             let refresh = if coupled {
                 !(preconditioned && precondition && self.factored.is_some())
             } else {
@@ -789,10 +806,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     }
 
     /// Turns `y = K⁻¹r` (K the symmetric tangent) into the solution with
-    /// K + Σ sⱼ uⱼvⱼᵀ: x = y − Z (I + S VᵀZ)⁻¹ S Vᵀy, with Z = K⁻¹U; beyond
-    /// `SMW_COUPLINGS` couplings, by GMRES on x + K⁻¹U S Vᵀx = y, or, where
-    /// `preconditioned`, on F⁻¹(K + U S Vᵀ)x = y with y = F⁻¹r, F the
-    /// factor at hand solved in single precision, to `tolerance`. Returns
+    /// K + Σ sⱼ uⱼvⱼᵀ: x = y − Z (I + S VᵀZ)⁻¹ S Vᵀy, with Z = K⁻¹U; where
+    /// `preconditioned` (beyond `SMW_COUPLINGS` couplings), by GMRES on
+    /// F⁻¹(K + U S Vᵀ)x = y with y = F⁻¹r, F the factor at hand (solved in
+    /// single precision where it has a copy), to `tolerance`. Returns
     /// whether GMRES reached its tolerance, and its products.
     fn correct(
         &self,
@@ -820,22 +837,6 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             let rhs = y.to_vec();
             let solved = gmres::gmres(apply, &rhs, y, tolerance, 60);
             return (solved, products);
-        }
-        if couplings.len() > SMW_COUPLINGS {
-            // x + K⁻¹Σ sⱼuⱼ(vⱼᵀx) = y.
-            let mut products = 0;
-            let apply = |v: &[f64], out: &mut [f64]| {
-                products += 1;
-                out.iter_mut().for_each(|o| *o = 0.0);
-                couple(v, out);
-                self.solver.solve(out);
-                for (o, v) in out.iter_mut().zip(v) {
-                    *o += v;
-                }
-            };
-            let rhs = y.to_vec();
-            gmres::gmres(apply, &rhs, y, 1e-6, 60);
-            return (true, products);
         }
         Woodbury::new(couplings.to_vec(), &self.matrix, &*self.solver).apply(&self.matrix, y);
         (true, 0)
