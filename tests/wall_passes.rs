@@ -633,7 +633,8 @@ fn a_slow_carried_factor_resumes_bit_for_bit() {
 /// whole-tangent moves in 125 steps, 23 of them making a factor (492
 /// factorisations in all). With the Sherman-Morrison-Woodbury formula up
 /// to 64 couplings, each such move making its own factor, 318 in 736 (791
-/// in all); with small factors not preconditioning, 363 in 485 (773).
+/// in all); with small factors not preconditioning (the formula then
+/// taking every coupling, with a factor at each move), 363 in 485 (773).
 /// With both as they were (64, and a small factor made at each such move
 /// for GMRES on it), the first simulated second took 15.7 s against 8.4
 /// (`dda bench --sizes 10 --simulate 1 --dt 0.002 --shake 6.5`).
