@@ -627,17 +627,23 @@ fn a_slow_carried_factor_resumes_bit_for_bit() {
 /// The 10 × 10 deformable wall shaken at its base near its sliding limit
 /// (a 2 Hz sine of 6.5 m/s², against 6.87 for its bed joints) at dt 2 ms,
 /// over its first quarter second, as the first peak passes: hundreds of
-/// its contacts cross between locked and sliding, and most of its moves
-/// are on the whole tangent. Beyond 16 couplings each is GMRES's,
-/// preconditioned by the factor at hand, small as it is. Measured: 846
-/// whole-tangent moves in 125 steps, 23 of them making a factor (492
-/// factorisations in all). With the Sherman-Morrison-Woodbury formula up
-/// to 64 couplings, each such move making its own factor, 318 in 736 (791
-/// in all); with small factors not preconditioning (the formula then
-/// taking every coupling, with a factor at each move), 363 in 485 (773).
-/// With both as they were (64, and a small factor made at each such move
-/// for GMRES on it), the first simulated second took 15.7 s against 8.4
-/// (`dda bench --sizes 10 --simulate 1 --dt 0.002 --shake 6.5`).
+/// its contacts cross between locked and sliding, and hundreds of its
+/// moves are on the whole tangent. Beyond 16 couplings each is GMRES's,
+/// preconditioned by the factor at hand, small as it is. Measured: 558
+/// whole-tangent moves in 125 steps, 18 of them making a factor. With the
+/// Sherman-Morrison-Woodbury formula up to 64 couplings, each such move
+/// making its own factor, 190 in 489; with small factors not
+/// preconditioning (the formula then taking every coupling, with a factor
+/// at each move), 363 in 485 (before small factors were kept in passes
+/// with many sliding contacts, below). With both as they were (64, and a small
+/// factor made at each such move for GMRES on it), the first simulated
+/// second took 15.7 s against 8.4 (`dda bench --sizes 10 --simulate 1
+/// --dt 0.002 --shake 6.5`).
+///
+/// Its symmetric passes, with more than 64 contacts sliding, keep their
+/// small factor as a large one's pass does: 327 factorisations in all.
+/// With a small factor giving way to a new one at every later move once
+/// a kept move falls short, 492.
 #[test]
 fn a_wall_shaken_near_its_sliding_limit_keeps_its_factor_through_whole_tangent_moves() {
     let mut scene = dda::bench::wall(10, 2, Stepping::Given(2e-3), BlockKind::Deformable).unwrap();
@@ -655,7 +661,8 @@ fn a_wall_shaken_near_its_sliding_limit_keeps_its_factor_through_whole_tangent_m
         stats.whole_tangent_products
     );
     assert_eq!(stats.unconverged_steps, 0);
-    assert!(stats.whole_tangent_moves >= 5 * stats.steps, "{stats:?}");
+    assert!(stats.whole_tangent_moves >= 4 * stats.steps, "{stats:?}");
+    assert!(stats.factorizations <= 3 * stats.steps, "{stats:?}");
     assert!(
         10 * stats.whole_tangent_factorizations <= stats.whole_tangent_moves,
         "{} factorisations in {} whole-tangent moves",
