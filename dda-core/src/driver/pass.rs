@@ -31,9 +31,9 @@ const SMW_COUPLINGS: usize = 16;
 
 /// Sliding contacts up to this many are few (`RISES_BEFORE_WHOLE_TANGENT`,
 /// `OWN_LARGE_FACTOR_CONTRACTION`; beyond them a pass keeps a small factor
-/// as a large one, see `iterate`). At 16, as
-/// `SMW_COUPLINGS`, the shaken wall above took the same time, before small
-/// factors were kept beyond it (8.4 s; the rigid one 6.2 s against 6.6).
+/// as a large one, see `iterate`). At 16, as `SMW_COUPLINGS`, the shaken
+/// wall above took the same time, before small factors were kept beyond
+/// it (8.4 s; the rigid one 6.2 s against 6.6).
 const FEW_SLIDING: usize = 64;
 
 /// A step's first pass starts on the last step's factor where its matrix
@@ -444,20 +444,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // deformable wall at rest, whose first steps slide, factorised 0.78
         // times a step instead of 1.61.
         let keeps_as_large = self.large_factor() || hand_over;
-        let (give_way, mut stale, drift) = if self.large_factor() {
-            (
-                KEPT_LARGE_FACTOR_CONTRACTION,
-                usize::MAX,
-                LARGE_FACTOR_DRIFT,
-            )
-        } else if keeps_as_large {
-            (
-                KEPT_LARGE_FACTOR_CONTRACTION,
-                STALE_FACTOR_MOVES,
-                FACTOR_DRIFT,
-            )
+        let give_way = if keeps_as_large {
+            KEPT_LARGE_FACTOR_CONTRACTION
         } else {
-            (KEPT_FACTOR_CONTRACTION, STALE_FACTOR_MOVES, FACTOR_DRIFT)
+            KEPT_FACTOR_CONTRACTION
+        };
+        let (mut stale, drift) = if self.large_factor() {
+            (usize::MAX, LARGE_FACTOR_DRIFT)
+        } else {
+            (STALE_FACTOR_MOVES, FACTOR_DRIFT)
         };
         let mut rises = 0;
         // The last Newton move's largest entry (`settled` below), and the
