@@ -47,9 +47,10 @@ fn exact_update_keeps_the_area_over_a_revolution() {
 #[test]
 fn linear_update_inflates_the_area_as_predicted() {
     let (area_drift, _, _, steps) = revolve(RotationUpdate::Linear);
-    // 628 full steps of 0.01 rad and one of 0.0031853 rad.
-    let last = 2.0 * std::f64::consts::PI - 628.0 * 0.01;
-    let predicted = (1.0f64 + 1e-4).powi(628) * (1.0 + last * last) - 1.0;
+    // Steps of 0.01 rad do not fill the revolution: it is taken in 629
+    // equal steps of 2π/629 = 0.0099893 rad.
+    let h = 2.0 * std::f64::consts::PI / 629.0;
+    let predicted = (1.0 + h * h).powi(629) - 1.0;
     assert_eq!(steps, 629.0);
     assert!(
         ((area_drift - predicted) / predicted).abs() < 1e-6,

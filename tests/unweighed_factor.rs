@@ -192,3 +192,27 @@ fn a_later_pass_after_an_unweighed_start_reads_its_springs() {
     assert_eq!(on.factorizations, off.factorizations);
     assert!(a == b, "the walls ended apart");
 }
+
+/// The 40 × 40 deformable wall at dt 1 ms written every 4.5 ms: each
+/// stretch between output times is taken in five equal steps of 0.9 ms,
+/// the same to the bit from one stretch to the next, so steps go on
+/// starting on the kept factor unweighed across output times (what is
+/// left of a stretch, and the output times, differ by round-off, which a
+/// step start skipping the weighing reads as another dt).
+#[test]
+fn equal_steps_between_output_times_start_unweighed() {
+    let scene = wall(40, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
+    let solver = Box::new(SparseCholesky::default());
+    let mut driver = scene.build().unwrap().driver.with_solver(solver);
+    for k in 1..=5 {
+        driver.advance_to(k as f64 * 0.0045).unwrap();
+    }
+    let stats = driver.statistics();
+    println!(
+        "{} steps, {} unweighed starts, {} factorisations",
+        stats.steps, stats.unweighed_starts, stats.factorizations
+    );
+    assert_eq!(stats.steps, 25);
+    // Measured 9; with each stretch's step taken as computed, 5.
+    assert!(stats.unweighed_starts >= 8, "{stats:?}");
+}

@@ -98,9 +98,10 @@ fn linear_update_inflates_the_volume_as_predicted() {
     let volume = driver.system.blocks[0].volume();
     driver.advance_to(TAU).unwrap();
     let drift = driver.system.blocks[0].volume() / volume - 1.0;
-    // det(I + [r]×) = 1 + |r|²: 628 steps of 0.01 rad and one of the rest.
-    let last = TAU - 628.0 * 0.01;
-    let predicted = (1.0f64 + 1e-4).powi(628) * (1.0 + last * last) - 1.0;
+    // det(I + [r]×) = 1 + |r|²: steps of 0.01 rad do not fill the turn,
+    // which is taken in 629 equal steps of 2π/629 = 0.0099893 rad.
+    let h = TAU / 629.0;
+    let predicted = (1.0 + h * h).powi(629) - 1.0;
     assert!(
         ((drift - predicted) / predicted).abs() < 1e-6,
         "drift {drift} vs {predicted}"

@@ -40,6 +40,7 @@ mod assemble;
 mod checkpoint;
 mod chosen;
 mod commit;
+mod even_steps;
 mod explicit;
 mod gmres;
 mod impact;
@@ -279,6 +280,9 @@ pub struct Driver<S: BlockSystem<N, T>, const N: usize, const T: usize> {
     time_carry: f64,
     dt: f64,
     dt_next: f64,
+    /// The equal step the last stretch to a requested time was split into
+    /// (`driver/even_steps.rs`), s; `None` before any.
+    even_step: Option<f64>,
     penalty: f64,
     length_scale: f64,
     stats: Statistics,
@@ -411,6 +415,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             time_carry: 0.0,
             dt,
             dt_next: dt,
+            even_step: None,
             dt_cap,
             penalty,
             length_scale,
@@ -560,7 +565,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         mut go_on: impl FnMut(&Self) -> bool,
     ) -> Result<bool, DdaError> {
         while time - self.time > 1e-9 * self.dt {
-            self.step(time - self.time)?;
+            let limit = self.even_limit(time - self.time);
+            self.step(limit)?;
             if (time - self.time).abs() <= 1e-9 * self.dt {
                 // Land on the requested time, not on a sum of rounded steps.
                 self.time = time;

@@ -29,6 +29,7 @@ struct Saved {
     time_carry: f64,
     dt: f64,
     dt_next: f64,
+    even_step: Option<f64>,
     last_dt: Option<f64>,
     penalty: f64,
     last_moved: f64,
@@ -110,6 +111,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             time_carry: self.time_carry,
             dt: self.dt,
             dt_next: self.dt_next,
+            even_step: self.even_step,
             last_dt: self.last_dt,
             penalty: self.penalty,
             last_moved: self.last_moved,
@@ -204,6 +206,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         self.time_carry = saved.time_carry;
         self.dt = saved.dt;
         self.dt_next = saved.dt_next;
+        self.even_step = saved.even_step;
         self.last_dt = saved.last_dt;
         self.penalty = saved.penalty;
         self.last_moved = saved.last_moved;
