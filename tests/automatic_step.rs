@@ -10,7 +10,9 @@
 //! with the Coulomb acceleration, in 2D and 3D. Without gravity the step
 //! resolves the contact springs as before.
 
+use dda::bench::{wall, Stepping};
 use dda::{Scene, Simulation};
+use dda_core::BlockKind;
 
 mod common;
 
@@ -316,25 +318,16 @@ fn near_its_friction_limit_a_block_holds_or_slides_at_the_automatic_step() {
     }
 }
 
-/// A wall at rest written every 0.05 s, which steps of its automatic dt
-/// (9.49 ms) do not fill: each stretch between output times is split into
-/// six equal steps of 8.33 ms, not five of 9.49 and a short one, so the
-/// matrix's inertia terms stay the same from stretch to stretch and its
-/// factor is kept. With a short step at every output time each such step
+/// The 10 × 10 deformable wall at rest written every 0.05 s, which steps
+/// of its automatic dt (9.49 ms) do not fill: each stretch between output
+/// times is split into six equal steps of 8.33 ms, not five of 9.49 and a
+/// short one, so the matrix's inertia terms stay the same from stretch to
+/// stretch and its factor is kept. With a short step at every output time each such step
 /// and the one after it made a factor of their own.
 #[test]
 fn a_wall_written_between_its_steps_steps_evenly_and_keeps_its_factor() {
-    let text = r#"Scene(
-    analysis: (duration: 1.0, gravity: (0.0, -9.81)),
-    materials: { "brick": (density: 1800.0, young: 5e9, poisson: 0.2) },
-    default_joint: Coulomb(friction_angle: 35.0),
-    blocks: [
-        Rectangle(center: (2.5, -0.5), width: 7.0, height: 1.0, fixed: true),
-        Wall(origin: (0.0, 0.0), length: 5.0, courses: 10, brick_length: 0.5, brick_height: 0.25, bond: Running),
-    ],
-)"#;
-    let mut model = build(text, "wall.ron");
-    let driver = &mut model.driver;
+    let scene = wall(10, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
+    let driver = &mut scene.build().unwrap().driver;
     let interval = 0.05;
     let dt = driver.dt();
     assert!(dt > interval / 6.0 && dt < interval / 5.0, "{dt}");
