@@ -322,8 +322,8 @@ fn near_its_friction_limit_a_block_holds_or_slides_at_the_automatic_step() {
 /// of its automatic dt (9.49 ms) do not fill: each stretch between output
 /// times is split into six equal steps of 8.33 ms, not five of 9.49 and a
 /// short one, so the matrix's inertia terms stay the same from stretch to
-/// stretch and its factor is kept. With a short step at every output time each such step
-/// and the one after it made a factor of their own.
+/// stretch and its factor is kept. With a short step at every output
+/// time, each such step and the one after it made a factor of their own.
 #[test]
 fn a_wall_written_between_its_steps_steps_evenly_and_keeps_its_factor() {
     let scene = wall(10, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
