@@ -546,15 +546,23 @@ fn advance<S: Simulation>(
             }
         }
         None => {
-            // The driver's own end test (as in advance_to).
-            while duration - driver.time() > 1e-9 * driver.dt() {
-                driver.step(duration - driver.time())?;
-                observers.iter_mut().for_each(|o| o.on_step(driver));
-                guards.after_step(driver)?;
-                output(driver, observers)?;
-                if let Some(keeper) = keeper.as_deref_mut() {
-                    keeper.at_output(driver, observers, 1)?;
-                }
+            // Every step is an output time; the driver's steps to the end
+            // are equal ones, so the run does not end on a short step whose
+            // matrix no kept factor fits.
+            let mut tripped = None;
+            driver.advance_while(duration, &mut |d| {
+                observers.iter_mut().for_each(|o| o.on_step(d));
+                let written = guards.after_step(d).and_then(|()| {
+                    output(d, observers)?;
+                    match keeper.as_deref_mut() {
+                        Some(keeper) => keeper.at_output(d, observers, 1),
+                        None => Ok(()),
+                    }
+                });
+                written.map_err(|e| tripped = Some(e)).is_ok()
+            })?;
+            if let Some(e) = tripped {
+                return Err(e);
             }
         }
     }

@@ -366,3 +366,39 @@ fn a_wall_written_between_its_steps_steps_evenly_and_keeps_its_factor() {
         stats.steps
     );
 }
+
+/// A run that writes every step (`interval: 0`) takes its steps to the end
+/// equal too: 0.1 s at the 10 × 10 wall's automatic step (8.3-10 ms) is
+/// eleven steps of 1/110 s, not ten of dt and a short last one, whose
+/// inertia terms no kept factor fits.
+#[test]
+fn a_run_written_every_step_ends_on_an_equal_step() {
+    let mut scene = wall(10, 2, Stepping::Automatic, BlockKind::Deformable).unwrap();
+    scene.analysis.duration = 0.1;
+    scene.output.interval = Some(0.0);
+    let out = common::out_dir("every_step_equal");
+    let summary = dda::run::run_scene(
+        &scene,
+        &out,
+        dda::run::RunOptions::default(),
+        &dda_contact::LawRegistry::with_builtin(),
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+    let mut times: Vec<f64> = (text.lines().skip(1))
+        .map(|line| line.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    times.dedup();
+    println!(
+        "{} steps, {} factorisations",
+        summary.steps, summary.factorizations
+    );
+    assert_eq!(summary.steps, 11, "{times:?}");
+    assert_eq!(times.len(), 12, "time 0 and every step");
+    assert_eq!(*times.last().unwrap(), 0.1);
+    for (k, pair) in times.windows(2).enumerate() {
+        let h = pair[1] - pair[0];
+        assert!((h - 0.1 / 11.0).abs() < 1e-12, "step {}: {h} s", k + 1);
+    }
+}
