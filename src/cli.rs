@@ -386,6 +386,10 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             json,
             ..
         } => {
+            if let Some(path) = &json {
+                crate::bench::command::check_writable("--json", path)?;
+            }
+            anyhow::ensure!(repeats != Some(0), "--repeats must be at least 1");
             let repeats = repeats.unwrap_or(3);
             let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
             let rows = crate::bench::bench_study(&study, &[1, cores], repeats)?;

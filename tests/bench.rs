@@ -457,6 +457,12 @@ fn bad_bench_options_are_clear_errors() {
         (vec!["--simulate", "-1"], "more than 0, got -1"),
         (vec!["--simulate", "1", "--max-wall", "0"], "--max-wall"),
         (vec!["--steps", "0"], "--steps must be at least 1"),
+        (vec!["--repeats", "0"], "--repeats must be at least 1"),
+        (vec!["--json", "."], "--json .: a folder; name a file"),
+        (
+            vec!["--json", "/proc/no-such-folder/rows.json"],
+            "--json: cannot create /proc/no-such-folder",
+        ),
         (
             vec!["--kinds", "soft"],
             "possible values: rigid, deformable",

@@ -59,10 +59,27 @@ fn check_chart(path: &Path) -> anyhow::Result<()> {
         "--chart {}: the chart is written as PNG or SVG; name a .png or .svg file",
         path.display()
     );
+    check_writable("--chart", path)
+}
+
+/// A file written after the runs must be writable before them, so a
+/// long benchmark does not end on an error that loses its results: its
+/// folder is made, and a file beside it created and removed.
+pub(crate) fn check_writable(option: &str, path: &Path) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        !path.is_dir(),
+        "{option} {}: a folder; name a file",
+        path.display()
+    );
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
-            .with_context(|| format!("--chart: cannot create {}", dir.display()))?;
+            .with_context(|| format!("{option}: cannot create {}", dir.display()))?;
     }
+    let mut probe = path.as_os_str().to_owned();
+    probe.push(".partial");
+    std::fs::File::create(&probe)
+        .with_context(|| format!("{option}: cannot write {}", path.display()))?;
+    let _ = std::fs::remove_file(&probe);
     Ok(())
 }
 
@@ -89,6 +106,10 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
     if let Some(path) = &c.chart {
         check_chart(path)?;
     }
+    if let Some(path) = &c.json {
+        check_writable("--json", path)?;
+    }
+    anyhow::ensure!(c.repeats != Some(0), "--repeats must be at least 1");
     super::check_walls(&c.sizes, &c.dimensions)?;
     anyhow::ensure!(
         !c.kinds.is_empty(),
@@ -150,7 +171,7 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
         println!("wrote {}", path.display());
     }
     if let Some(path) = &c.json {
-        std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
+        crate::output::write_atomically(path, json.as_bytes())?;
     }
     Ok(())
 }
