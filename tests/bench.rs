@@ -460,6 +460,10 @@ fn bad_bench_options_are_clear_errors() {
         (vec!["--repeats", "0"], "--repeats must be at least 1"),
         (vec!["--json", "."], "--json .: a folder; name a file"),
         (
+            vec!["--targets", "--json", "."],
+            "--json .: a folder; name a file",
+        ),
+        (
             vec!["--json", "/proc/no-such-folder/rows.json"],
             "--json: cannot create /proc/no-such-folder",
         ),

@@ -393,12 +393,8 @@ pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<T
             options.compared
         );
     }
-    if let Some(dir) = json
-        .and_then(Path::parent)
-        .filter(|d| !d.as_os_str().is_empty())
-    {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("--json: cannot create {}", dir.display()))?;
+    if let Some(path) = json {
+        super::command::check_writable("--json", path)?;
     }
     let mut out = Writer {
         report: TargetReport {
