@@ -125,7 +125,7 @@ enum Command {
         /// Time this study instead, on one core and on all: its wall time against the sum of its runs' times
         #[arg(long, value_name = "STUDY.ron", conflicts_with_all = ["simulate", "chart", "rigid", "kinds", "dimension"])]
         study: Option<PathBuf>,
-        /// Measure every speed target of the walls in one run instead (40 × 40 against MuJoCo, 20 × 20 against ntdda, 10 × 10 at dt 1 ms, 10,051 blocks in 2D and 3D, the growth from 1,621 to 10,051 blocks; a few minutes): a Markdown table with each verdict, the machine and the date
+        /// Measure every speed target of the walls in one run instead (40 × 40 against MuJoCo, 20 × 20 against ntdda, 10 × 10 at dt 1 ms, 40 × 40 at rest at steps of 5 ms to 10 s, 10,051 blocks in 2D and 3D, the growth from 1,621 to 10,051 blocks; a few minutes): a Markdown table with each verdict, the machine and the date
         #[arg(long, conflicts_with_all = ["study", "simulate", "chart", "rigid", "kinds", "dimension", "sizes", "steps", "repeats", "dt"])]
         targets: bool,
         /// With --targets: MuJoCo's run of the 40 × 40 wall, the JSON of benches/mujoco_wall.py 40 run just before on the same machine

@@ -305,6 +305,8 @@ fn a_wall_runs_for_simulated_time_with_automatic_dt() {
     assert!(r.steps >= 1);
     assert!((r.seconds_per_simulated_second - r.wall_s / r.reached).abs() < 1e-9);
     assert!(r.drift >= 0.0 && r.drift < 1e-3);
+    // The settlement at the end is one the run passed through.
+    assert!(r.end_drift > 0.0 && r.end_drift <= r.drift, "{r:?}");
     // Its work per step and where the time went, as for timed steps: every
     // pass moves at least once, and the phases are parts of the step.
     let work = &r.per_step;
@@ -499,7 +501,7 @@ fn a_3d_walls_bricks_share_one_topology() {
 }
 
 /// `dda bench --targets` on small walls (10 × 10 compared, 20 × 20 the
-/// largest, 0.05 s simulated): every target has its row (17), written to the
+/// largest, 0.05 s simulated): every target has its row (18), written to the
 /// JSON as it goes; the compared wall's verdict follows MuJoCo's time, and
 /// a MuJoCo run of another wall is refused.
 #[test]
@@ -526,10 +528,10 @@ fn targets_report_every_target_with_its_verdict() {
     };
     // MuJoCo far slower: the compared wall's verdict is its drift's.
     let report = targets(&options(mujoco(1e6)), Some(&json)).unwrap();
-    assert_eq!(report.targets.len(), 17, "{report:#?}");
+    assert_eq!(report.targets.len(), 18, "{report:#?}");
     let written: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(written["targets"].as_array().unwrap().len(), 17);
+    assert_eq!(written["targets"].as_array().unwrap().len(), 18);
     for t in &report.targets {
         assert!(t.met.is_some(), "{t:?}");
         assert!(!t.measured.is_empty());
@@ -551,5 +553,36 @@ fn targets_report_every_target_with_its_verdict() {
     assert!(
         refused.contains("--mujoco") && refused.contains("mujoco_wall.py 10"),
         "{refused}"
+    );
+}
+
+/// The 10 × 10 wall at rest stands at steps of 5 and 10 ms over a second,
+/// both kinds (no cut, moving at most twice its static settlement and
+/// ending within 1 % of it), and at every larger step tried, up to 10.24
+/// s: Newmark's step with β = 1/2, γ = 1 is unconditionally stable.
+#[test]
+fn a_wall_at_rest_stands_at_large_steps_without_drift() {
+    use dda::bench::largest_step::standing_steps;
+    use dda::bench::targets::TargetOptions;
+    let options = TargetOptions {
+        compared: 10,
+        ..TargetOptions::default()
+    };
+    let target = standing_steps(&options).unwrap();
+    assert_eq!(target.met, Some(true), "{target:?}");
+    for kind in ["rigid", "deformable"] {
+        let reading = target.measured.split("; ").find(|r| r.starts_with(kind));
+        assert!(
+            reading.is_some_and(|r| r.contains("5 ms") && r.contains("10 ms")),
+            "{target:?}"
+        );
+    }
+    assert_eq!(
+        target
+            .measured
+            .matches("stands at every step tried, up to 10.24 s")
+            .count(),
+        2,
+        "{target:?}"
     );
 }

@@ -8,6 +8,7 @@
 //! blocks and draws it; [`study`] times a study's use of the cores.
 
 pub mod command;
+pub mod largest_step;
 pub mod report;
 pub mod scaling;
 pub mod simulate;

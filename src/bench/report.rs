@@ -114,7 +114,7 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
         );
     }
     println!(
-        "{:>4} {:>15} {:>7} {:>10} {:>9} {:>9} {:>9} {:>10} {:>8} {:>9} {:>7} {:>7} {:>7} {:>6} {:>11} {:>10} {:>7}",
+        "{:>4} {:>15} {:>7} {:>10} {:>9} {:>9} {:>9} {:>10} {:>8} {:>9} {:>7} {:>7} {:>7} {:>6} {:>11} {:>10} {:>10} {:>7}",
         "n",
         "bricks",
         "blocks",
@@ -131,11 +131,12 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
         "cuts",
         "unconverged",
         "drift m",
+        "at end m",
         "MB"
     );
     for r in rows {
         println!(
-            "{:>4} {:>15} {:>7} {:>10.3e} {:>9.2e} {:>9.4} {:>9.2} {:>10.3} {:>8} {:>9.2} {:>7.2} {:>7.2} {:>7.2} {:>6} {:>11} {:>10.3e} {:>7.0}",
+            "{:>4} {:>15} {:>7} {:>10.3e} {:>9.2e} {:>9.4} {:>9.2} {:>10.3} {:>8} {:>9.2} {:>7.2} {:>7.2} {:>7.2} {:>6} {:>11} {:>10.3e} {:>10.3e} {:>7.0}",
             r.courses,
             series_name(r.dimension, r.kind),
             r.blocks,
@@ -152,6 +153,7 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
             r.cuts,
             r.unconverged_steps,
             r.drift,
+            r.end_drift,
             r.peak_memory_mb,
         );
     }

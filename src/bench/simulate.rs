@@ -78,6 +78,9 @@ pub struct SimulateRow {
     /// built, over every step of the run, m; on a shaken base, with the
     /// base's own motion.
     pub drift: f64,
+    /// The largest centroid displacement of any brick at the run's end, m:
+    /// a wall at rest ends at its static settlement unless it creeps.
+    pub end_drift: f64,
     /// The process's peak resident memory so far, MB (Linux; 0 elsewhere).
     pub peak_memory_mb: f64,
 }
@@ -227,6 +230,7 @@ fn simulate_driver<D: Timed>(
         unconverged_steps: stats.unconverged_steps,
         per_step: PerStep::of(stats),
         drift: largest,
+        end_drift: drift(driver, &start),
         peak_memory_mb: peak_memory_mb(),
     })
 }

@@ -182,7 +182,7 @@ impl Writer<'_> {
     }
 }
 
-const KINDS: [BlockKind; 2] = [BlockKind::Rigid, BlockKind::Deformable];
+pub(crate) const KINDS: [BlockKind; 2] = [BlockKind::Rigid, BlockKind::Deformable];
 
 fn sim_key(r: &SimulateRow) -> (usize, BlockKind) {
     (r.courses, r.kind)
@@ -418,6 +418,7 @@ pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<T
     let at_1ms = simulated(options, vec![options.standing, options.ntdda], vec![1e-3])?;
     out.add(against_ntdda(options, &automatic, &at_1ms)?)?;
     out.add(standing(options, &at_1ms)?)?;
+    out.add(super::largest_step::standing_steps(options)?)?;
     let steps_2d = stepped(vec![c, l], 2, options.steps_2d)?;
     let steps_3d = stepped(vec![c, l], 3, options.steps_3d)?;
     for found in largest(options, &automatic, &steps_2d, &steps_3d)? {
@@ -486,12 +487,12 @@ pub fn command(options: &TargetOptions, json: Option<PathBuf>) -> anyhow::Result
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// The compared wall's run: `wall_s` s for a simulated second,
     /// drifting `drift` m.
-    fn compared(wall_s: f64, drift: f64) -> SimulateRow {
+    pub(crate) fn compared(wall_s: f64, drift: f64) -> SimulateRow {
         SimulateRow {
             courses: 40,
             dimension: 2,
@@ -512,6 +513,7 @@ mod tests {
             unconverged_steps: 0,
             per_step: Default::default(),
             drift,
+            end_drift: drift,
             peak_memory_mb: 80.0,
         }
     }
