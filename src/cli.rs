@@ -57,6 +57,9 @@ enum Command {
         /// Also write VTK frames for ParaView (DIR/blocks.pvd, DIR/contacts.pvd, DIR/vtk/), as the scene's output.vtk does
         #[arg(long)]
         vtk: bool,
+        /// Also write DIR/steps.csv, a row per accepted step (its length, open-close passes, Newton-Raphson moves, factorisations, cuts, wall time), as the scene's output.steps does
+        #[arg(long)]
+        steps: bool,
         /// Save the whole run to DIR/checkpoint.bin at the first output time after every SECONDS of simulated time
         #[arg(long, value_name = "SECONDS")]
         checkpoint_every: Option<f64>,
@@ -132,7 +135,7 @@ enum Command {
         #[arg(long, value_name = "FILE", requires = "targets")]
         mujoco: Option<PathBuf>,
     },
-    /// Charts of a run (DIR/history.csv, DIR/contacts.csv): displacement, speed and rotation of chosen blocks, contact forces; SVG and PNG into DIR/plots
+    /// Charts of a run (DIR/history.csv, DIR/contacts.csv, DIR/steps.csv): displacement, speed and rotation of chosen blocks, contact forces, each step's wall time, work and length; SVG and PNG into DIR/plots
     Plot {
         /// The run's folder (what `dda run --out` was given)
         dir: PathBuf,
@@ -267,6 +270,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             out,
             progress_every,
             vtk,
+            steps,
             checkpoint_every,
             resume,
         } => {
@@ -281,6 +285,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 notes: true,
                 progress_lines: (!terminal).then_some(every),
                 vtk,
+                steps,
                 quiet: false,
                 checkpoint_every,
             };

@@ -56,6 +56,7 @@ pub mod progress;
 pub mod run;
 pub mod scene;
 pub mod simulation;
+pub mod step_log;
 pub mod study;
 pub mod summary;
 pub mod validate;

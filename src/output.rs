@@ -467,7 +467,7 @@ pub fn read_contacts(path: impl AsRef<Path>) -> anyhow::Result<Vec<ContactRow>> 
 
 /// The rows of a CSV file whose header is `expected`, each with as many
 /// fields as the header.
-fn read_rows<T: DeserializeOwned>(
+pub(crate) fn read_rows<T: DeserializeOwned>(
     path: &Path,
     what: &str,
     expected: &str,

@@ -14,6 +14,7 @@ use crate::output::{ContactWriter, HistoryWriter, PointsWriter};
 use crate::progress::Progress;
 use crate::scene::{AnyModel, Model, Scene};
 use crate::simulation::Simulation;
+use crate::step_log::StepsWriter;
 use crate::summary::SummaryWriter;
 pub use crate::summary::{Status, Summary};
 use crate::vtk::VtkWriter;
@@ -31,6 +32,8 @@ pub struct RunOptions {
     pub progress_lines: Option<Duration>,
     /// VTK frames for ParaView whatever the scene's `output.vtk` says.
     pub vtk: bool,
+    /// `steps.csv` whatever the scene's `output.steps` says.
+    pub steps: bool,
     /// Leave the summary's warnings off stderr (they stay in summary.json).
     pub quiet: bool,
     /// Simulated seconds between checkpoints (`DIR/checkpoint.bin`, at the
@@ -209,6 +212,7 @@ pub fn run(scene_path: &Path, out_dir: &Path) -> anyhow::Result<Summary> {
             notes: terminal,
             progress_lines: None,
             vtk: false,
+            steps: false,
             quiet: false,
             checkpoint_every: None,
         },
@@ -317,7 +321,11 @@ pub fn run_model_observed<S: Simulation>(
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
     let history_path = out_dir.join("history.csv");
     let vtk_wanted = options.vtk || scene.output.vtk;
+    let steps_wanted = options.steps || scene.output.steps;
     let mut outputs = vec!["history.csv".to_string()];
+    if steps_wanted {
+        outputs.push("steps.csv".to_string());
+    }
     if model.write_contacts {
         outputs.push("contacts.csv".to_string());
     }
@@ -342,6 +350,7 @@ pub fn run_model_observed<S: Simulation>(
     // in summary.json when that can still be written.
     let contacts_path = out_dir.join("contacts.csv");
     let points_path = out_dir.join("points.csv");
+    let steps_path = out_dir.join("steps.csv");
     let opened = (|| -> anyhow::Result<_> {
         let Some(checkpoint) = &resumed else {
             let history = HistoryWriter::create(&history_path, S::HISTORY_HEADER)?;
@@ -357,7 +366,11 @@ pub fn run_model_observed<S: Simulation>(
                 true => Some(VtkWriter::create(out_dir)?),
                 false => None,
             };
-            return Ok((history, contacts, points, vtk));
+            let steps = match steps_wanted {
+                true => Some(StepsWriter::create(&steps_path, &model.driver)?),
+                false => None,
+            };
+            return Ok((history, contacts, points, vtk, steps));
         };
         let length = |name: &str| {
             match checkpoint.cursor(name) {
@@ -390,9 +403,20 @@ pub fn run_model_observed<S: Simulation>(
                 bail!("the run was checkpointed without VTK frames; resume it without --vtk")
             }
         };
-        Ok((history, contacts, points, vtk))
+        let steps = match (steps_wanted, checkpoint.cursor("steps.csv")) {
+            (false, _) => None,
+            (true, Some(_)) => Some(StepsWriter::resume(
+                &steps_path,
+                length("steps.csv")?,
+                &model.driver,
+            )?),
+            (true, None) => {
+                bail!("the run was checkpointed without steps.csv; resume it with the outputs it was started with (no --steps, and the scene's output.steps as it was)")
+            }
+        };
+        Ok((history, contacts, points, vtk, steps))
     })();
-    let (mut history, mut contacts, mut points, mut vtk) = match opened {
+    let (mut history, mut contacts, mut points, mut vtk, mut steps) = match opened {
         Ok(files) => files,
         Err(e) => {
             let _ = summary.on_finish(&model.driver, Some(&e));
@@ -415,6 +439,9 @@ pub fn run_model_observed<S: Simulation>(
     }
     if let Some(vtk) = &mut vtk {
         observers.push(vtk);
+    }
+    if let Some(steps) = &mut steps {
+        observers.push(steps);
     }
     for observer in extra.iter_mut() {
         observers.push(&mut **observer);

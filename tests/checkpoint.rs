@@ -345,3 +345,59 @@ fn a_rewritten_scene_resumes_and_a_changed_one_is_refused() {
         "nothing was written"
     );
 }
+
+/// `steps.csv` resumed from a checkpoint goes on as the uninterrupted
+/// run's: the same steps, numbers, lengths and counts (its wall times are
+/// the machine's own).
+#[test]
+fn a_resumed_run_goes_on_with_its_steps() {
+    let dir = folder("steps");
+    let scene = scene(
+        &dir,
+        "sliding_block_2d.ron",
+        "output: (interval: 0.01)",
+        "output: (interval: 0.01, steps: true)",
+    );
+    let s = scene.to_str().unwrap();
+    let first = dir.join("first");
+    let every = ["--checkpoint-every", "0.3"];
+    ok(dda(&[
+        &["run", s, "--out", first.to_str().unwrap()][..],
+        &every[..],
+    ]
+    .concat()));
+    let again = dir.join("again");
+    std::fs::create_dir_all(&again).unwrap();
+    for name in ["history.csv", "steps.csv", "checkpoint.bin"] {
+        std::fs::copy(first.join(name), again.join(name)).unwrap();
+    }
+    ok(dda(&["run", "--resume", again.to_str().unwrap()]));
+    let without_wall_time = |dir: &Path| {
+        let mut rows = dda::step_log::read_steps(dir.join("steps.csv")).unwrap();
+        rows.iter_mut().for_each(|r| r.wall_ms = 0.0);
+        rows
+    };
+    let (whole, resumed) = (without_wall_time(&first), without_wall_time(&again));
+    assert_eq!(whole.len(), 1000);
+    assert!(whole == resumed, "the resumed steps.csv differs");
+    // A run started without it is resumed without it.
+    let plain = dir.join("plain");
+    let plain_scene = scene.to_str().unwrap().replace(".ron", "_plain.ron");
+    std::fs::write(
+        &plain_scene,
+        std::fs::read_to_string(&scene)
+            .unwrap()
+            .replace(", steps: true", ""),
+    )
+    .unwrap();
+    ok(dda(&[
+        &["run", &plain_scene, "--out", plain.to_str().unwrap()][..],
+        &every[..],
+    ]
+    .concat()));
+    let stderr = refused(&["run", "--resume", plain.to_str().unwrap(), "--steps"]);
+    assert!(
+        stderr.contains("checkpointed without steps.csv"),
+        "{stderr}"
+    );
+}

@@ -10,6 +10,7 @@ const QUIET: RunOptions = RunOptions {
     notes: false,
     progress_lines: None,
     vtk: false,
+    steps: false,
     quiet: false,
     checkpoint_every: None,
 };

@@ -85,6 +85,8 @@ fn a_2d_run_gives_charts_an_animation_and_a_still() {
         assert_eq!(png_size(&png), (900, 540));
         assert!(is_svg(&dir.join("plots").join(format!("{name}.svg"))));
     }
+    // No steps.csv, no charts of the steps.
+    assert_eq!(files.len(), 8, "{files:?}");
 
     let options = RenderOptions {
         color: ColorField::Stress,
@@ -200,4 +202,29 @@ fn bad_input_names_the_file_and_the_fix() {
         stderr.contains("displacement") && stderr.contains("stress"),
         "{stderr}"
     );
+}
+
+/// With `steps.csv` (`output.steps`) the charts also show each step's wall
+/// time, work and length.
+#[test]
+fn a_run_with_its_steps_charts_them() {
+    let dir = scratch("steps");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/arch_heyman_collapse_2d.ron");
+    let mut scene = Scene::load(&path).unwrap();
+    scene.analysis.duration = 0.2;
+    scene.output.steps = true;
+    run_scene(
+        &scene,
+        &dir,
+        RunOptions::default(),
+        &LawRegistry::with_builtin(),
+    )
+    .unwrap();
+    let files = plot(&dir, &PlotOptions::default()).unwrap();
+    for name in ["step_time", "step_work", "step_length"] {
+        let png = dir.join("plots").join(format!("{name}.png"));
+        assert!(files.contains(&png), "{files:?}");
+        assert_eq!(png_size(&png), (900, 540));
+        assert!(is_svg(&dir.join("plots").join(format!("{name}.svg"))));
+    }
 }

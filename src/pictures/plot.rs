@@ -1,6 +1,7 @@
 //! `dda plot DIR`: time-series charts of a run as SVG and PNG: the chosen
-//! blocks' displacement, speed and rotation, and with `contacts.csv` the
-//! contacts' normal forces.
+//! blocks' displacement, speed and rotation, with `contacts.csv` the
+//! contacts' normal forces, and with `steps.csv` each step's wall time,
+//! work and length.
 
 use std::path::{Path, PathBuf};
 
@@ -101,6 +102,10 @@ pub fn plot(dir: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
             ],
         });
     }
+    let steps_path = dir.join("steps.csv");
+    if steps_path.exists() {
+        charts.extend(step_charts(&crate::step_log::read_steps(&steps_path)?));
+    }
 
     let mut written = Vec::new();
     for chart in &charts {
@@ -111,6 +116,54 @@ pub fn plot(dir: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
         written.extend([svg, png]);
     }
     Ok(written)
+}
+
+/// Points drawn of `steps.csv` at most: a longer run's steps are averaged
+/// over runs of consecutive steps, each drawn at its last step's time.
+const STEP_POINTS: usize = 400;
+
+/// `steps.csv` as three charts: the wall time, the work (passes, moves,
+/// factorisations, cuts) and the length of each step.
+fn step_charts(rows: &[crate::step_log::StepRow]) -> Vec<Chart> {
+    let per = rows.len().div_ceil(STEP_POINTS).max(1);
+    let over = if per > 1 {
+        format!(", mean over each {per} steps")
+    } else {
+        String::new()
+    };
+    let line = |f: &dyn Fn(&crate::step_log::StepRow) -> f64| -> Vec<(f64, f64)> {
+        (rows.chunks(per))
+            .map(|c| {
+                let mean = c.iter().map(f).sum::<f64>() / c.len() as f64;
+                (c[c.len() - 1].time, mean)
+            })
+            .collect()
+    };
+    vec![
+        Chart {
+            name: "step_time",
+            title: format!("Wall time of each step{over}"),
+            y_label: "wall time (ms)".into(),
+            lines: vec![("step".into(), line(&|r| r.wall_ms))],
+        },
+        Chart {
+            name: "step_work",
+            title: format!("Work of each step{over}"),
+            y_label: "count per step".into(),
+            lines: vec![
+                ("open-close passes".into(), line(&|r| r.passes as f64)),
+                ("Newton-Raphson moves".into(), line(&|r| r.moves as f64)),
+                ("factorisations".into(), line(&|r| r.factorizations as f64)),
+                ("cuts".into(), line(&|r| r.cuts as f64)),
+            ],
+        },
+        Chart {
+            name: "step_length",
+            title: format!("Length of each step{over}"),
+            y_label: "dt (s)".into(),
+            lines: vec![("step".into(), line(&|r| r.dt))],
+        },
+    ]
 }
 
 /// The chosen blocks, checked; or the default choice.
@@ -218,10 +271,67 @@ fn tick(v: f64) -> String {
     if v == 0.0 {
         "0".into()
     } else if (1e-3..1e5).contains(&a) {
-        let s = format!("{v:.4}");
+        // Four significant digits: ticks 1e-5 apart near 1e-3 differ.
+        let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+        let s = format!("{v:.decimals$}");
         let s = s.trim_end_matches('0').trim_end_matches('.');
         s.to_string()
     } else {
         format!("{v:.2e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::step_log::StepRow;
+
+    fn step(step: usize, moves: usize) -> StepRow {
+        StepRow {
+            step,
+            time: step as f64 * 1e-3,
+            dt: 1e-3,
+            passes: 1,
+            moves,
+            factorizations: 0,
+            cuts: 0,
+            unconverged: 0,
+            whole_tangent_moves: 0,
+            products: 0,
+            energy: 0.0,
+            wall_ms: 0.5,
+        }
+    }
+
+    /// A long run's steps are drawn as means over runs of consecutive
+    /// steps, at most `STEP_POINTS` of them, each at its last step's time.
+    #[test]
+    fn long_runs_are_charted_as_means_of_their_steps() {
+        let rows: Vec<StepRow> = (1..=1000).map(|i| step(i, i % 3)).collect();
+        let charts = step_charts(&rows);
+        let work = charts.iter().find(|c| c.name == "step_work").unwrap();
+        assert!(
+            work.title.ends_with("mean over each 3 steps"),
+            "{}",
+            work.title
+        );
+        let moves = &work.lines[1].1;
+        assert_eq!(moves.len(), 334);
+        // Steps 1, 2, 3 make 1, 2, 0 moves; the last run is step 1000 alone.
+        assert_eq!(moves[0], (3e-3, 1.0));
+        assert_eq!(moves[333], (1.0, 1.0));
+        let short: Vec<StepRow> = (1..=10).map(|i| step(i, 2)).collect();
+        let charts = step_charts(&short);
+        assert_eq!(charts[0].title, "Wall time of each step");
+        assert_eq!(charts[0].lines[0].1.len(), 10);
+    }
+
+    #[test]
+    fn ticks_keep_four_significant_digits() {
+        assert_eq!(tick(1.02e-3), "0.00102");
+        assert_eq!(tick(0.13), "0.13");
+        assert_eq!(tick(12.5), "12.5");
+        assert_eq!(tick(2.0), "2");
+        assert_eq!(tick(3.5e-5), "3.50e-5");
     }
 }

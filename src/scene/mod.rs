@@ -104,6 +104,11 @@ pub struct Output {
     /// (`blocks.pvd`, `contacts.pvd`, `vtk/`); default false.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub vtk: bool,
+    /// Also write `steps.csv`: a row per accepted step with its length,
+    /// passes, moves, factorisations, cuts and wall time
+    /// ([`crate::step_log`]); default false.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub steps: bool,
 }
 
 /// Isotropic elastic material.
