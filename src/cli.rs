@@ -116,6 +116,9 @@ enum Command {
             allow_negative_numbers = true
         )]
         shake: Option<f64>,
+        /// With --simulate: write each run's steps.csv into this folder (a row per step: its length, passes, moves, factorisations, cuts, wall time), named after its wall, as 40x40_deformable_2d.csv
+        #[arg(long, value_name = "DIR", requires = "simulate")]
+        step_log: Option<PathBuf>,
         /// Also draw time per step against blocks, log-log with the N^1 line, into this file (.png or .svg)
         #[arg(long, value_name = "FILE")]
         chart: Option<PathBuf>,
@@ -430,6 +433,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             max_wall,
             dt,
             shake,
+            step_log,
             chart,
             json,
             solver,
@@ -455,6 +459,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 max_wall,
                 dts: dt,
                 shake,
+                step_log,
                 chart,
                 json,
                 solver,

@@ -286,6 +286,32 @@ fn rigid_wall(n: usize, seconds: f64, dts: Vec<f64>) -> SimulateOptions {
         solver: Solver::Direct,
         dts,
         shake: None,
+        step_log: None,
+    }
+}
+
+/// `--step-log DIR`: each simulated run's steps.csv, named after its wall,
+/// a row per step adding up to the run's steps and moves.
+#[test]
+fn each_simulated_run_logs_its_steps() {
+    let dir = common::out_dir("bench_step_log");
+    let _ = std::fs::remove_dir_all(&dir);
+    let options = SimulateOptions {
+        kinds: vec![BlockKind::Rigid, BlockKind::Deformable],
+        repeats: 2,
+        step_log: Some(dir.clone()),
+        ..rigid_wall(3, 0.05, vec![0.005])
+    };
+    let rows = simulate(&options).unwrap();
+    for (r, kind) in rows.iter().zip(["rigid", "deformable"]) {
+        for again in ["", "_run2"] {
+            let path = dir.join(format!("3x3_{kind}_2d_dt0.005{again}.csv"));
+            let steps = dda::step_log::read_steps(&path).unwrap();
+            assert_eq!(steps.len(), r.steps, "{}", path.display());
+            let moves: usize = steps.iter().map(|s| s.moves).sum();
+            let per_step = moves as f64 / r.steps as f64;
+            assert!((per_step - r.per_step.newton_per_step).abs() < 1e-12);
+        }
     }
 }
 
@@ -475,6 +501,11 @@ fn bad_bench_options_are_clear_errors() {
         ),
         (vec!["--rigid", "--kinds", "rigid"], "cannot be used with"),
         (vec!["--max-wall", "5"], "--simulate"),
+        (vec!["--step-log", "logs"], "--simulate"),
+        (
+            vec!["--simulate", "1", "--step-log", "/proc/no/logs"],
+            "--step-log: cannot create",
+        ),
     ] {
         let mut all = vec!["bench"];
         all.extend(args.iter().copied());

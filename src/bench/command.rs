@@ -35,6 +35,8 @@ pub struct Command {
     /// With `simulate`: the amplitude of the 2 Hz horizontal sine the
     /// walls' bases are shaken by, m/s² (`None`: at rest).
     pub shake: Option<f64>,
+    /// With `simulate`: a folder for each run's `steps.csv`.
+    pub step_log: Option<PathBuf>,
     /// The scaling chart's file, `.png` or `.svg`.
     pub chart: Option<PathBuf>,
     pub json: Option<PathBuf>,
@@ -110,6 +112,13 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
         check_writable("--json", path)?;
     }
     anyhow::ensure!(c.repeats != Some(0), "--repeats must be at least 1");
+    if let Some(dir) = &c.step_log {
+        anyhow::ensure!(
+            c.simulate.is_some(),
+            "--step-log logs runs of a simulated time; give --simulate SECONDS too"
+        );
+        check_writable("--step-log", &dir.join("steps.csv"))?;
+    }
     super::check_walls(&c.sizes, &c.dimensions)?;
     anyhow::ensure!(
         !c.kinds.is_empty(),
@@ -129,6 +138,7 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
                 solver: c.solver,
                 dts: c.dts.clone(),
                 shake: c.shake,
+                step_log: c.step_log.clone(),
             })?;
             print_simulate(&rows, repeats);
             let (points, json) = fitted("simulate", &rows, SimulateRow::point)?;

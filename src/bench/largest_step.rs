@@ -76,6 +76,7 @@ fn run(
         solver: Solver::Direct,
         dts: vec![dt],
         shake: None,
+        step_log: None,
     })?;
     rows.into_iter()
         .next()

@@ -3,8 +3,10 @@
 //! seconds per simulated second, steps, cuts, unconverged steps and the
 //! largest drift, under a wall-clock cap that reports how far a run got.
 
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use anyhow::Context;
 use serde::Serialize;
 
 use dda_core::Solver;
@@ -12,7 +14,9 @@ use dda_core::Solver;
 use super::{
     centroids, check_walls, drift, peak_memory_mb, scaling, shake, wall, PerStep, Stepping, Timed,
 };
+use crate::observe::Observer;
 use crate::scene::{AnyModel, BlockKind};
+use crate::step_log::StepsWriter;
 
 /// What to run.
 #[derive(Debug, Clone)]
@@ -39,6 +43,10 @@ pub struct SimulateOptions {
     /// The amplitude of the horizontal sine (2 Hz) each wall's base is
     /// shaken by for the whole run, m/s² ([`shake`]); `None`: at rest.
     pub shake: Option<f64>,
+    /// A folder for each run's `steps.csv` ([`crate::step_log`]), named
+    /// after its wall (`40x40_deformable_2d.csv`, with `_dt0.001` at a
+    /// given step and `_run2` for a later repeat); `None`: none written.
+    pub step_log: Option<PathBuf>,
 }
 
 /// One wall's run (the median of its repeats).
@@ -122,6 +130,10 @@ pub fn simulate(options: &SimulateOptions) -> anyhow::Result<Vec<SimulateRow>> {
             "--dt takes time steps in seconds, more than 0, got {dt}"
         );
     }
+    if let Some(dir) = &options.step_log {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("--step-log: cannot create {}", dir.display()))?;
+    }
     let steppings: Vec<Stepping> = if options.dts.is_empty() {
         vec![Stepping::Automatic]
     } else {
@@ -133,7 +145,7 @@ pub fn simulate(options: &SimulateOptions) -> anyhow::Result<Vec<SimulateRow>> {
             for &n in &options.sizes {
                 for &stepping in &steppings {
                     let mut runs = (0..options.repeats.max(1))
-                        .map(|_| run(n, dimension, kind, stepping, options))
+                        .map(|k| run(n, dimension, kind, stepping, options, k))
                         .collect::<anyhow::Result<Vec<_>>>()?;
                     runs.sort_by(|a, b| {
                         a.seconds_per_simulated_second
@@ -154,6 +166,7 @@ fn run(
     kind: BlockKind,
     stepping: Stepping,
     options: &SimulateOptions,
+    repeat: usize,
 ) -> anyhow::Result<SimulateRow> {
     let mut scene = wall(n, dimension, stepping, kind)?;
     scene.analysis.solver = options.solver;
@@ -161,9 +174,23 @@ fn run(
         shake(&mut scene, amplitude, options.seconds);
     }
     let what = format!("{n} × {n} wall, {}", scaling::series_name(dimension, kind));
+    let log = options.step_log.as_ref().map(|dir| {
+        let kind = scaling::kind_name(kind);
+        let dt = match stepping {
+            Stepping::Given(dt) => format!("_dt{dt}"),
+            _ => String::new(),
+        };
+        let again = if repeat > 0 {
+            format!("_run{}", repeat + 1)
+        } else {
+            String::new()
+        };
+        dir.join(format!("{n}x{n}_{kind}_{dimension}d{dt}{again}.csv"))
+    });
+    let log = log.as_deref();
     let mut row = match scene.build_any()? {
-        AnyModel::Plane(mut m) => simulate_driver(&mut m.driver, options, &what)?,
-        AnyModel::Space(mut m) => simulate_driver(&mut m.driver, options, &what)?,
+        AnyModel::Plane(mut m) => simulate_driver(&mut m.driver, options, &what, log)?,
+        AnyModel::Space(mut m) => simulate_driver(&mut m.driver, options, &what, log)?,
     };
     row.courses = n;
     row.dimension = dimension;
@@ -177,16 +204,31 @@ fn simulate_driver<D: Timed>(
     driver: &mut D,
     options: &SimulateOptions,
     what: &str,
+    log: Option<&Path>,
 ) -> anyhow::Result<SimulateRow> {
+    let mut log = match log {
+        Some(path) => Some(StepsWriter::create(path, &*driver)?),
+        None => None,
+    };
     let start = centroids(driver);
     let cap = Duration::from_secs_f64(options.max_wall);
     let started = Instant::now();
     let mut last_line = started;
+    let mut last_written = started;
     let mut largest = 0.0f64;
     let end = driver.time() + options.seconds;
+    let mut logged = Ok(());
     let completed = driver.advance_while(end, &mut |d: &D| {
         largest = largest.max(drift(d, &start));
         let now = Instant::now();
+        if let Some(log) = &mut log {
+            log.on_step(d);
+            // Written as the run goes, a batch a second.
+            if now - last_written >= Duration::from_secs(1) {
+                last_written = now;
+                logged = log.on_output(d);
+            }
+        }
         if let Some(every) = options.progress_every {
             if now - last_line >= every {
                 last_line = now;
@@ -199,8 +241,12 @@ fn simulate_driver<D: Timed>(
                 );
             }
         }
-        now - started < cap
+        logged.is_ok() && now - started < cap
     })?;
+    logged?;
+    if let Some(log) = &mut log {
+        log.on_finish(&*driver, None)?;
+    }
     let wall_s = started.elapsed().as_secs_f64();
     let stats = driver.statistics();
     let reached = driver.time();

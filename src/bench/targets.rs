@@ -210,6 +210,7 @@ fn simulated(
         solver: Solver::Direct,
         dts,
         shake: None,
+        step_log: None,
     })
 }
 
