@@ -59,7 +59,23 @@ pub fn read_columns(path: &Path) -> anyhow::Result<Vec<(String, Column)>> {
 fn is_count(name: &str) -> bool {
     matches!(
         name,
-        "step" | "steps" | "block" | "block_a" | "block_b" | "point" | "index" | "case" | "run"
+        "step"
+            | "steps"
+            | "block"
+            | "block_a"
+            | "block_b"
+            | "point"
+            | "index"
+            | "case"
+            | "run"
+            // steps.csv's counts of a step's work.
+            | "passes"
+            | "moves"
+            | "factorizations"
+            | "cuts"
+            | "unconverged"
+            | "whole_tangent_moves"
+            | "products"
     ) || name.ends_with("_id")
         || name.ends_with("_count")
 }

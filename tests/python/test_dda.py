@@ -152,6 +152,25 @@ def test_contacts_carry_the_weight_and_slide_at_the_friction_angle(tmp_path):
     assert slip.max() == pytest.approx(slide_distance(1.0), rel=5e-3)
 
 
+def test_steps_add_up_to_the_run(tmp_path):
+    scene = dda.Scene.load(example("sliding_block_2d.ron"))
+    scene["analysis.duration"] = 0.2
+    scene["output.steps"] = True
+    run = scene.run(out=tmp_path / "steps")
+    steps = run.steps
+    assert list(steps.keys()) == [
+        "step", "time", "dt", "passes", "moves", "factorizations", "cuts",
+        "unconverged", "whole_tangent_moves", "products", "energy", "wall_ms",
+    ]
+    assert column(steps, "moves").dtype.kind == "i"
+    assert len(column(steps, "step")) == run.summary["steps"]
+    assert column(steps, "moves").sum() == run.summary["newton_iterations"]
+    assert column(steps, "passes").sum() == run.summary["open_close_iterations"]
+    assert column(steps, "dt").sum() == pytest.approx(0.2, abs=1e-12)
+    with pytest.raises(dda.DdaError, match="steps: true"):
+        dda.run(example("free_fall_2d.ron"), out=tmp_path / "none").steps
+
+
 def test_a_measured_point_slides_with_its_block(tmp_path):
     scene = dda.Scene.load(example("sliding_block_2d.ron"))
     scene["measured_points"] = "[(block: 1, point: (-0.5, 0.8660254037844386))]"

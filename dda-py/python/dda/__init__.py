@@ -35,11 +35,12 @@ __all__ = ["DdaError", "Run", "Scene", "run", "study", "read_table"]
 
 
 def read_table(path):
-    """Read a results CSV (history.csv, contacts.csv, points.csv, study.csv) by its header.
+    """Read a results CSV (history.csv, contacts.csv, points.csv, steps.csv, study.csv) by its header.
 
     Returns a pandas DataFrame, or a dict of numpy arrays (column name to
     array) when pandas is not installed. Counts (step, block, block_a,
-    block_b, point) are integers, other numbers floats in the units the file
+    block_b, point, and steps.csv's passes, moves, factorizations, cuts,
+    unconverged, whole_tangent_moves, products) are integers, other numbers floats in the units the file
     states (m, s, rad, N, Pa), anything else text.
     """
     columns = _native.read_table(os.fspath(path))
@@ -70,6 +71,7 @@ class Run:
         self._history = None
         self._contacts = None
         self._points = None
+        self._steps = None
 
     @property
     def dimension(self):
@@ -123,6 +125,28 @@ class Run:
                 return None
             self._points = read_table(path)
         return self._points
+
+    @property
+    def steps(self):
+        """steps.csv: one row per accepted step, what it cost.
+
+        Columns: step, time and dt (s), passes (open-close), moves
+        (Newton-Raphson), factorizations, cuts (attempts cut to a third
+        before it was accepted), unconverged (1 if accepted without
+        open-close agreement), whole_tangent_moves, products (GMRES's),
+        energy (J, J/m in 2D) and wall_ms. Only written when asked for
+        (``output: (steps: true)`` or ``dda run --steps``);
+        :class:`DdaError` otherwise.
+        """
+        if self._steps is None:
+            path = os.path.join(self.out, "steps.csv")
+            if not os.path.exists(path):
+                raise DdaError(
+                    f"{path}: no steps were written; set `output: (steps: true)` "
+                    "in the scene (scene['output.steps'] = True) and run it again"
+                )
+            self._steps = read_table(path)
+        return self._steps
 
     def __repr__(self):
         return (
