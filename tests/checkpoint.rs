@@ -152,6 +152,30 @@ fn a_resumed_3d_run_writes_the_same_bytes() {
     killed_and_resumed_matches(&dir, &scene, &["history.csv", "contacts.csv"]);
 }
 
+/// `scene` run into `dir/first` with checkpoints every 0.3 s (the last
+/// at 0.9 s), then resumed in `dir/again` from a copy of its checkpoint
+/// and of the outputs `names`: the two folders and the checkpoint.
+fn resumed_copy(dir: &Path, scene: &Path, names: &[&str]) -> (PathBuf, PathBuf, Vec<u8>) {
+    let first = dir.join("first");
+    let s = scene.to_str().unwrap();
+    ok(dda(&[
+        "run",
+        s,
+        "--out",
+        first.to_str().unwrap(),
+        "--checkpoint-every",
+        "0.3",
+    ]));
+    let checkpoint = read(first.join("checkpoint.bin"));
+    let again = dir.join("again");
+    std::fs::create_dir_all(&again).unwrap();
+    for name in names.iter().chain(&["checkpoint.bin"]) {
+        std::fs::copy(first.join(name), again.join(name)).unwrap();
+    }
+    ok(dda(&["run", "--resume", again.to_str().unwrap()]));
+    (first, again, checkpoint)
+}
+
 /// Resuming from each of several checkpoints of a finished run (the
 /// outputs after it are cut off and written again) gives the same bytes,
 /// VTK collections included.
@@ -164,24 +188,7 @@ fn every_checkpoint_resumes_to_the_same_end() {
         "output: (interval: 0.01)",
         "output: (interval: 0.01, contacts: true, vtk: true)",
     );
-    let s = scene.to_str().unwrap();
-    let first = dir.join("first");
-    ok(dda(&[
-        "run",
-        s,
-        "--out",
-        first.to_str().unwrap(),
-        "--checkpoint-every",
-        "0.3",
-    ]));
-    let checkpoint = read(first.join("checkpoint.bin"));
-    // The last checkpoint was at 0.9 s: resume it in a copy of the folder.
-    let again = dir.join("again");
-    std::fs::create_dir_all(&again).unwrap();
-    for name in ["history.csv", "contacts.csv", "checkpoint.bin"] {
-        std::fs::copy(first.join(name), again.join(name)).unwrap();
-    }
-    ok(dda(&["run", "--resume", again.to_str().unwrap()]));
+    let (first, again, checkpoint) = resumed_copy(&dir, &scene, &["history.csv", "contacts.csv"]);
     for name in ["history.csv", "contacts.csv", "blocks.pvd"] {
         assert!(read(first.join(name)) == read(again.join(name)), "{name}");
     }
@@ -358,20 +365,7 @@ fn a_resumed_run_goes_on_with_its_steps() {
         "output: (interval: 0.01)",
         "output: (interval: 0.01, steps: true)",
     );
-    let s = scene.to_str().unwrap();
-    let first = dir.join("first");
-    let every = ["--checkpoint-every", "0.3"];
-    ok(dda(&[
-        &["run", s, "--out", first.to_str().unwrap()][..],
-        &every[..],
-    ]
-    .concat()));
-    let again = dir.join("again");
-    std::fs::create_dir_all(&again).unwrap();
-    for name in ["history.csv", "steps.csv", "checkpoint.bin"] {
-        std::fs::copy(first.join(name), again.join(name)).unwrap();
-    }
-    ok(dda(&["run", "--resume", again.to_str().unwrap()]));
+    let (first, again, _) = resumed_copy(&dir, &scene, &["history.csv", "steps.csv"]);
     let without_wall_time = |dir: &Path| {
         let mut rows = dda::step_log::read_steps(dir.join("steps.csv")).unwrap();
         rows.iter_mut().for_each(|r| r.wall_ms = 0.0);
@@ -390,11 +384,15 @@ fn a_resumed_run_goes_on_with_its_steps() {
             .replace(", steps: true", ""),
     )
     .unwrap();
+    let every = "--checkpoint-every";
     ok(dda(&[
-        &["run", &plain_scene, "--out", plain.to_str().unwrap()][..],
-        &every[..],
-    ]
-    .concat()));
+        "run",
+        &plain_scene,
+        "--out",
+        plain.to_str().unwrap(),
+        every,
+        "0.3",
+    ]));
     let stderr = refused(&["run", "--resume", plain.to_str().unwrap(), "--steps"]);
     assert!(
         stderr.contains("checkpointed without steps.csv"),

@@ -120,16 +120,10 @@ fn a_failed_run_keeps_every_step() {
     )
     .unwrap();
     let out = dir.join("out");
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_dda"))
-        .args([
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert_eq!(output.status.code(), Some(1), "{output:?}");
+    let scene = dda::Scene::load(&scene).unwrap();
+    let registry = LawRegistry::with_builtin();
+    let failed = run_scene(&scene, &out, RunOptions::default(), &registry);
+    assert!(failed.is_err(), "the run went on");
     let s = summary(&out);
     assert_eq!(s["status"], "failed", "{s}");
     let steps = s["steps"].as_u64().unwrap() as usize;

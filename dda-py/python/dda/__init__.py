@@ -101,13 +101,7 @@ class Run:
         for it (``output: (contacts: true)``); :class:`DdaError` otherwise.
         """
         if self._contacts is None:
-            path = os.path.join(self.out, "contacts.csv")
-            if not os.path.exists(path):
-                raise DdaError(
-                    f"{path}: no contacts were written; set `output: (contacts: true)` "
-                    "in the scene (scene['output.contacts'] = True) and run it again"
-                )
-            self._contacts = read_table(path)
+            self._contacts = self._asked_for("contacts")
         return self._contacts
 
     @property
@@ -139,14 +133,18 @@ class Run:
         :class:`DdaError` otherwise.
         """
         if self._steps is None:
-            path = os.path.join(self.out, "steps.csv")
-            if not os.path.exists(path):
-                raise DdaError(
-                    f"{path}: no steps were written; set `output: (steps: true)` "
-                    "in the scene (scene['output.steps'] = True) and run it again"
-                )
-            self._steps = read_table(path)
+            self._steps = self._asked_for("steps")
         return self._steps
+
+    def _asked_for(self, name):
+        """NAME.csv, an output the scene's ``output.NAME`` asks for."""
+        path = os.path.join(self.out, f"{name}.csv")
+        if not os.path.exists(path):
+            raise DdaError(
+                f"{path}: no {name} were written; set `output: ({name}: true)` "
+                f"in the scene (scene['output.{name}'] = True) and run it again"
+            )
+        return read_table(path)
 
     def __repr__(self):
         return (
