@@ -603,6 +603,12 @@ fn check<S: Simulation>(path: &Path, scene: &Scene, model: &Model<S>) {
             ""
         },
     );
+    if model.write_steps {
+        println!(
+            "and steps.csv, a row per step (about {})",
+            bytes_text(expected.steps_bytes)
+        );
+    }
     println!("needs about {} of memory", bytes_text(expected.memory));
     for note in model.all_notes() {
         eprintln!("note: {note}");

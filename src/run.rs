@@ -66,6 +66,9 @@ pub struct Estimate {
     pub rows: f64,
     /// Approximate size of `history.csv` in bytes.
     pub bytes: f64,
+    /// Approximate size of `steps.csv` in bytes (a row per step), 0 where
+    /// the run does not write it.
+    pub steps_bytes: f64,
     /// Approximate peak memory of the run in bytes ([`memory_estimate`]).
     pub memory: f64,
     /// What is absurd about it, with what to change.
@@ -74,8 +77,13 @@ pub struct Estimate {
 
 /// More steps than this is a warning in [`estimate`].
 pub const MAX_SENSIBLE_STEPS: f64 = 1e7;
-/// A `history.csv` larger than this (bytes) is a warning in [`estimate`].
+/// A `history.csv` or `steps.csv` larger than this (bytes) is a warning
+/// in [`estimate`].
 pub const MAX_SENSIBLE_BYTES: f64 = 1e9;
+/// A row of `steps.csv` as written, about: twelve fields, most of them
+/// short counts, the time and energy at full precision (42 bytes a row
+/// on the drum column's run, 62 on the 10,051-block wall's).
+pub const STEP_ROW_BYTES: f64 = 60.0;
 
 /// The steps and output size a built scene asks for.
 pub fn estimate(model: &AnyModel) -> Estimate {
@@ -104,6 +112,11 @@ pub fn estimate_model<S: Simulation>(model: &Model<S>) -> Estimate {
     // Numbers take about 20 characters each as written, with their commas.
     let fields = if S::DIMENSION == 3 { 18.0 } else { 9.0 };
     let bytes = rows * (20.0 * fields + 20.0);
+    let steps_bytes = if model.write_steps {
+        steps * STEP_ROW_BYTES
+    } else {
+        0.0
+    };
     let mut warnings = Vec::new();
     if steps > MAX_SENSIBLE_STEPS {
         warnings.push(format!(
@@ -116,11 +129,18 @@ pub fn estimate_model<S: Simulation>(model: &Model<S>) -> Estimate {
             bytes_text(bytes)
         ));
     }
+    if steps_bytes > MAX_SENSIBLE_BYTES {
+        warnings.push(format!(
+            "steps.csv would be about {} (a row per step); leave output.steps and --steps out",
+            bytes_text(steps_bytes)
+        ));
+    }
     Estimate {
         steps,
         output_times,
         rows,
         bytes,
+        steps_bytes,
         memory: memory_estimate(blocks, S::DIMENSION),
         warnings,
     }
@@ -154,7 +174,8 @@ pub fn memory_available() -> Option<f64> {
 /// More steps than this is refused by [`run_scene`]: weeks of computing,
 /// almost always a slip of the duration or dt.
 pub const MAX_STEPS: f64 = 1e9;
-/// A `history.csv` larger than this (bytes) is refused by [`run_scene`].
+/// A `history.csv` larger than this (bytes) is refused by [`run_scene`]
+/// (a `steps.csv` of [`MAX_STEPS`] rows is smaller).
 pub const MAX_BYTES: f64 = 1e11;
 
 /// A run whose step count or output size is absurd is an error before it
@@ -244,7 +265,13 @@ pub fn run_scene(
     options: RunOptions,
     registry: &LawRegistry,
 ) -> anyhow::Result<Summary> {
-    let model = scene.build_any_with(registry)?;
+    let mut model = scene.build_any_with(registry)?;
+    if options.steps {
+        match &mut model {
+            AnyModel::Plane(m) => m.write_steps = true,
+            AnyModel::Space(m) => m.write_steps = true,
+        }
+    }
     refuse_absurd(scene, &estimate(&model))?;
     if let Some(every) = options.checkpoint_every {
         check_interval(every)?;
@@ -321,7 +348,7 @@ pub fn run_model_observed<S: Simulation>(
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
     let history_path = out_dir.join("history.csv");
     let vtk_wanted = options.vtk || scene.output.vtk;
-    let steps_wanted = options.steps || scene.output.steps;
+    let steps_wanted = options.steps || model.write_steps;
     let mut outputs = vec!["history.csv".to_string()];
     if steps_wanted {
         outputs.push("steps.csv".to_string());

@@ -132,3 +132,41 @@ fn a_failed_run_keeps_every_step() {
     // It stopped before its first output time after the start.
     assert!(rows.last().unwrap().time < 0.5, "{:?}", rows.last());
 }
+
+/// `dda check` counts steps.csv in what a run will write, and warns where
+/// a row per step grows beyond a gigabyte.
+#[test]
+fn check_estimates_the_step_log() {
+    let dir = scratch("check");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/free_fall_2d.ron"),
+    )
+    .unwrap();
+    assert!(text.contains("dt: 0.01") && text.contains("output: ("));
+    let check = |name: &str, text: String| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_dda"))
+            .args(["check", path.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(output.status.success(), "{output:?}");
+        String::from_utf8_lossy(&output.stdout).into_owned()
+            + &String::from_utf8_lossy(&output.stderr)
+    };
+    let asked = text.replace("output: (", "output: (steps: true, ");
+    let said = check("asked.ron", asked.clone());
+    // 100 steps of about 60 bytes.
+    assert!(
+        said.contains("and steps.csv, a row per step (about 6.00 kB)"),
+        "{said}"
+    );
+    assert!(!said.contains("warning"), "{said}");
+    let said = check("long.ron", asked.replace("dt: 0.01", "dt: 1e-8"));
+    assert!(
+        said.contains("warning: steps.csv would be about 6.00 GB (a row per step)"),
+        "{said}"
+    );
+    assert!(!check("plain.ron", text).contains("steps.csv"));
+}

@@ -22,6 +22,9 @@ pub struct Model<D = Driver2d> {
     pub output_interval: Option<f64>,
     /// Whether to write `contacts.csv`.
     pub write_contacts: bool,
+    /// Whether to write `steps.csv` (the scene's `output.steps`, or `dda
+    /// run --steps`).
+    pub write_steps: bool,
     /// Why the scene's automatic values were chosen (the driver keeps its
     /// own: see [`Model::all_notes`]).
     pub notes: Vec<String>,
@@ -203,6 +206,7 @@ impl Scene {
             duration: self.analysis.duration,
             output_interval,
             write_contacts: self.output.contacts,
+            write_steps: self.output.steps,
             on_failure: self.analysis.on_failure,
             settings,
             notes,
