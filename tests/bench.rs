@@ -593,8 +593,7 @@ fn targets_report_every_target_with_its_verdict() {
 /// s: Newmark's step with β = 1/2, γ = 1 is unconditionally stable.
 #[test]
 fn a_wall_at_rest_stands_at_large_steps_without_drift() {
-    use dda::bench::largest_step::standing_steps;
-    use dda::bench::targets::TargetOptions;
+    use dda::bench::targets::{standing_steps, TargetOptions};
     let options = TargetOptions {
         compared: 10,
         ..TargetOptions::default()

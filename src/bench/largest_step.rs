@@ -11,9 +11,7 @@
 
 use std::time::Duration;
 
-use super::scaling::kind_name;
 use super::simulate::{simulate, SimulateOptions, SimulateRow};
-use super::targets::{Target, TargetOptions, KINDS};
 use crate::scene::BlockKind;
 use dda_core::Solver;
 
@@ -57,20 +55,20 @@ pub fn fault(row: &SimulateRow, settled: f64) -> Option<String> {
     }
 }
 
-/// The compared wall of `kind` run at `dt` for `seconds` (at least two
-/// steps).
+/// The wall of `courses` courses and `kind` run at `dt` for `seconds` (at
+/// least two steps), stopped after `max_wall` wall-clock seconds.
 fn run(
-    options: &TargetOptions,
+    (courses, max_wall): (usize, f64),
     kind: BlockKind,
     dt: f64,
     seconds: f64,
 ) -> anyhow::Result<SimulateRow> {
     let rows = simulate(&SimulateOptions {
-        sizes: vec![options.compared],
+        sizes: vec![courses],
         kinds: vec![kind],
         dimensions: vec![2],
         seconds: seconds.max(2.0 * dt),
-        max_wall: options.max_wall,
+        max_wall,
         repeats: 1,
         progress_every: Some(Duration::from_secs(5)),
         solver: Solver::Direct,
@@ -83,63 +81,66 @@ fn run(
         .ok_or_else(|| anyhow::anyhow!("no run of the wall at dt {dt} s"))
 }
 
-/// The target: each kind at the standing steps, then the largest step
-/// tried that it stands at.
-pub fn standing_steps(options: &TargetOptions) -> anyhow::Result<Target> {
-    let n = options.compared;
-    let mut readings = Vec::new();
-    let mut met = true;
-    for kind in KINDS {
-        let settled = run(options, kind, STATIC_STEP, 0.0)?.end_drift;
-        let mut at = Vec::new();
-        for dt in STANDING_STEPS {
-            let row = run(options, kind, dt, options.seconds)?;
-            let fault = fault(&row, settled);
-            met &= fault.is_none();
-            at.push(format!(
-                "{:.0} ms {:.2e} m ({:.2}×){}",
-                dt * 1e3,
-                row.drift,
-                row.drift / settled,
-                fault.map_or(String::new(), |f| format!(", {f}"))
-            ));
-        }
-        // The largest step tried before the first it does not stand at.
-        let mut largest = None;
-        let mut failed = None;
-        for dt in TRIED_STEPS {
-            let row = run(options, kind, dt, options.seconds)?;
-            match fault(&row, settled) {
-                None => largest = Some(dt),
-                Some(f) => {
-                    failed = Some(format!("not at {dt} s: {f}"));
-                    break;
-                }
-            }
-        }
-        let sweep = match (largest, failed) {
-            (Some(dt), None) => format!("stands at every step tried, up to {dt} s"),
-            (Some(dt), Some(f)) => format!("stands at steps up to {dt} s, {f}"),
-            (None, Some(f)) => f,
-            (None, None) => unreachable!("steps were tried"),
-        };
-        readings.push(format!(
-            "{}: {}; static settlement {settled:.2e} m; {sweep}",
-            kind_name(kind),
-            at.join(", ")
+/// The wall of `courses` courses and `kind` at rest, each run `seconds`
+/// long (each stopped after `max_wall` wall-clock seconds): what it read
+/// at the standing steps and the largest step tried that it stands at,
+/// and whether it stands at both standing steps.
+pub fn reading(
+    courses: usize,
+    seconds: f64,
+    max_wall: f64,
+    kind: BlockKind,
+) -> anyhow::Result<(String, bool)> {
+    let wall = (courses, max_wall);
+    let settled = run(wall, kind, STATIC_STEP, 0.0)?.end_drift;
+    let mut stands = true;
+    let mut at = Vec::new();
+    for dt in STANDING_STEPS {
+        let row = run(wall, kind, dt, seconds)?;
+        let fault = fault(&row, settled);
+        stands &= fault.is_none();
+        at.push(format!(
+            "{:.0} ms {:.2e} m ({:.2}×){}",
+            dt * 1e3,
+            row.drift,
+            row.drift / settled,
+            fault.map_or(String::new(), |f| format!(", {f}"))
         ));
     }
-    Ok(Target {
-        target: format!(
-            "{n} × {n} wall at rest at dt 5 and 10 ms, {} s, both kinds: no cut, no unconverged step, moving at most {OVERSHOOT} times its static settlement and ending within {:.0} % of it; the largest step it stands at ({}-{} s tried)",
-            options.seconds,
-            END_SHARE * 100.0,
-            TRIED_STEPS[0],
-            TRIED_STEPS[TRIED_STEPS.len() - 1]
-        ),
-        measured: readings.join("; "),
-        met: Some(met),
-    })
+    // The largest step tried before the first it does not stand at.
+    let mut largest = None;
+    let mut failed = None;
+    for dt in TRIED_STEPS {
+        let row = run(wall, kind, dt, seconds)?;
+        match fault(&row, settled) {
+            None => largest = Some(dt),
+            Some(f) => {
+                failed = Some(format!("not at {dt} s: {f}"));
+                break;
+            }
+        }
+    }
+    let sweep = match (largest, failed) {
+        (Some(dt), None) => format!("stands at every step tried, up to {dt} s"),
+        (Some(dt), Some(f)) => format!("stands at steps up to {dt} s, {f}"),
+        (None, Some(f)) => f,
+        (None, None) => unreachable!("steps were tried"),
+    };
+    let text = format!(
+        "{}; static settlement {settled:.2e} m; {sweep}",
+        at.join(", ")
+    );
+    Ok((text, stands))
+}
+
+/// What the target asks of the wall of `courses` courses run `seconds`.
+pub fn asked(courses: usize, seconds: f64) -> String {
+    format!(
+        "{courses} × {courses} wall at rest at dt 5 and 10 ms, {seconds} s, both kinds: no cut, no unconverged step, moving at most {OVERSHOOT} times its static settlement and ending within {:.0} % of it; the largest step it stands at ({}-{} s tried)",
+        END_SHARE * 100.0,
+        TRIED_STEPS[0],
+        TRIED_STEPS[TRIED_STEPS.len() - 1]
+    )
 }
 
 #[cfg(test)]
@@ -147,7 +148,7 @@ mod tests {
     use super::*;
 
     fn row(drift: f64, end_drift: f64, cuts: usize, completed: bool) -> SimulateRow {
-        let mut r = crate::bench::targets::tests::compared(1.0, drift);
+        let mut r = crate::bench::simulate::tests::row(1.0, drift);
         r.end_drift = end_drift;
         r.cuts = cuts;
         r.completed = completed;

@@ -280,3 +280,36 @@ fn simulate_driver<D: Timed>(
         peak_memory_mb: peak_memory_mb(),
     })
 }
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// A 40 × 40 rigid wall's run: `wall_s` s for a simulated second,
+    /// drifting `drift` m and ending there.
+    pub(crate) fn row(wall_s: f64, drift: f64) -> SimulateRow {
+        SimulateRow {
+            courses: 40,
+            dimension: 2,
+            kind: BlockKind::Rigid,
+            blocks: 1621,
+            dt: 9.5e-3,
+            dt_given: false,
+            shake: None,
+            penalty: 2.8e10,
+            seconds: 1.0,
+            reached: 1.0,
+            completed: true,
+            wall_s,
+            seconds_per_simulated_second: wall_s,
+            steps: 106,
+            ms_per_step: wall_s * 1e3 / 106.0,
+            cuts: 0,
+            unconverged_steps: 0,
+            per_step: Default::default(),
+            drift,
+            end_drift: drift,
+            peak_memory_mb: 80.0,
+        }
+    }
+}

@@ -10,6 +10,7 @@ use std::time::{Duration, SystemTime};
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
+use super::largest_step;
 use super::scaling::{exponent, kind_name};
 use super::simulate::{simulate, SimulateOptions, SimulateRow};
 use super::{bench, BenchOptions, BenchRow};
@@ -182,7 +183,7 @@ impl Writer<'_> {
     }
 }
 
-pub(crate) const KINDS: [BlockKind; 2] = [BlockKind::Rigid, BlockKind::Deformable];
+const KINDS: [BlockKind; 2] = [BlockKind::Rigid, BlockKind::Deformable];
 
 fn sim_key(r: &SimulateRow) -> (usize, BlockKind) {
     (r.courses, r.kind)
@@ -281,6 +282,24 @@ fn standing(options: &TargetOptions, at_1ms: &[SimulateRow]) -> anyhow::Result<T
             "stable where ntdda blows up ({s} × {s}, dt 1 ms, {} s): no cut, no unconverged step, drift below {STANDING_DRIFT:.0e} m",
             options.seconds
         ),
+        measured: readings.join("; "),
+        met: Some(met),
+    })
+}
+
+/// The compared wall at rest at steps of 5 and 10 ms, and the largest
+/// step it stands at ([`largest_step`]), each kind.
+pub fn standing_steps(options: &TargetOptions) -> anyhow::Result<Target> {
+    let (n, seconds) = (options.compared, options.seconds);
+    let mut readings = Vec::new();
+    let mut met = true;
+    for kind in KINDS {
+        let (reading, stands) = largest_step::reading(n, seconds, options.max_wall, kind)?;
+        readings.push(format!("{}: {reading}", kind_name(kind)));
+        met &= stands;
+    }
+    Ok(Target {
+        target: largest_step::asked(n, seconds),
         measured: readings.join("; "),
         met: Some(met),
     })
@@ -419,7 +438,7 @@ pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<T
     let at_1ms = simulated(options, vec![options.standing, options.ntdda], vec![1e-3])?;
     out.add(against_ntdda(options, &automatic, &at_1ms)?)?;
     out.add(standing(options, &at_1ms)?)?;
-    out.add(super::largest_step::standing_steps(options)?)?;
+    out.add(standing_steps(options)?)?;
     let steps_2d = stepped(vec![c, l], 2, options.steps_2d)?;
     let steps_3d = stepped(vec![c, l], 3, options.steps_3d)?;
     for found in largest(options, &automatic, &steps_2d, &steps_3d)? {
@@ -488,35 +507,13 @@ pub fn command(options: &TargetOptions, json: Option<PathBuf>) -> anyhow::Result
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
+mod tests {
     use super::*;
 
     /// The compared wall's run: `wall_s` s for a simulated second,
     /// drifting `drift` m.
-    pub(crate) fn compared(wall_s: f64, drift: f64) -> SimulateRow {
-        SimulateRow {
-            courses: 40,
-            dimension: 2,
-            kind: BlockKind::Rigid,
-            blocks: 1621,
-            dt: 9.5e-3,
-            dt_given: false,
-            shake: None,
-            penalty: 2.8e10,
-            seconds: 1.0,
-            reached: 1.0,
-            completed: true,
-            wall_s,
-            seconds_per_simulated_second: wall_s,
-            steps: 106,
-            ms_per_step: wall_s * 1e3 / 106.0,
-            cuts: 0,
-            unconverged_steps: 0,
-            per_step: Default::default(),
-            drift,
-            end_drift: drift,
-            peak_memory_mb: 80.0,
-        }
+    fn compared(wall_s: f64, drift: f64) -> SimulateRow {
+        crate::bench::simulate::tests::row(wall_s, drift)
     }
 
     /// Met only within a tenth of MuJoCo's time and the drift's limit;
