@@ -218,7 +218,7 @@ fn simulate_driver<D: Timed>(
     let mut largest = 0.0f64;
     let end = driver.time() + options.seconds;
     let mut logged = Ok(());
-    let completed = driver.advance_while(end, &mut |d: &D| {
+    let advanced = driver.advance_while(end, &mut |d: &D| {
         largest = largest.max(drift(d, &start));
         let now = Instant::now();
         if let Some(log) = &mut log {
@@ -242,11 +242,15 @@ fn simulate_driver<D: Timed>(
             }
         }
         logged.is_ok() && now - started < cap
-    })?;
-    logged?;
-    if let Some(log) = &mut log {
-        log.on_finish(&*driver, None)?;
-    }
+    });
+    // The steps taken are written even where the run failed, whose error
+    // comes first.
+    let flushed = match &mut log {
+        Some(log) => log.on_finish(&*driver, None),
+        None => Ok(()),
+    };
+    let completed = advanced?;
+    logged.and(flushed)?;
     let wall_s = started.elapsed().as_secs_f64();
     let stats = driver.statistics();
     let reached = driver.time();
