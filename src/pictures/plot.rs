@@ -274,8 +274,12 @@ fn tick(v: f64) -> String {
         // Four significant digits: ticks 1e-5 apart near 1e-3 differ.
         let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
         let s = format!("{v:.decimals$}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        s.to_string()
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            // A whole number keeps its zeros: 1200, not 12.
+            s
+        }
     } else {
         format!("{v:.2e}")
     }
@@ -332,6 +336,9 @@ mod tests {
         assert_eq!(tick(0.13), "0.13");
         assert_eq!(tick(12.5), "12.5");
         assert_eq!(tick(2.0), "2");
+        assert_eq!(tick(1200.0), "1200");
+        assert_eq!(tick(1000.0), "1000");
+        assert_eq!(tick(-20.0), "-20");
         assert_eq!(tick(3.5e-5), "3.50e-5");
     }
 }
