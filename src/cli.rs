@@ -57,7 +57,7 @@ enum Command {
         /// Also write VTK frames for ParaView (DIR/blocks.pvd, DIR/contacts.pvd, DIR/vtk/), as the scene's output.vtk does
         #[arg(long)]
         vtk: bool,
-        /// Also write DIR/steps.csv, a row per accepted step (its length, open-close passes, Newton-Raphson moves, factorisations, cuts, wall time), as the scene's output.steps does
+        /// Also write DIR/steps.csv, a row per accepted step (its length, open-close passes, Newton-Raphson moves, factorisations, cuts, wall time and its phases), as the scene's output.steps does
         #[arg(long)]
         steps: bool,
         /// Save the whole run to DIR/checkpoint.bin at the first output time after every SECONDS of simulated time
@@ -116,7 +116,7 @@ enum Command {
             allow_negative_numbers = true
         )]
         shake: Option<f64>,
-        /// With --simulate: write each run's steps.csv into this folder (a row per step: its length, passes, moves, factorisations, cuts, wall time), named after its wall, as 40x40_deformable_2d.csv
+        /// With --simulate: write each run's steps.csv into this folder (a row per step: its length, passes, moves, factorisations, cuts, wall time and its phases), named after its wall, as 40x40_deformable_2d.csv; dda plot FILE charts one
         #[arg(long, value_name = "DIR", requires = "simulate")]
         step_log: Option<PathBuf>,
         /// Also draw time per step against blocks, log-log with the N^1 line, into this file (.png or .svg)
@@ -138,9 +138,9 @@ enum Command {
         #[arg(long, value_name = "FILE", requires = "targets")]
         mujoco: Option<PathBuf>,
     },
-    /// Charts of a run (DIR/history.csv, DIR/contacts.csv, DIR/steps.csv): displacement, speed and rotation of chosen blocks, contact forces, each step's wall time, work and length; SVG and PNG into DIR/plots
+    /// Charts of a run (DIR/history.csv, DIR/contacts.csv, DIR/steps.csv): displacement, speed and rotation of chosen blocks, contact forces, each step's wall time, where it went, work and length; SVG and PNG into DIR/plots
     Plot {
-        /// The run's folder (what `dda run --out` was given)
+        /// The run's folder (what `dda run --out` was given), or a steps file alone (as `dda bench --step-log` writes), charted into plots/ beside it
         dir: PathBuf,
         /// Blocks to draw, comma separated; default: all up to 6, else the 6 that moved farthest
         #[arg(long, value_delimiter = ',')]

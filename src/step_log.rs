@@ -3,20 +3,24 @@
 //! length, its open-close passes, Newton-Raphson moves, factorisations,
 //! the attempts cut before it was accepted, whether it was accepted
 //! unconverged, its moves on the whole tangent and their GMRES products,
-//! the total energy after it and its wall time. Rows are kept in memory
+//! the total energy after it, its wall time and how that time split
+//! between the step's phases (as `dda bench`'s "where the time goes":
+//! contact search, assembly, factorisation, substitutions, open-close
+//! decisions and commit; the rest is the step's other work). Rows are kept in memory
 //! between output times and written there, so a run stopped at any point
 //! keeps every step up to its last output time.
 
 use std::path::Path;
 
-use dda_core::Statistics;
+use anyhow::{bail, Context};
+use dda_core::{PhaseTimes, Statistics};
 use serde::Deserialize;
 
 use crate::observe::{Cursor, Observer, RunView};
 use crate::output::{num, read_rows, round_time, CsvFile};
 
 /// The columns of `steps.csv`.
-pub const STEPS_HEADER: &str = "step,time,dt,passes,moves,factorizations,cuts,unconverged,whole_tangent_moves,products,energy,wall_ms";
+pub const STEPS_HEADER: &str = "step,time,dt,passes,moves,factorizations,cuts,unconverged,whole_tangent_moves,products,energy,wall_ms,search_ms,assembly_ms,factorization_ms,solve_ms,open_close_ms,commit_ms";
 
 /// One row of `steps.csv`: the step numbered `step` ends at `time` (s)
 /// after `dt` (s); the counts are the step's own, cuts included.
@@ -41,6 +45,33 @@ pub struct StepRow {
     /// The driver's wall-clock time for the step, its cut attempts
     /// included, ms.
     pub wall_ms: f64,
+    /// Of that, the contact search (broad and narrow phase, the matrix
+    /// pattern), ms.
+    pub search_ms: f64,
+    /// Filling the matrix and the residuals, ms.
+    pub assembly_ms: f64,
+    /// Symbolic analysis and numeric factorisation, ms.
+    pub factorization_ms: f64,
+    /// Substitutions (GMRES's among them), ms.
+    pub solve_ms: f64,
+    /// The passes' open-close decisions and the foreseen states, ms.
+    pub open_close_ms: f64,
+    /// Committing the accepted step, ms.
+    pub commit_ms: f64,
+}
+
+impl StepRow {
+    /// The step's wall time outside its named phases, ms (at least 0:
+    /// each column is rounded to a microsecond).
+    pub fn other_ms(&self) -> f64 {
+        let named = self.search_ms
+            + self.assembly_ms
+            + self.factorization_ms
+            + self.solve_ms
+            + self.open_close_ms
+            + self.commit_ms;
+        (self.wall_ms - named).max(0.0)
+    }
 }
 
 /// The running totals a row is the difference of.
@@ -54,6 +85,7 @@ struct Totals {
     whole_tangent_moves: usize,
     products: usize,
     wall_s: f64,
+    phases: PhaseTimes,
 }
 
 impl Totals {
@@ -67,6 +99,7 @@ impl Totals {
             whole_tangent_moves: s.whole_tangent_moves,
             products: s.whole_tangent_products,
             wall_s: s.wall_time.as_secs_f64(),
+            phases: s.times,
         }
     }
 }
@@ -78,7 +111,7 @@ pub struct StepsWriter {
     last: Totals,
     last_time: f64,
     /// Rows of the steps since the last output time.
-    pending: Vec<[String; 12]>,
+    pending: Vec<[String; 18]>,
 }
 
 impl StepsWriter {
@@ -87,8 +120,20 @@ impl StepsWriter {
         Ok(Self::from(CsvFile::create(path, STEPS_HEADER)?, run))
     }
 
-    /// Writes on after the first `length` bytes of `path` (a resumed run).
+    /// Writes on after the first `length` bytes of `path` (a resumed run),
+    /// a file of this version's columns.
     pub fn resume(path: &Path, length: u64, run: &dyn RunView) -> anyhow::Result<Self> {
+        let mut first = String::new();
+        std::fs::File::open(path)
+            .map(std::io::BufReader::new)
+            .and_then(|mut f| std::io::BufRead::read_line(&mut f, &mut first))
+            .with_context(|| format!("cannot read {} to continue it", path.display()))?;
+        if first.trim_end() != STEPS_HEADER {
+            bail!(
+                "{}: its columns are not this version's ({STEPS_HEADER}), so an earlier version wrote it; run the scene again from the start",
+                path.display()
+            );
+        }
         Ok(Self::from(CsvFile::resume(path, length)?, run))
     }
 
@@ -119,6 +164,8 @@ impl Observer for StepsWriter {
         let last = std::mem::replace(&mut self.last, now);
         let time = run.time();
         let dt = time - std::mem::replace(&mut self.last_time, time);
+        let p = now.phases.since(&last.phases);
+        let ms = |d: std::time::Duration| format!("{:.3}", d.as_secs_f64() * 1e3);
         self.pending.push([
             s.steps.to_string(),
             num(round_time(time)),
@@ -132,6 +179,12 @@ impl Observer for StepsWriter {
             (now.products - last.products).to_string(),
             num(s.energy),
             format!("{:.3}", (now.wall_s - last.wall_s) * 1e3),
+            ms(p.broad_phase + p.narrow_phase + p.pattern),
+            ms(p.assembly),
+            ms(p.symbolic + p.numeric),
+            ms(p.solve),
+            ms(p.open_close),
+            ms(p.commit),
         ]);
     }
 

@@ -113,11 +113,46 @@ pub struct Summary {
     pub iterative_iterations: usize,
     #[serde(default, skip_serializing_if = "is_zero")]
     pub iterative_fallbacks: usize,
+    /// Wall-clock seconds of each phase of the steps, summed over the
+    /// run (the phases of `dda bench`'s "where the time goes"); the rest
+    /// of `wall_time` is the steps' other work and the outputs.
+    #[serde(default)]
+    pub phases: PhaseSeconds,
     /// Why automatic values were chosen.
     pub notes: Vec<String>,
     /// The files written in the output directory, this one included.
     #[serde(default)]
     pub outputs: Vec<String>,
+}
+
+/// Seconds of each phase of a run's steps (`dda_core::PhaseTimes`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct PhaseSeconds {
+    pub broad_phase: f64,
+    pub narrow_phase: f64,
+    pub pattern: f64,
+    pub assembly: f64,
+    pub symbolic: f64,
+    pub numeric: f64,
+    pub solve: f64,
+    pub open_close: f64,
+    pub commit: f64,
+}
+
+impl From<&dda_core::PhaseTimes> for PhaseSeconds {
+    fn from(t: &dda_core::PhaseTimes) -> Self {
+        Self {
+            broad_phase: t.broad_phase.as_secs_f64(),
+            narrow_phase: t.narrow_phase.as_secs_f64(),
+            pattern: t.pattern.as_secs_f64(),
+            assembly: t.assembly.as_secs_f64(),
+            symbolic: t.symbolic.as_secs_f64(),
+            numeric: t.numeric.as_secs_f64(),
+            solve: t.solve.as_secs_f64(),
+            open_close: t.open_close.as_secs_f64(),
+            commit: t.commit.as_secs_f64(),
+        }
+    }
 }
 
 impl Summary {
@@ -308,6 +343,7 @@ impl SummaryWriter {
             iterative_solves: stats.iterative_solves,
             iterative_iterations: stats.iterative_iterations,
             iterative_fallbacks: stats.iterative_fallbacks,
+            phases: PhaseSeconds::from(&stats.times),
             notes: driver.notes().iter().chain(&self.notes).cloned().collect(),
             outputs: self.outputs.clone(),
         }

@@ -355,7 +355,8 @@ fn a_rewritten_scene_resumes_and_a_changed_one_is_refused() {
 
 /// `steps.csv` resumed from a checkpoint goes on as the uninterrupted
 /// run's: the same steps, numbers, lengths and counts (its wall times are
-/// the machine's own).
+/// the machine's own). A file of other columns (an earlier version's) is
+/// refused, and left as it was.
 #[test]
 fn a_resumed_run_goes_on_with_its_steps() {
     let dir = folder("steps");
@@ -368,12 +369,36 @@ fn a_resumed_run_goes_on_with_its_steps() {
     let (first, again, _) = resumed_copy(&dir, &scene, &["history.csv", "steps.csv"]);
     let without_wall_time = |dir: &Path| {
         let mut rows = dda::step_log::read_steps(dir.join("steps.csv")).unwrap();
-        rows.iter_mut().for_each(|r| r.wall_ms = 0.0);
+        for r in &mut rows {
+            (r.wall_ms, r.search_ms, r.assembly_ms) = (0.0, 0.0, 0.0);
+            (r.factorization_ms, r.solve_ms) = (0.0, 0.0);
+            (r.open_close_ms, r.commit_ms) = (0.0, 0.0);
+        }
         rows
     };
     let (whole, resumed) = (without_wall_time(&first), without_wall_time(&again));
     assert_eq!(whole.len(), 1000);
     assert!(whole == resumed, "the resumed steps.csv differs");
+
+    let older = dir.join("older");
+    std::fs::create_dir_all(&older).unwrap();
+    std::fs::copy(first.join("checkpoint.bin"), older.join("checkpoint.bin")).unwrap();
+    std::fs::copy(first.join("history.csv"), older.join("history.csv")).unwrap();
+    let text = std::fs::read_to_string(first.join("steps.csv")).unwrap();
+    let (header, body) = text.split_once('\n').unwrap();
+    let fewer = header.split(",wall_ms").next().unwrap().to_string() + ",wall_ms";
+    std::fs::write(older.join("steps.csv"), format!("{fewer}\n{body}")).unwrap();
+    let before = read(older.join("steps.csv"));
+    let stderr = refused(&["run", "--resume", older.to_str().unwrap()]);
+    assert!(
+        stderr.contains("its columns are not this version's")
+            && stderr.contains("run the scene again from the start"),
+        "{stderr}"
+    );
+    assert!(
+        read(older.join("steps.csv")) == before,
+        "nothing was written"
+    );
     // A run started without it is resumed without it.
     let plain = dir.join("plain");
     let plain_scene = scene.to_str().unwrap().replace(".ron", "_plain.ron");

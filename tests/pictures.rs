@@ -221,10 +221,44 @@ fn a_run_with_its_steps_charts_them() {
     )
     .unwrap();
     let files = plot(&dir, &PlotOptions::default()).unwrap();
-    for name in ["step_time", "step_work", "step_length"] {
+    let names = ["step_time", "step_phases", "step_work", "step_length"];
+    for name in names {
         let png = dir.join("plots").join(format!("{name}.png"));
         assert!(files.contains(&png), "{files:?}");
         assert_eq!(png_size(&png), (900, 540));
         assert!(is_svg(&dir.join("plots").join(format!("{name}.svg"))));
     }
+    // The phases' bands are named in the legend.
+    let svg = std::fs::read_to_string(dir.join("plots/step_phases.svg")).unwrap();
+    for band in [
+        "contact search",
+        "assembly",
+        "factorisation",
+        "substitutions",
+        "other",
+    ] {
+        assert!(svg.contains(band), "{band}");
+    }
+
+    // A steps file alone (as `dda bench --step-log` writes one per wall)
+    // is charted beside it, its charts named after it.
+    let alone = scratch("steps_alone");
+    std::fs::create_dir_all(&alone).unwrap();
+    let file = alone.join("10x10_rigid_2d.csv");
+    std::fs::copy(dir.join("steps.csv"), &file).unwrap();
+    let files = plot(&file, &PlotOptions::default()).unwrap();
+    assert_eq!(files.len(), 2 * names.len());
+    for name in names {
+        let png = alone
+            .join("plots")
+            .join(format!("10x10_rigid_2d_{name}.png"));
+        assert!(files.contains(&png), "{files:?}");
+        assert_eq!(png_size(&png), (900, 540));
+    }
+    let chosen = PlotOptions {
+        blocks: vec![0],
+        ..PlotOptions::default()
+    };
+    let error = plot(&file, &chosen).unwrap_err().to_string();
+    assert!(error.contains("a steps file, which has none"), "{error}");
 }

@@ -62,6 +62,39 @@ fn each_step_has_a_row_adding_up_to_the_run() {
     let energy = s["energy"].as_f64().unwrap();
     assert!((rows.last().unwrap().energy - energy).abs() <= 1e-9 * energy.abs());
     assert!(rows.iter().all(|r| r.wall_ms >= 0.0 && r.passes >= 1));
+    // Each step's phases lie within its wall time (each column rounded to
+    // a microsecond), and over the run add up to the summary's.
+    for r in &rows {
+        let named = r.wall_ms - r.other_ms();
+        assert!(named <= r.wall_ms + 0.003, "{r:?}");
+    }
+    let phases = &s["phases"];
+    let ms = |key: &str| 1e3 * phases[key].as_f64().unwrap();
+    let rounding = 5e-4 * rows.len() as f64 + 1e-6;
+    let phase_sum = |f: fn(&dda::step_log::StepRow) -> f64| rows.iter().map(f).sum::<f64>();
+    let search = ms("broad_phase") + ms("narrow_phase") + ms("pattern");
+    for (name, logged, whole) in [
+        ("search", phase_sum(|r| r.search_ms), search),
+        ("assembly", phase_sum(|r| r.assembly_ms), ms("assembly")),
+        (
+            "factorization",
+            phase_sum(|r| r.factorization_ms),
+            ms("symbolic") + ms("numeric"),
+        ),
+        ("solve", phase_sum(|r| r.solve_ms), ms("solve")),
+        (
+            "open_close",
+            phase_sum(|r| r.open_close_ms),
+            ms("open_close"),
+        ),
+        ("commit", phase_sum(|r| r.commit_ms), ms("commit")),
+    ] {
+        assert!(whole > 0.0, "{name}: no time in the summary");
+        assert!(
+            (logged - whole).abs() <= rounding,
+            "{name}: {logged} ms against {whole}"
+        );
+    }
     assert!(s["outputs"]
         .as_array()
         .unwrap()
@@ -157,15 +190,15 @@ fn check_estimates_the_step_log() {
     };
     let asked = text.replace("output: (", "output: (steps: true, ");
     let said = check("asked.ron", asked.clone());
-    // 100 steps of about 60 bytes.
+    // 100 steps of about 100 bytes.
     assert!(
-        said.contains("and steps.csv, a row per step (about 6.00 kB)"),
+        said.contains("and steps.csv, a row per step (about 10.00 kB)"),
         "{said}"
     );
     assert!(!said.contains("warning"), "{said}");
     let said = check("long.ron", asked.replace("dt: 0.01", "dt: 1e-8"));
     assert!(
-        said.contains("warning: steps.csv would be about 6.00 GB (a row per step)"),
+        said.contains("warning: steps.csv would be about 10.00 GB (a row per step)"),
         "{said}"
     );
     assert!(!check("plain.ron", text).contains("steps.csv"));

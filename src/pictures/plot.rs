@@ -27,21 +27,29 @@ pub struct PlotOptions {
     pub out: Option<PathBuf>,
 }
 
-/// One chart: lines of (time, value).
+/// One chart: lines of (time, value); `stacked`, each drawn as a band
+/// on the ones before it (the parts of a whole).
 struct Chart {
     name: &'static str,
     title: String,
     y_label: String,
     lines: Vec<(String, Vec<(f64, f64)>)>,
+    stacked: bool,
 }
 
 /// Writes the charts of the run in `dir`; returns the files written.
+/// `dir` may also be a lone `steps.csv` (as `dda bench --step-log` writes
+/// one per wall): its step charts go beside it, into `plots/`, each named
+/// after the file (`40x40_rigid_2d_step_time.png`; plain `step_time.png`
+/// for a file named `steps.csv`).
 pub fn plot(dir: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
+    if dir.is_file() {
+        return plot_steps(dir, options);
+    }
     let run = RunData::load(dir)?;
     let blocks = choose_blocks(&run, &options.blocks)?;
     let out = options.out.clone().unwrap_or_else(|| dir.join("plots"));
     create_dir(&out)?;
-    register_font();
 
     let per_block = |f: &dyn Fn(usize, usize) -> f64| -> Vec<(String, Vec<(f64, f64)>)> {
         blocks
@@ -65,12 +73,14 @@ pub fn plot(dir: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
             title: "Displacement of the centroid".into(),
             y_label: "|u| (m)".into(),
             lines: per_block(&|k, i| run.displacement(k, i)),
+            stacked: false,
         },
         Chart {
             name: "velocity",
             title: "Speed of the centroid".into(),
             y_label: "|v| (m/s)".into(),
             lines: per_block(&|k, i| norm(run.blocks[k][i].velocity)),
+            stacked: false,
         },
         Chart {
             name: "rotation",
@@ -81,6 +91,7 @@ pub fn plot(dir: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
                 let angle = if run.dimension == 2 { r[2] } else { norm(r) };
                 angle.to_degrees()
             }),
+            stacked: false,
         },
     ];
     if let Some(contacts) = &run.contacts {
@@ -100,6 +111,7 @@ pub fn plot(dir: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
                 ("sum over contacts".into(), along(total.collect())),
                 ("largest contact".into(), along(largest.collect())),
             ],
+            stacked: false,
         });
     }
     let steps_path = dir.join("steps.csv");
@@ -107,11 +119,36 @@ pub fn plot(dir: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
         charts.extend(step_charts(&crate::step_log::read_steps(&steps_path)?));
     }
 
+    write_charts(&charts, &out, "")
+}
+
+/// The step charts of a lone `steps.csv` (see [`plot`]).
+fn plot_steps(file: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
+    if !options.blocks.is_empty() {
+        bail!(
+            "--blocks chooses blocks of a run's folder; {} is a steps file, which has none",
+            file.display()
+        );
+    }
+    let rows = crate::step_log::read_steps(file)?;
+    let beside = file.parent().unwrap_or(Path::new("."));
+    let out = options.out.clone().unwrap_or_else(|| beside.join("plots"));
+    create_dir(&out)?;
+    let prefix = match file.file_stem().and_then(|s| s.to_str()) {
+        Some("steps") | None => String::new(),
+        Some(stem) => format!("{stem}_"),
+    };
+    write_charts(&step_charts(&rows), &out, &prefix)
+}
+
+/// Each chart as SVG and PNG into `out`, named `prefix` and its name.
+fn write_charts(charts: &[Chart], out: &Path, prefix: &str) -> anyhow::Result<Vec<PathBuf>> {
+    register_font();
     let mut written = Vec::new();
-    for chart in &charts {
-        let svg = out.join(format!("{}.svg", chart.name));
+    for chart in charts {
+        let svg = out.join(format!("{prefix}{}.svg", chart.name));
         draw(SVGBackend::new(&svg, SIZE).into_drawing_area(), chart)?;
-        let png = out.join(format!("{}.png", chart.name));
+        let png = out.join(format!("{prefix}{}.png", chart.name));
         draw(BitMapBackend::new(&png, SIZE).into_drawing_area(), chart)?;
         written.extend([svg, png]);
     }
@@ -122,8 +159,9 @@ pub fn plot(dir: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
 /// over runs of consecutive steps, each drawn at its last step's time.
 const STEP_POINTS: usize = 400;
 
-/// `steps.csv` as three charts: the wall time, the work (passes, moves,
-/// factorisations, cuts) and the length of each step.
+/// `steps.csv` as four charts: the wall time, where it went (the
+/// phases, stacked), the work (passes, moves, factorisations, cuts) and
+/// the length of each step.
 fn step_charts(rows: &[crate::step_log::StepRow]) -> Vec<Chart> {
     let per = rows.len().div_ceil(STEP_POINTS).max(1);
     let over = if per > 1 {
@@ -145,6 +183,22 @@ fn step_charts(rows: &[crate::step_log::StepRow]) -> Vec<Chart> {
             title: format!("Wall time of each step{over}"),
             y_label: "wall time (ms)".into(),
             lines: vec![("step".into(), line(&|r| r.wall_ms))],
+            stacked: false,
+        },
+        Chart {
+            name: "step_phases",
+            title: format!("Where each step's wall time went{over}"),
+            y_label: "wall time (ms)".into(),
+            lines: vec![
+                ("contact search".into(), line(&|r| r.search_ms)),
+                ("assembly".into(), line(&|r| r.assembly_ms)),
+                ("factorisation".into(), line(&|r| r.factorization_ms)),
+                ("substitutions".into(), line(&|r| r.solve_ms)),
+                ("open-close decisions".into(), line(&|r| r.open_close_ms)),
+                ("commit".into(), line(&|r| r.commit_ms)),
+                ("other".into(), line(&|r| r.other_ms())),
+            ],
+            stacked: true,
         },
         Chart {
             name: "step_work",
@@ -156,12 +210,14 @@ fn step_charts(rows: &[crate::step_log::StepRow]) -> Vec<Chart> {
                 ("factorisations".into(), line(&|r| r.factorizations as f64)),
                 ("cuts".into(), line(&|r| r.cuts as f64)),
             ],
+            stacked: false,
         },
         Chart {
             name: "step_length",
             title: format!("Length of each step{over}"),
             y_label: "dt (s)".into(),
             lines: vec![("step".into(), line(&|r| r.dt))],
+            stacked: false,
         },
     ]
 }
@@ -199,7 +255,13 @@ where
     let fail =
         |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("cannot draw {}: {e:?}", chart.name);
     root.fill(&WHITE).map_err(fail)?;
-    let points = chart.lines.iter().flat_map(|(_, p)| p.iter());
+    // A stacked chart draws each line's running sum with the ones before.
+    let lines = if chart.stacked {
+        stack(&chart.lines)
+    } else {
+        chart.lines.clone()
+    };
+    let points = lines.iter().flat_map(|(_, p)| p.iter());
     let (t0, t1) = points
         .clone()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
@@ -211,7 +273,12 @@ where
             (a.min(p.1), b.max(p.1))
         });
     let t1 = if t1 > t0 { t1 } else { t0 + 1.0 };
-    let (y0, y1) = padded(y0, y1);
+    let (y0, y1) = if chart.stacked {
+        // Bands start at zero; room above for the legend.
+        (0.0, padded(y0, y1).1.max(f64::MIN_POSITIVE))
+    } else {
+        padded(y0, y1)
+    };
 
     let mut c = ChartBuilder::on(&root)
         .caption(&chart.title, (FAMILY, 24))
@@ -230,7 +297,26 @@ where
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(fail)?;
-    for (i, (name, points)) in chart.lines.iter().enumerate() {
+    if chart.stacked {
+        // The last band first, so each lower one is drawn over it; the
+        // legend lists them bottom band first, as read up the chart.
+        for (i, (name, points)) in lines.iter().enumerate().rev() {
+            let (r, g, b) = palette(i);
+            let colour = RGBColor(r, g, b);
+            // Opaque, lightened: a translucent band would darken the
+            // lower bands drawn over it.
+            let light = |v: u8| v + ((255 - v) as f64 * 0.3) as u8;
+            let fill = RGBColor(light(r), light(g), light(b));
+            c.draw_series(
+                AreaSeries::new(points.iter().copied(), 0.0, fill.filled())
+                    .border_style(colour.stroke_width(1)),
+            )
+            .map_err(fail)?
+            .label(name.as_str())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], fill.filled()));
+        }
+    }
+    for (i, (name, points)) in lines.iter().enumerate().filter(|_| !chart.stacked) {
         let (r, g, b) = palette(i);
         let colour = RGBColor(r, g, b);
         c.draw_series(LineSeries::new(
@@ -250,6 +336,25 @@ where
         .map_err(fail)?;
     root.present().map_err(fail)?;
     Ok(())
+}
+
+/// Each line's points summed with those of the lines before it (the lines
+/// share their times).
+fn stack(lines: &[(String, Vec<(f64, f64)>)]) -> Vec<(String, Vec<(f64, f64)>)> {
+    let mut below: Vec<f64> = Vec::new();
+    lines
+        .iter()
+        .map(|(name, points)| {
+            below.resize(points.len(), 0.0);
+            let summed = (points.iter().zip(&mut below))
+                .map(|(&(t, v), b)| {
+                    *b += v;
+                    (t, *b)
+                })
+                .collect();
+            (name.clone(), summed)
+        })
+        .collect()
 }
 
 /// A y range around [lo, hi] with a margin; a flat line gets a unit span.
@@ -304,7 +409,31 @@ mod tests {
             products: 0,
             energy: 0.0,
             wall_ms: 0.5,
+            search_ms: 0.1,
+            assembly_ms: 0.2,
+            factorization_ms: 0.0,
+            solve_ms: 0.1,
+            open_close_ms: 0.0,
+            commit_ms: 0.05,
         }
+    }
+
+    /// The phases chart stacks each band on the ones before it, the last
+    /// band ("other") the rest of the step's wall time.
+    #[test]
+    fn phases_are_stacked_up_to_the_wall_time() {
+        let rows: Vec<StepRow> = (1..=4).map(|i| step(i, 1)).collect();
+        let charts = step_charts(&rows);
+        let phases = charts.iter().find(|c| c.name == "step_phases").unwrap();
+        assert!(phases.stacked);
+        let stacked = stack(&phases.lines);
+        assert_eq!(stacked.len(), 7);
+        let top = &stacked[6].1;
+        assert!(top.iter().all(|&(_, v)| (v - 0.5).abs() < 1e-12), "{top:?}");
+        // Search 0.1, then assembly 0.2 on it, factorisation none.
+        assert!((stacked[1].1[0].1 - 0.3).abs() < 1e-12);
+        assert_eq!(stacked[2].1[0].1, stacked[1].1[0].1);
+        assert!((rows[0].other_ms() - 0.05).abs() < 1e-12);
     }
 
     /// A long run's steps are drawn as means over runs of consecutive

@@ -161,12 +161,16 @@ def test_steps_add_up_to_the_run(tmp_path):
     assert list(steps.keys()) == [
         "step", "time", "dt", "passes", "moves", "factorizations", "cuts",
         "unconverged", "whole_tangent_moves", "products", "energy", "wall_ms",
+        "search_ms", "assembly_ms", "factorization_ms", "solve_ms",
+        "open_close_ms", "commit_ms",
     ]
     assert column(steps, "moves").dtype.kind == "i"
     assert len(column(steps, "step")) == run.summary["steps"]
     assert column(steps, "moves").sum() == run.summary["newton_iterations"]
     assert column(steps, "passes").sum() == run.summary["open_close_iterations"]
     assert column(steps, "dt").sum() == pytest.approx(0.2, abs=1e-12)
+    assembly = run.summary["phases"]["assembly"]
+    assert column(steps, "assembly_ms").sum() == pytest.approx(1e3 * assembly, abs=1e-3 * len(column(steps, "step")))
     with pytest.raises(dda.DdaError, match="steps: true"):
         dda.run(example("free_fall_2d.ron"), out=tmp_path / "none").steps
 

@@ -128,7 +128,9 @@ class Run:
         (Newton-Raphson), factorizations, cuts (attempts cut to a third
         before it was accepted), unconverged (1 if accepted without
         open-close agreement), whole_tangent_moves, products (GMRES's),
-        energy (J, J/m in 2D) and wall_ms. Only written when asked for
+        energy (J, J/m in 2D), wall_ms, and of that search_ms,
+        assembly_ms, factorization_ms, solve_ms, open_close_ms and
+        commit_ms. Only written when asked for
         (``output: (steps: true)`` or ``dda run --steps``);
         :class:`DdaError` otherwise.
         """
