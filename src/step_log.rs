@@ -6,9 +6,9 @@
 //! the total energy after it, its wall time and how that time split
 //! between the step's phases (as `dda bench`'s "where the time goes":
 //! contact search, assembly, factorisation, substitutions, open-close
-//! decisions and commit; the rest is the step's other work). Rows are kept in memory
-//! between output times and written there, so a run stopped at any point
-//! keeps every step up to its last output time.
+//! decisions and commit; the rest is the step's other work). Rows are
+//! kept in memory between output times and written there, so a run
+//! stopped at any point keeps every step up to its last output time.
 
 use std::path::Path;
 
