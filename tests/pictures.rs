@@ -261,4 +261,19 @@ fn a_run_with_its_steps_charts_them() {
     };
     let error = plot(&file, &chosen).unwrap_err().to_string();
     assert!(error.contains("a steps file, which has none"), "{error}");
+
+    // A steps file of its header alone (a run stopped before its first
+    // step): the run's other charts without the step ones, and the file
+    // alone refused; neither hangs on an empty range.
+    let text = std::fs::read_to_string(dir.join("steps.csv")).unwrap();
+    let header = text.lines().next().unwrap().to_string() + "\n";
+    std::fs::write(dir.join("steps.csv"), &header).unwrap();
+    let files = plot(&dir, &PlotOptions::default()).unwrap();
+    assert!(files.iter().any(|f| f.ends_with("displacement.png")));
+    assert!(!files.iter().any(|f| f.to_string_lossy().contains("step_")));
+    std::fs::write(&file, &header).unwrap();
+    let error = plot(&file, &PlotOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("no step yet"), "{error}");
 }

@@ -131,6 +131,12 @@ fn plot_steps(file: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>
         );
     }
     let rows = crate::step_log::read_steps(file)?;
+    if rows.is_empty() {
+        bail!(
+            "{} has no step yet, only its header: nothing to chart",
+            file.display()
+        );
+    }
     let beside = file.parent().unwrap_or(Path::new("."));
     let out = options.out.clone().unwrap_or_else(|| beside.join("plots"));
     create_dir(&out)?;
@@ -163,6 +169,10 @@ const STEP_POINTS: usize = 400;
 /// phases, stacked), the work (passes, moves, factorisations, cuts) and
 /// the length of each step.
 fn step_charts(rows: &[crate::step_log::StepRow]) -> Vec<Chart> {
+    if rows.is_empty() {
+        // A run stopped before its first step: nothing to chart.
+        return Vec::new();
+    }
     let per = rows.len().div_ceil(STEP_POINTS).max(1);
     let over = if per > 1 {
         format!(", mean over each {per} steps")
@@ -272,6 +282,9 @@ where
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
             (a.min(p.1), b.max(p.1))
         });
+    // No point at all (a chart of nothing) gets a unit span, not an
+    // infinite one, which the axis would never finish dividing.
+    let (t0, t1) = if t0.is_finite() { (t0, t1) } else { (0.0, 1.0) };
     let t1 = if t1 > t0 { t1 } else { t0 + 1.0 };
     let (y0, y1) = if chart.stacked {
         // Bands start at zero; room above for the legend.
@@ -457,6 +470,23 @@ mod tests {
         let charts = step_charts(&short);
         assert_eq!(charts[0].title, "Wall time of each step");
         assert_eq!(charts[0].lines[0].1.len(), 10);
+    }
+
+    /// A chart with no point draws on a unit span (its axis was infinite,
+    /// and dividing it never ended).
+    #[test]
+    fn a_chart_of_nothing_is_drawn() {
+        register_font();
+        let chart = Chart {
+            name: "empty",
+            title: "nothing".into(),
+            y_label: "y".into(),
+            lines: vec![("none".into(), Vec::new())],
+            stacked: false,
+        };
+        let mut buffer = vec![0; (SIZE.0 * SIZE.1 * 3) as usize];
+        let root = BitMapBackend::with_buffer(&mut buffer, SIZE).into_drawing_area();
+        draw(root, &chart).unwrap();
     }
 
     #[test]
