@@ -1,7 +1,8 @@
 //! `dda plot DIR`: time-series charts of a run as SVG and PNG: the chosen
 //! blocks' displacement, speed and rotation, with `contacts.csv` the
 //! contacts' normal forces, and with `steps.csv` each step's wall time,
-//! work and length.
+//! where it went (the phases stacked), work and length; or those step
+//! charts alone of a lone steps file (`dda bench --step-log`'s).
 
 use std::path::{Path, PathBuf};
 
