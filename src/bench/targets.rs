@@ -381,9 +381,17 @@ fn growth(
             row_of(steps_3d, l, kind, steps_key)?,
         );
         let readings = [
-            ("2D at dt 1 ms and penalty 1e9", a.median_ms_per_step, b.median_ms_per_step),
+            (
+                "2D at dt 1 ms and penalty 1e9",
+                a.median_ms_per_step,
+                b.median_ms_per_step,
+            ),
             ("2D at the automatic step", q.ms_per_step, r.ms_per_step),
-            ("3D at dt 1 ms and penalty 1e9", u.median_ms_per_step, v.median_ms_per_step),
+            (
+                "3D at dt 1 ms and penalty 1e9",
+                u.median_ms_per_step,
+                v.median_ms_per_step,
+            ),
         ];
         for (how, from, to) in readings {
             let p = exponent((a.blocks, from), (b.blocks, to));
