@@ -2,6 +2,7 @@
 //! every few seconds while it runs (status "running") and at its end, so a
 //! killed run still says how far it got.
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -116,43 +117,14 @@ pub struct Summary {
     /// Wall-clock seconds of each phase of the steps, summed over the
     /// run (the phases of `dda bench`'s "where the time goes"); the rest
     /// of `wall_time` is the steps' other work and the outputs.
+    /// Named as `dda_core::PhaseTimes::phases` names them.
     #[serde(default)]
-    pub phases: PhaseSeconds,
+    pub phases: BTreeMap<String, f64>,
     /// Why automatic values were chosen.
     pub notes: Vec<String>,
     /// The files written in the output directory, this one included.
     #[serde(default)]
     pub outputs: Vec<String>,
-}
-
-/// Seconds of each phase of a run's steps (`dda_core::PhaseTimes`).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct PhaseSeconds {
-    pub broad_phase: f64,
-    pub narrow_phase: f64,
-    pub pattern: f64,
-    pub assembly: f64,
-    pub symbolic: f64,
-    pub numeric: f64,
-    pub solve: f64,
-    pub open_close: f64,
-    pub commit: f64,
-}
-
-impl From<&dda_core::PhaseTimes> for PhaseSeconds {
-    fn from(t: &dda_core::PhaseTimes) -> Self {
-        Self {
-            broad_phase: t.broad_phase.as_secs_f64(),
-            narrow_phase: t.narrow_phase.as_secs_f64(),
-            pattern: t.pattern.as_secs_f64(),
-            assembly: t.assembly.as_secs_f64(),
-            symbolic: t.symbolic.as_secs_f64(),
-            numeric: t.numeric.as_secs_f64(),
-            solve: t.solve.as_secs_f64(),
-            open_close: t.open_close.as_secs_f64(),
-            commit: t.commit.as_secs_f64(),
-        }
-    }
 }
 
 impl Summary {
@@ -343,7 +315,9 @@ impl SummaryWriter {
             iterative_solves: stats.iterative_solves,
             iterative_iterations: stats.iterative_iterations,
             iterative_fallbacks: stats.iterative_fallbacks,
-            phases: PhaseSeconds::from(&stats.times),
+            phases: (stats.times.phases().iter())
+                .map(|(name, time)| (name.to_string(), time.as_secs_f64()))
+                .collect(),
             notes: driver.notes().iter().chain(&self.notes).cloned().collect(),
             outputs: self.outputs.clone(),
         }
