@@ -276,4 +276,12 @@ fn a_run_with_its_steps_charts_them() {
         .unwrap_err()
         .to_string();
     assert!(error.contains("no step yet"), "{error}");
+    let missing = alone.join("missing.csv");
+    let error = plot(&missing, &PlotOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("not found") && error.contains("a steps file"),
+        "{error}"
+    );
 }

@@ -47,6 +47,12 @@ pub fn plot(dir: &Path, options: &PlotOptions) -> anyhow::Result<Vec<PathBuf>> {
     if dir.is_file() {
         return plot_steps(dir, options);
     }
+    if !dir.exists() && dir.extension().is_some_and(|e| e == "csv") {
+        bail!(
+            "{} not found: give a run's folder, or a steps file (`dda run --steps` writes steps.csv, `dda bench --step-log DIR` one a wall)",
+            dir.display()
+        );
+    }
     let run = RunData::load(dir)?;
     let blocks = choose_blocks(&run, &options.blocks)?;
     let out = options.out.clone().unwrap_or_else(|| dir.join("plots"));
