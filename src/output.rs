@@ -377,15 +377,21 @@ impl Observer for PointsWriter {
     }
 }
 
-/// Reads a `points.csv` written by [`PointsWriter`], of either dimension.
-pub fn read_points(path: impl AsRef<Path>) -> anyhow::Result<Vec<PointRow>> {
-    let path = path.as_ref();
+/// The first line of the file at `path`, its line ending left off (the
+/// header of a CSV file, read without its rows).
+pub(crate) fn first_line(path: &Path) -> anyhow::Result<String> {
     let mut first = String::new();
     File::open(path)
         .map(std::io::BufReader::new)
         .and_then(|mut r| std::io::BufRead::read_line(&mut r, &mut first))
         .with_context(|| format!("cannot open {}", path.display()))?;
-    let three = first.trim_end() == POINTS_HEADER_3D;
+    Ok(first.trim_end().to_string())
+}
+
+/// Reads a `points.csv` written by [`PointsWriter`], of either dimension.
+pub fn read_points(path: impl AsRef<Path>) -> anyhow::Result<Vec<PointRow>> {
+    let path = path.as_ref();
+    let three = first_line(path)? == POINTS_HEADER_3D;
     let (header, d) = if three {
         (POINTS_HEADER_3D, 3)
     } else {

@@ -12,12 +12,12 @@
 
 use std::path::Path;
 
-use anyhow::{bail, Context};
+use anyhow::bail;
 use dda_core::{PhaseTimes, Statistics};
 use serde::Deserialize;
 
 use crate::observe::{Cursor, Observer, RunView};
-use crate::output::{num, read_rows, round_time, CsvFile};
+use crate::output::{first_line, num, read_rows, round_time, CsvFile};
 
 /// The columns of `steps.csv`.
 pub const STEPS_HEADER: &str = "step,time,dt,passes,moves,factorizations,cuts,unconverged,whole_tangent_moves,products,energy,wall_ms,search_ms,assembly_ms,factorization_ms,solve_ms,open_close_ms,commit_ms";
@@ -123,12 +123,7 @@ impl StepsWriter {
     /// Writes on after the first `length` bytes of `path` (a resumed run),
     /// a file of this version's columns.
     pub fn resume(path: &Path, length: u64, run: &dyn RunView) -> anyhow::Result<Self> {
-        let mut first = String::new();
-        std::fs::File::open(path)
-            .map(std::io::BufReader::new)
-            .and_then(|mut f| std::io::BufRead::read_line(&mut f, &mut first))
-            .with_context(|| format!("cannot read {} to continue it", path.display()))?;
-        if first.trim_end() != STEPS_HEADER {
+        if first_line(path)? != STEPS_HEADER {
             bail!(
                 "{}: its columns are not this version's ({STEPS_HEADER}), so an earlier version wrote it; run the scene again from the start",
                 path.display()
