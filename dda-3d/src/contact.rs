@@ -29,6 +29,11 @@
 //! (Shi's entrance choice). For two convex corners this is the
 //! separating-axis distance: the gap along each face normal and edge-pair
 //! cross product whose plane separates the two corners, largest first.
+//! An entrance that is one already found, to within round-off (the same
+//! plane through the same points, from either block), is kept once: where
+//! blocks meet square, as bricks in a bond do, a crossing lies in a face's
+//! plane, and a wall's groups would otherwise read each entrance twice at
+//! every decision.
 //! Face-face contacts thus become VF contacts at the corners of each face
 //! lying over the other plus EE contacts where their boundary edges cross;
 //! edge-face contacts become VF (or groups) at the ends plus EE where the edge
@@ -577,17 +582,18 @@ fn crossing_normal(
 fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize, out: &mut Vec<PointEntrance>) {
     let (sa, sb) = (a.shape(), b.shape());
     let (edges_a, edges_b) = (sa.vertex_edges(p), sb.vertex_edges(q));
+    let length = round_off_length(a, p);
     out.clear();
     for &f in sb.vertex_faces(q) {
         let n = sb.normal(f);
         if vertex_enters(sa, p, &n) && vertex_below(sb, q, &n) {
-            out.push(face_entrance(a, p, b, f, false));
+            add_distinct(out, Some(face_entrance(a, p, b, f, false)), length);
         }
     }
     for &g in sa.vertex_faces(p) {
         let n = sa.normal(g);
         if vertex_enters(sb, q, &n) && vertex_below(sa, p, &n) {
-            out.push(face_entrance(b, q, a, g, true));
+            add_distinct(out, Some(face_entrance(b, q, a, g, true)), length);
         }
     }
     for &ea in edges_a {
@@ -596,10 +602,31 @@ fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize, out: &mut Vec<PointEn
             let da = sa.edge_direction(ea, p);
             let db = sb.edge_direction(eb, q);
             if let Some(n) = crossing_normal(&da, &db, valid) {
-                out.extend(edge_entrance(a, ea, b, eb, &n, false));
+                add_distinct(out, edge_entrance(a, ea, b, eb, &n, false), length);
             }
         }
     }
+}
+
+/// Adds a crossing's entrance to a group's `out` unless it is one already
+/// found: where blocks meet square (a corner on an edge), the crossing of
+/// two edges lies in a face's plane, through the same points, and would
+/// only be read again at every decision. `length`: the group's scale of
+/// round-off ([`round_off_length`]).
+fn add_distinct(out: &mut Vec<PointEntrance>, entrance: Option<PointEntrance>, length: f64) {
+    if let Some(entrance) = entrance {
+        if !out.iter().any(|o| o.same_as(&entrance, length)) {
+            out.push(entrance);
+        }
+    }
+}
+
+/// The length on which a group's entrances are made: the vertex's farthest
+/// coordinate (points far from the origin round off more) and the block's
+/// extent.
+fn round_off_length(x: &Block, p: usize) -> f64 {
+    let (lo, hi) = x.bounds();
+    x.vertices()[p].coords.amax() + (hi - lo).amax()
 }
 
 /// Entrances of convex vertex `p` of `x` near the inside of edge `e` of `y`,
@@ -607,6 +634,7 @@ fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize, out: &mut Vec<PointEn
 /// vertex's edges with it.
 fn vertex_edge(x: &Block, p: usize, y: &Block, e: usize, out: &mut Vec<PointEntrance>) {
     let (sx, sy) = (x.shape(), y.shape());
+    let length = round_off_length(x, p);
     out.clear();
     for &f in &sy.edges()[e].faces {
         let n = sy.normal(f);
@@ -619,7 +647,7 @@ fn vertex_edge(x: &Block, p: usize, y: &Block, e: usize, out: &mut Vec<PointEntr
     for &ex in sx.vertex_edges(p) {
         let valid = |n: &Vector3<f64>| vertex_enters(sx, p, n) && edge_below(sy, e, n);
         if let Some(n) = crossing_normal(&sx.edge_direction(ex, p), &de, valid) {
-            out.extend(edge_entrance(x, ex, y, e, &n, false));
+            add_distinct(out, edge_entrance(x, ex, y, e, &n, false), length);
         }
     }
 }
@@ -1069,7 +1097,9 @@ pub(crate) mod tests {
                 "{}",
                 contact_label(&c.key)
             );
-            assert!(c.entrances.len() >= 2);
+            // The faces' planes and the edges' crossings of two corners
+            // meeting square are one plane through the same points.
+            assert_eq!(c.entrances.len(), 1, "{:?}", c.entrances);
             for e in &c.entrances {
                 assert!((e.gap_at(&Vector12::zeros(), &down) + 1e-4).abs() < 1e-12);
                 assert!(e.gap_at(&Vector12::zeros(), &side).abs() < 1e-12);
@@ -1094,6 +1124,42 @@ pub(crate) mod tests {
                 .fold(f64::MIN, f64::max);
             assert!((widest + 1e-4).abs() < 1e-12, "{widest}");
         }
+    }
+
+    /// Bricks in running bond: the upper brick's corners stand on the lower
+    /// bricks' edges and theirs on its edges, each group's planes and
+    /// crossings one entrance, kept once. Turned by a ten-thousandth of a
+    /// radian, the crossings leave the faces' planes and are kept beside
+    /// them.
+    #[test]
+    fn coinciding_entrances_are_kept_once() {
+        let brick = |x: f64, z: f64, turn: f64| {
+            block(
+                Point3::new(x, 0.0, z),
+                Vector3::new(1.0, 0.5, 0.25),
+                Rotation3::from_axis_angle(&Vector3::z_axis(), turn),
+            )
+        };
+        let counts = |turn: f64| {
+            let blocks = vec![
+                brick(0.0, 0.125, 0.0),
+                brick(1.0, 0.125, 0.0),
+                brick(0.5, 0.375, turn),
+            ];
+            let contacts: Vec<_> = [(0, 2), (1, 2)]
+                .iter()
+                .flat_map(|&(i, j)| pair_contacts(&blocks, i, j, 0.01, 0))
+                .collect();
+            let groups = contacts
+                .iter()
+                .filter(|c| c.key.feature_b & (VERTEX | EDGE) != 0);
+            groups.map(|c| c.entrances.len()).collect::<Vec<_>>()
+        };
+        let square = counts(0.0);
+        assert!(square.len() >= 8, "{square:?}");
+        assert!(square.iter().all(|&n| n == 1), "{square:?}");
+        let turned = counts(1e-4);
+        assert!(turned.iter().any(|&n| n > 1), "{turned:?}");
     }
 
     #[test]

@@ -9,6 +9,10 @@ use nalgebra::{Vector2, Vector3};
 
 use crate::kinematics::{t_matrix_times_arm, t_matrix_transpose_times_arm, Vector12};
 
+/// How far apart, as a share, two entrances may lie and count as one
+/// ([`PointEntrance::same_as`]): round-off, not geometry.
+const SAME_SHARE: f64 = 1e-12;
+
 /// A point of one block against a point of another along a unit normal,
 /// linearised about the start of the step.
 #[derive(Debug, Clone, PartialEq)]
@@ -46,6 +50,25 @@ impl PointEntrance {
             entering_first: !swap,
             frame,
         }
+    }
+
+    /// Whether `other` is this entrance to within round-off (1e-12 of the
+    /// unit normal, 1e-12 of `length` for the gap and each point): the same
+    /// plane through the same points, whatever its tangents. Either block
+    /// may be the entering one: a point of a entering b's plane along n is
+    /// b's point entering a's along −n, the same rows and gap.
+    pub fn same_as(&self, other: &Self, length: f64) -> bool {
+        let near = |a: &Vector3<f64>, b: &Vector3<f64>, tol: f64| (a - b).norm() <= tol;
+        let tol = SAME_SHARE * length;
+        let normal = if self.entering_first == other.entering_first {
+            other.frame[0]
+        } else {
+            -other.frame[0]
+        };
+        near(&self.frame[0], &normal, SAME_SHARE)
+            && (self.gap - other.gap).abs() <= tol
+            && near(&self.arms[0], &other.arms[0], tol)
+            && near(&self.arms[1], &other.arms[1], tol)
     }
 
     /// The entering point's displacement less the entered point's, the
@@ -196,6 +219,61 @@ mod tests {
                 },
             )
             .unwrap();
+    }
+
+    /// A point of a entering b's plane along n and b's point entering a's
+    /// along −n are one entrance: the same normal rows, to the bit, and the
+    /// same gap at any motion, whatever their tangents; `same_as` says so.
+    /// A point moved, the normal turned or the gap changed by more than
+    /// round-off is another entrance.
+    #[test]
+    fn an_entrance_seen_from_either_block_is_one() {
+        let (pa, ca) = (Point3::new(0.3, -1.7, 2.9), Point3::new(0.11, -1.2, 2.5));
+        let (pb, cb) = (Point3::new(0.31, -1.69, 2.93), Point3::new(0.7, -2.1, 3.3));
+        let n = Vector3::new(0.2, -0.5, 0.9).normalize();
+        let frame = |n: Vector3<f64>, towards: Vector3<f64>| {
+            let t1 = n.cross(&towards).normalize();
+            [n, t1, n.cross(&t1)]
+        };
+        let (gap, length) = (n.dot(&(pa - pb)), 4.0);
+        let a_enters = PointEntrance::new(gap, pa - ca, pb - cb, frame(n, Vector3::x()), false);
+        let b_enters = PointEntrance::new(gap, pb - cb, pa - ca, frame(-n, Vector3::y()), true);
+        assert!(a_enters.same_as(&b_enters, length) && b_enters.same_as(&a_enters, length));
+        assert_eq!(a_enters.normal(), b_enters.normal());
+        use proptest::prelude::*;
+        let dofs = || prop::array::uniform12(-1e-2..1e-2f64).prop_map(Vector12::from);
+        let mut runner = crate::seeded_runner(256);
+        runner
+            .run(&(dofs(), dofs()), |(da, db)| {
+                let (ga, gb) = (a_enters.gap_at(&da, &db), b_enters.gap_at(&da, &db));
+                prop_assert!((ga - gb).abs() <= 1e-15 * length, "{ga} {gb}");
+                Ok(())
+            })
+            .unwrap();
+        let apart = 1e-9 * length;
+        let turned = (n + 1e-9 * frame(n, Vector3::x())[1]).normalize();
+        let others = [
+            PointEntrance::new(
+                gap,
+                pa - ca + Vector3::x() * apart,
+                pb - cb,
+                frame(n, Vector3::x()),
+                false,
+            ),
+            PointEntrance::new(
+                gap,
+                pa - ca,
+                pb - cb + Vector3::z() * apart,
+                frame(n, Vector3::x()),
+                false,
+            ),
+            PointEntrance::new(gap + apart, pa - ca, pb - cb, frame(n, Vector3::x()), false),
+            PointEntrance::new(gap, pa - ca, pb - cb, frame(turned, Vector3::x()), false),
+            PointEntrance::new(gap, pb - cb, pa - ca, frame(n, Vector3::y()), true),
+        ];
+        for other in &others {
+            assert!(!a_enters.same_as(other, length), "{other:?}");
+        }
     }
 
     /// Rows made when read are the rows made once from the points, to the
