@@ -765,6 +765,12 @@ fn widest(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
     (a.0.max(b.0), a.1.max(b.1))
 }
 
+/// The most corners of an entered face clipped against whole (a face of
+/// more is clipped triangle by triangle): a corner's share of four corners
+/// clipped by five sides stays within `planar::clipped_area`'s room on the
+/// stack.
+const WHOLE_FACE: usize = 5;
+
 /// Area a vertex stands for against a face: for each face at the vertex
 /// lying on the contact plane (facing the entered face within 3°), the
 /// vertex's share of it (the quadrilateral of the vertex, the midpoints of
@@ -778,10 +784,13 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
     let (sx, sy) = (x.shape(), y.shape());
     let n = sy.normal(f);
     let frame = sy.face_frame(f);
-    // The entered face's triangles in its plane, made only for a face at
-    // the vertex found facing it (for most groups none is).
-    let triangles =
-        || (sy.face_triangles(f).iter()).map(|t| t.map(|k| frame.to_plane(&sy.vertices()[k])));
+    let on_plane = |k: &usize| frame.to_plane(&sy.vertices()[*k]);
+    // The entered face in its plane, made only for a face at the vertex
+    // found facing it (for most groups none is): whole where it is convex
+    // (one clip instead of one a triangle), else its triangles.
+    let whole = sy.is_convex_face(f) && sy.faces()[f].len() <= WHOLE_FACE;
+    let mut outline = [Point2::origin(); WHOLE_FACE];
+    let mut outlined = false;
     let share = |g: usize| -> [Point2<f64>; 4] {
         let face = &sx.faces()[g];
         let k = face.iter().position(|&v| v == p).unwrap_or(0);
@@ -800,15 +809,36 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
             continue;
         }
         let share = share(g);
+        let reach = planar::bounds(&share);
         // Clipped in f's plane, then taken back to g's own: the corner's
         // area below is g's true area, and a vertex passing between the
         // two (an edge of f at its share) keeps its springs' area. Left
         // projected, the two differed by 3.7e-7 on a prism settling on an
-        // incline of its own depth, and its energy jumped by that.
-        total += triangles()
-            .map(|t| planar::clipped_area(&share, &t).abs())
-            .sum::<f64>()
-            / facing;
+        // incline of its own depth, and its energy jumped by that. Pieces
+        // whose bounds only touch the share's, or are apart, hold none of
+        // it.
+        let clipped = |piece: &[Point2<f64>]| {
+            if planar::bounds_meet(&planar::bounds(piece), &reach) {
+                planar::clipped_area(&share, piece).abs()
+            } else {
+                0.0
+            }
+        };
+        let area = if whole {
+            let face = &sy.faces()[f];
+            if !outlined {
+                for (o, k) in outline.iter_mut().zip(face) {
+                    *o = on_plane(k);
+                }
+                outlined = true;
+            }
+            clipped(&outline[..face.len()])
+        } else {
+            (sy.face_triangles(f).iter())
+                .map(|t| clipped(&t.each_ref().map(on_plane)))
+                .sum::<f64>()
+        };
+        total += area / facing;
     }
     if total > 0.0 {
         return (total, total);
@@ -1050,6 +1080,42 @@ pub(crate) mod tests {
             (total - 2.0).abs() < 1e-12,
             "half the base is supported: {total}"
         );
+    }
+
+    /// A corner's share of a concave face is clipped triangle by triangle,
+    /// of a convex one against the whole face: a cube standing on a
+    /// dart-shaped face, wholly on it but away from the part a clip by its
+    /// sides alone would keep (its kernel), stands for its whole base, and
+    /// so does one on a box.
+    #[test]
+    fn a_cube_on_a_concave_face_stands_for_its_base() {
+        let outline =
+            [(0.0, 0.0), (2.0, 1.0), (0.0, 2.0), (0.8, 1.0)].map(|(x, y)| Point2::new(x, y));
+        let (v, f) = crate::polyhedron::prism(&outline, 0.0, 1.0);
+        let dart = Block::new(&v, &f, 0, 1000.0).unwrap();
+        let top = (0..dart.shape().faces().len())
+            .find(|&f| dart.shape().normal(f).z > 0.5)
+            .unwrap();
+        assert!(!dart.shape().is_convex_face(top));
+        let cube = block(
+            Point3::new(0.6, 0.5, 1.1),
+            Vector3::repeat(0.2),
+            Rotation3::identity(),
+        );
+        assert!((0..6).all(|f| cube.shape().is_convex_face(f)));
+        assert!(!l_block(|p| *p).shape().is_convex_face(0));
+        let contacts = pair_contacts(&[dart, cube], 0, 1, 0.01, 0);
+        assert_eq!(contacts.len(), 4, "{contacts:?}");
+        let total: f64 = contacts.iter().map(|c| c.length).sum();
+        assert!((total - 0.04).abs() < 1e-12, "{total}");
+        let on_box = block(
+            Point3::new(0.6, 0.5, 0.1),
+            Vector3::repeat(0.2),
+            Rotation3::identity(),
+        );
+        let contacts = pair_contacts(&[slab(), on_box], 0, 1, 0.01, 0);
+        let total: f64 = contacts.iter().map(|c| c.length).sum();
+        assert!((total - 0.04).abs() < 1e-12, "{total}");
     }
 
     /// A face within 3° of the entered one stands for its own area, not its

@@ -167,6 +167,9 @@ struct Topology {
     face_edges: Vec<Vec<usize>>,
     /// Triangles of each face (vertex indices). Affine motions keep them valid.
     triangles: Vec<Vec<[usize; 3]>>,
+    /// Whether each face is convex (counter-clockwise seen from outside, no
+    /// reflex corner): clipped against whole. Affine motions keep it.
+    convex_faces: Vec<bool>,
 }
 
 /// A validated closed polyhedron with its derived geometry.
@@ -225,6 +228,12 @@ impl Polyhedron {
     /// Triangles of a face, as vertex indices, counter-clockwise from outside.
     pub fn face_triangles(&self, f: usize) -> &[[usize; 3]] {
         &self.topology.triangles[f]
+    }
+
+    /// Whether face `f` is convex, so a polygon can be clipped against it
+    /// whole rather than triangle by triangle.
+    pub fn is_convex_face(&self, f: usize) -> bool {
+        self.topology.convex_faces[f]
     }
 
     /// Outward unit normal of a face.
@@ -840,18 +849,24 @@ fn build_topology(vertices: &[Point3<f64>], faces: Vec<Vec<usize>>) -> Topology 
             vertex_faces[v].push(fi);
         }
     }
-    let triangles = faces
+    let (triangles, convex_faces) = faces
         .iter()
         .map(|f| {
             let normal = newell(vertices, f).normalize();
             let frame = FaceFrame::new(vertices[f[0]], vertices[f[1]], normal);
             let poly: Vec<Point2<f64>> = f.iter().map(|&v| frame.to_plane(&vertices[v])).collect();
-            planar::triangulate(&poly)
+            let convex = planar::signed_area(&poly) > 0.0
+                && (0..poly.len()).all(|k| {
+                    let m = poly.len();
+                    planar::orient(&poly[(k + m - 1) % m], &poly[k], &poly[(k + 1) % m]) >= 0.0
+                });
+            let triangles = planar::triangulate(&poly)
                 .into_iter()
                 .map(|t| t.map(|k| f[k]))
-                .collect()
+                .collect();
+            (triangles, convex)
         })
-        .collect();
+        .unzip();
     Topology {
         faces,
         edges,
@@ -859,6 +874,7 @@ fn build_topology(vertices: &[Point3<f64>], faces: Vec<Vec<usize>>) -> Topology 
         vertex_faces,
         face_edges,
         triangles,
+        convex_faces,
     }
 }
 

@@ -159,9 +159,10 @@ pub fn clip_convex(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> Vec<Point2<
 
 /// The signed area of [`clip_convex`]'s polygon. A small clip is made
 /// between two arrays on the stack: the 3D narrow phase weighs tens of
-/// thousands of corners' shares of faces a step.
+/// thousands of corners' shares of faces a step, each against a face of up
+/// to five corners or a triangle.
 pub fn clipped_area(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> f64 {
-    const SMALL: usize = 16;
+    const SMALL: usize = 32;
     // A cut keeps at most the i vertices inside and adds one per crossing
     // edge, at most 2 min(i, n − i) and at most n: n grows at most to 3n/2.
     let room = (0..clip.len()).try_fold(subject.len(), |n, _| {
@@ -217,6 +218,26 @@ pub fn edges(poly: &[Point2<f64>]) -> impl Iterator<Item = (&Point2<f64>, &Point
     poly.iter().zip(poly.iter().cycle().skip(1))
 }
 
+/// The bounds of a polygon's corners: (lowest, highest) of each coordinate.
+pub fn bounds(poly: &[Point2<f64>]) -> (Point2<f64>, Point2<f64>) {
+    poly.iter().fold(
+        (
+            Point2::from([f64::INFINITY; 2]),
+            Point2::from([f64::NEG_INFINITY; 2]),
+        ),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    )
+}
+
+/// Whether two bounds overlap with room between them: bounds that only
+/// touch or lie apart enclose no common area.
+pub fn bounds_meet(
+    (lo_a, hi_a): &(Point2<f64>, Point2<f64>),
+    (lo_b, hi_b): &(Point2<f64>, Point2<f64>),
+) -> bool {
+    lo_a.x < hi_b.x && lo_b.x < hi_a.x && lo_a.y < hi_b.y && lo_b.y < hi_a.y
+}
+
 /// Edge k: (v\[k\], v\[k + 1\]).
 pub fn edge(poly: &[Point2<f64>], k: usize) -> (&Point2<f64>, &Point2<f64>) {
     (&poly[k], &poly[(k + 1) % poly.len()])
@@ -243,6 +264,35 @@ mod tests {
 
     fn pts(coords: &[(f64, f64)]) -> Vec<Point2<f64>> {
         coords.iter().map(|&(x, y)| Point2::new(x, y)).collect()
+    }
+
+    /// Bounds that only touch, or lie apart, do not meet: the polygons
+    /// inside them share no area, which the clip confirms.
+    #[test]
+    fn bounds_meet_only_with_room_between_them() {
+        let square = pts(&[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]);
+        let (lo, hi) = bounds(&square);
+        assert_eq!((lo, hi), (Point2::new(0.0, 0.0), Point2::new(1.0, 1.0)));
+        let moved = |dx: f64, dy: f64| -> Vec<Point2<f64>> {
+            square
+                .iter()
+                .map(|p| p + nalgebra::Vector2::new(dx, dy))
+                .collect()
+        };
+        for (dx, dy, meet) in [
+            (0.5, 0.5, true),
+            (1.0, 0.0, false),
+            (0.0, -1.0, false),
+            (1.0, 1.0, false),
+            (2.0, 0.3, false),
+            (-0.999, 0.999, true),
+        ] {
+            let other = moved(dx, dy);
+            let (a, b) = (bounds(&square), bounds(&other));
+            assert_eq!(bounds_meet(&a, &b), meet, "{dx} {dy}");
+            assert_eq!(bounds_meet(&b, &a), meet, "{dx} {dy}");
+            assert_eq!(clipped_area(&other, &square) != 0.0, meet, "{dx} {dy}");
+        }
     }
 
     fn shifted(poly: &[Point2<f64>], dx: f64, dy: f64) -> Vec<Point2<f64>> {
