@@ -85,7 +85,8 @@ fn contact_search(c: &mut Criterion) {
     time_search(&mut group, "wall", &model.settings, &model.driver);
     // The 3D wall, one brick thick: its bricks meet corner to corner and
     // corner to edge, so its contacts are vertex-vertex and vertex-edge
-    // groups of several entrances each.
+    // groups, each weighing several planes and crossings (which, meeting
+    // square, coincide and are kept once).
     let model = wall(32, 3, Stepping::Fixed, BlockKind::Rigid)
         .unwrap()
         .build_3d()
