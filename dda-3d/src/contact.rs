@@ -608,11 +608,12 @@ fn vertex_vertex(a: &Block, p: usize, b: &Block, q: usize, out: &mut Vec<PointEn
     }
 }
 
-/// Adds a crossing's entrance to a group's `out` unless it is one already
-/// found: where blocks meet square (a corner on an edge), the crossing of
-/// two edges lies in a face's plane, through the same points, and would
-/// only be read again at every decision. `length`: the group's scale of
-/// round-off ([`round_off_length`]).
+/// Adds an entrance to a group's `out` unless it is one already found:
+/// where blocks meet square (a corner on an edge or on a corner), a
+/// crossing of two edges lies in a face's plane through the same points,
+/// and two corners' face planes are one plane seen from either block; a
+/// copy would only be read again at every decision. `length`: the group's
+/// scale of round-off ([`round_off_length`]).
 fn add_distinct(out: &mut Vec<PointEntrance>, entrance: Option<PointEntrance>, length: f64) {
     if let Some(entrance) = entrance {
         if !out.iter().any(|o| o.same_as(&entrance, length)) {
