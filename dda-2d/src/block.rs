@@ -119,13 +119,7 @@ impl Block {
 
     /// Axis-aligned bounds (min, max).
     pub fn bounds(&self) -> (Point2<f64>, Point2<f64>) {
-        let mut lo = Point2::new(f64::INFINITY, f64::INFINITY);
-        let mut hi = Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
-        for v in &self.vertices {
-            lo = lo.inf(v);
-            hi = hi.sup(v);
-        }
-        (lo, hi)
+        dda_core::planar::bounds(&self.vertices)
     }
 
     /// Puts the block back at a checkpointed state (its integrals derived
