@@ -855,11 +855,7 @@ fn build_topology(vertices: &[Point3<f64>], faces: Vec<Vec<usize>>) -> Topology 
             let normal = newell(vertices, f).normalize();
             let frame = FaceFrame::new(vertices[f[0]], vertices[f[1]], normal);
             let poly: Vec<Point2<f64>> = f.iter().map(|&v| frame.to_plane(&vertices[v])).collect();
-            let convex = planar::signed_area(&poly) > 0.0
-                && (0..poly.len()).all(|k| {
-                    let m = poly.len();
-                    planar::orient(&poly[(k + m - 1) % m], &poly[k], &poly[(k + 1) % m]) >= 0.0
-                });
+            let convex = planar::is_convex(&poly);
             let triangles = planar::triangulate(&poly)
                 .into_iter()
                 .map(|t| t.map(|k| f[k]))

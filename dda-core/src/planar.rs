@@ -16,6 +16,15 @@ pub fn orient(a: &Point2<f64>, b: &Point2<f64>, c: &Point2<f64>) -> f64 {
     robust::orient2d(coord(a), coord(b), coord(c))
 }
 
+/// Whether a polygon is convex and counter-clockwise: a positive area and
+/// no corner turning clockwise (straight corners allowed), so
+/// [`clip_convex`] and [`clipped_area`] may clip against it whole.
+pub fn is_convex(poly: &[Point2<f64>]) -> bool {
+    let m = poly.len();
+    signed_area(poly) > 0.0
+        && (0..m).all(|k| orient(&poly[(k + m - 1) % m], &poly[k], &poly[(k + 1) % m]) >= 0.0)
+}
+
 /// Signed area (positive counter-clockwise); zero below 3 vertices.
 pub fn signed_area(poly: &[Point2<f64>]) -> f64 {
     // About the first vertex, not the global origin: far from the origin
@@ -264,6 +273,21 @@ mod tests {
 
     fn pts(coords: &[(f64, f64)]) -> Vec<Point2<f64>> {
         coords.iter().map(|&(x, y)| Point2::new(x, y)).collect()
+    }
+
+    /// A convex polygon counter-clockwise is convex, with a straight corner
+    /// too; clockwise, or with a reflex corner, or degenerate, it is not.
+    #[test]
+    fn convex_polygons_are_told_from_the_rest() {
+        let square = pts(&[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]);
+        assert!(is_convex(&square));
+        let straight = pts(&[(0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]);
+        assert!(is_convex(&straight));
+        let clockwise: Vec<_> = square.iter().rev().copied().collect();
+        assert!(!is_convex(&clockwise));
+        let dart = pts(&[(0.0, 0.0), (2.0, 1.0), (0.0, 2.0), (0.8, 1.0)]);
+        assert!(!is_convex(&dart));
+        assert!(!is_convex(&pts(&[(0.0, 0.0), (1.0, 0.0)])));
     }
 
     /// Bounds that only touch, or lie apart, do not meet: the polygons
