@@ -75,7 +75,7 @@ enum Command {
         /// Steps timed per run
         #[arg(long, default_value_t = 20)]
         steps: usize,
-        /// Runs per size, the median reported (default 3; 1 with --simulate)
+        /// Runs per size, the median reported (default 3; 1 with --simulate; with --targets, runs of each timed wall, default 3)
         #[arg(long)]
         repeats: Option<usize>,
         /// The bricks' kinds, each timed in turn, comma separated
@@ -131,8 +131,8 @@ enum Command {
         /// Time this study instead, on one core and on all: its wall time against the sum of its runs' times
         #[arg(long, value_name = "STUDY.ron", conflicts_with_all = ["simulate", "chart", "rigid", "kinds", "dimension"])]
         study: Option<PathBuf>,
-        /// Measure every speed target of the walls in one run instead (40 × 40 against MuJoCo, 20 × 20 against ntdda, 10 × 10 at dt 1 ms, 40 × 40 at rest at steps of 5 ms to 10 s, 10,051 blocks in 2D and 3D, the growth from 1,621 to 10,051 blocks; a few minutes): a Markdown table with each verdict, the machine and the date
-        #[arg(long, conflicts_with_all = ["study", "simulate", "chart", "rigid", "kinds", "dimension", "sizes", "steps", "repeats", "dt"])]
+        /// Measure every speed target of the walls in one run instead (40 × 40 against MuJoCo, 20 × 20 against ntdda, 10 × 10 at dt 1 ms, 40 × 40 at rest at steps of 5 ms to 10 s, 10,051 blocks in 2D and 3D, the growth from 1,621 to 10,051 blocks; each timed wall the median of --repeats runs, 3 by default; a few minutes): a Markdown table with each verdict, the machine and the date
+        #[arg(long, conflicts_with_all = ["study", "simulate", "chart", "rigid", "kinds", "dimension", "sizes", "steps", "dt"])]
         targets: bool,
         /// With --targets: MuJoCo's run of the 40 × 40 wall, the JSON of benches/mujoco_wall.py 40 run just before on the same machine
         #[arg(long, value_name = "FILE", requires = "targets")]
@@ -377,14 +377,18 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             targets: true,
             mujoco,
             json,
+            repeats,
             ..
         } => {
+            anyhow::ensure!(repeats != Some(0), "--repeats must be at least 1");
             let mujoco = mujoco
                 .map(|path| crate::bench::targets::MujocoRun::load(&path))
                 .transpose()?;
+            let defaults = crate::bench::targets::TargetOptions::default();
             let options = crate::bench::targets::TargetOptions {
                 mujoco,
-                ..Default::default()
+                repeats: repeats.unwrap_or(defaults.repeats),
+                ..defaults
             };
             crate::bench::targets::command(&options, json)?;
         }

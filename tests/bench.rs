@@ -486,6 +486,10 @@ fn bad_bench_options_are_clear_errors() {
         (vec!["--simulate", "1", "--max-wall", "0"], "--max-wall"),
         (vec!["--steps", "0"], "--steps must be at least 1"),
         (vec!["--repeats", "0"], "--repeats must be at least 1"),
+        (
+            vec!["--targets", "--repeats", "0"],
+            "--repeats must be at least 1",
+        ),
         (vec!["--json", "."], "--json .: a folder; name a file"),
         (
             vec!["--targets", "--json", "."],
@@ -533,8 +537,9 @@ fn a_3d_walls_bricks_share_one_topology() {
 
 /// `dda bench --targets` on small walls (10 × 10 compared, 20 × 20 the
 /// largest, 0.05 s simulated): every target has its row (18), written to the
-/// JSON as it goes; the compared wall's verdict follows MuJoCo's time, and
-/// a MuJoCo run of another wall is refused.
+/// JSON as it goes; the compared wall's verdict follows MuJoCo's time; the
+/// timed rows name the runs they are the median of; and a MuJoCo run of
+/// another wall is refused.
 #[test]
 fn targets_report_every_target_with_its_verdict() {
     use dda::bench::targets::{targets, MujocoRun, TargetOptions};
@@ -555,14 +560,26 @@ fn targets_report_every_target_with_its_verdict() {
         steps_2d: 2,
         steps_3d: 1,
         max_wall: 600.0,
+        repeats: 1,
         mujoco: Some(m),
     };
-    // MuJoCo far slower: the compared wall's verdict is its drift's.
-    let report = targets(&options(mujoco(1e6)), Some(&json)).unwrap();
+    // MuJoCo far slower: the compared wall's verdict is its drift's. Each
+    // timed wall run twice, the median (the slower of two) read.
+    let twice = TargetOptions {
+        repeats: 2,
+        ..options(mujoco(1e6))
+    };
+    let report = targets(&twice, Some(&json)).unwrap();
     assert_eq!(report.targets.len(), 18, "{report:#?}");
     let written: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(written["targets"].as_array().unwrap().len(), 18);
+    assert_eq!(written["repeats"], 2);
+    // The 20 × 20 wall's steps (its six rows) and the growth to it (six).
+    let medians = (report.targets.iter())
+        .filter(|t| t.measured.contains("the median of 2 runs"))
+        .count();
+    assert_eq!(medians, 12, "{report:#?}");
     for t in &report.targets {
         assert!(t.met.is_some(), "{t:?}");
         assert!(!t.measured.is_empty());
@@ -575,9 +592,10 @@ fn targets_report_every_target_with_its_verdict() {
             .unwrap();
         assert_eq!(t.met, Some(drift <= 1.8e-4), "{t:?}");
     }
-    // MuJoCo far faster: not met.
+    // MuJoCo far faster: not met. One run each: no median to name.
     let fast = targets(&options(mujoco(1e-9)), None).unwrap();
     assert!(fast.targets[..2].iter().all(|t| t.met == Some(false)));
+    assert!(fast.targets.iter().all(|t| !t.measured.contains("median")));
     let mut other = mujoco(1.0);
     other.courses = 40;
     let refused = targets(&options(other), None).unwrap_err().to_string();

@@ -81,6 +81,8 @@ pub struct BenchRow {
     /// solves that reached the cap, over the timed steps of the median run.
     pub iterations_per_solve: f64,
     pub solver_fallbacks: usize,
+    /// The runs made of this wall, this the median by time per step.
+    pub runs: usize,
 }
 
 /// A run's work per step, and where its time went.
@@ -353,6 +355,7 @@ fn bench_one(
         iterations_per_solve: stats.iterative_iterations as f64
             / stats.iterative_solves.max(1) as f64,
         solver_fallbacks: stats.iterative_fallbacks,
+        runs: runs.len(),
     })
 }
 

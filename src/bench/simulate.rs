@@ -91,6 +91,9 @@ pub struct SimulateRow {
     pub end_drift: f64,
     /// The process's peak resident memory so far, MB (Linux; 0 elsewhere).
     pub peak_memory_mb: f64,
+    /// The runs made of this wall, this the median by wall time per
+    /// simulated second.
+    pub runs: usize,
 }
 
 impl SimulateRow {
@@ -151,8 +154,11 @@ pub fn simulate(options: &SimulateOptions) -> anyhow::Result<Vec<SimulateRow>> {
                         a.seconds_per_simulated_second
                             .total_cmp(&b.seconds_per_simulated_second)
                     });
-                    let k = runs.len() / 2;
-                    rows.push(runs.swap_remove(k));
+                    let (k, made) = (runs.len() / 2, runs.len());
+                    rows.push(SimulateRow {
+                        runs: made,
+                        ..runs.swap_remove(k)
+                    });
                 }
             }
         }
@@ -282,6 +288,7 @@ fn simulate_driver<D: Timed>(
         drift: largest,
         end_drift: drift(driver, &start),
         peak_memory_mb: peak_memory_mb(),
+        runs: 1,
     })
 }
 
@@ -314,6 +321,7 @@ pub(crate) mod tests {
             drift,
             end_drift: drift,
             peak_memory_mb: 80.0,
+            runs: 1,
         }
     }
 }

@@ -55,6 +55,9 @@ pub struct TargetOptions {
     pub steps_3d: usize,
     /// Wall-clock cap per simulated run, s (600).
     pub max_wall: f64,
+    /// Runs of each timed wall, the median run by wall time reported (3):
+    /// this machine's timings wander by a tenth or more from run to run.
+    pub repeats: usize,
     /// MuJoCo's run of the compared wall, if measured.
     pub mujoco: Option<MujocoRun>,
 }
@@ -70,6 +73,7 @@ impl Default for TargetOptions {
             steps_2d: 20,
             steps_3d: 10,
             max_wall: 600.0,
+            repeats: 3,
             mujoco: None,
         }
     }
@@ -113,6 +117,8 @@ pub struct Target {
 pub struct TargetReport {
     pub date: String,
     pub machine: String,
+    /// Runs of each timed wall; each row reads the median run.
+    pub repeats: usize,
     pub targets: Vec<Target>,
 }
 
@@ -206,7 +212,7 @@ fn simulated(
         dimensions: vec![2],
         seconds: options.seconds,
         max_wall: options.max_wall,
-        repeats: 1,
+        repeats: options.repeats,
         progress_every: Some(Duration::from_secs(5)),
         solver: Solver::Direct,
         dts,
@@ -215,12 +221,18 @@ fn simulated(
     })
 }
 
-/// The walls of `sizes`, both kinds, `steps` steps timed at dt 1 ms.
-fn stepped(sizes: Vec<usize>, dimension: u32, steps: usize) -> anyhow::Result<Vec<BenchRow>> {
+/// The walls of `sizes`, both kinds, `steps` steps timed at dt 1 ms,
+/// each the median of `repeats` runs.
+fn stepped(
+    sizes: Vec<usize>,
+    dimension: u32,
+    steps: usize,
+    repeats: usize,
+) -> anyhow::Result<Vec<BenchRow>> {
     bench(&BenchOptions {
         sizes,
         steps,
-        repeats: 1,
+        repeats,
         kinds: KINDS.to_vec(),
         dimensions: vec![dimension],
         solver: Solver::Direct,
@@ -330,7 +342,11 @@ fn largest(
                 target: format!(
                     "{blocks} blocks, {dimension} at dt 1 ms and penalty 1e9, {name}: a step in at most {LARGEST_MS} ms"
                 ),
-                measured: format!("{:.1} ms a step over {steps} steps", r.median_ms_per_step),
+                measured: format!(
+                    "{:.1} ms a step over {steps} steps{}",
+                    r.median_ms_per_step,
+                    of_runs(r.runs)
+                ),
                 met: Some(r.median_ms_per_step <= LARGEST_MS),
             });
         }
@@ -341,8 +357,11 @@ fn largest(
                 "{blocks} blocks, 2D at the automatic step, {name}: a step in at most {LARGEST_MS} ms"
             ),
             measured: format!(
-                "{:.1} ms a step over {:.2} s simulated (dt {:.2e} s)",
-                r.ms_per_step, r.reached, r.dt
+                "{:.1} ms a step over {:.2} s simulated (dt {:.2e} s){}",
+                r.ms_per_step,
+                r.reached,
+                r.dt,
+                of_runs(r.runs)
             ),
             met: Some(r.completed && r.ms_per_step <= LARGEST_MS),
         });
@@ -380,20 +399,28 @@ fn growth(
             row_of(steps_3d, c, kind, steps_key)?,
             row_of(steps_3d, l, kind, steps_key)?,
         );
+        // Each with the runs its two walls' readings are medians of.
         let readings = [
             (
                 "2D at dt 1 ms and penalty 1e9",
                 a.median_ms_per_step,
                 b.median_ms_per_step,
+                a.runs.min(b.runs),
             ),
-            ("2D at the automatic step", q.ms_per_step, r.ms_per_step),
+            (
+                "2D at the automatic step",
+                q.ms_per_step,
+                r.ms_per_step,
+                q.runs.min(r.runs),
+            ),
             (
                 "3D at dt 1 ms and penalty 1e9",
                 u.median_ms_per_step,
                 v.median_ms_per_step,
+                u.runs.min(v.runs),
             ),
         ];
-        for (how, from, to) in readings {
+        for (how, from, to, runs) in readings {
             let p = exponent((a.blocks, from), (b.blocks, to));
             found.push(Target {
                 target: format!(
@@ -402,7 +429,7 @@ fn growth(
                     thousands(a.blocks),
                     thousands(b.blocks)
                 ),
-                measured: format!("N^{p:.2} ({from:.1} → {to:.1} ms a step)"),
+                measured: format!("N^{p:.2} ({from:.1} → {to:.1} ms a step{})", of_runs(runs)),
                 met: Some(p <= EXPONENT),
             });
         }
@@ -428,13 +455,16 @@ pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<T
         report: TargetReport {
             date: humantime::format_rfc3339_seconds(SystemTime::now()).to_string(),
             machine: machine(),
+            repeats: options.repeats,
             targets: Vec::new(),
         },
         json,
     };
     println!(
-        "Speed targets of the walls, measured in one run: {}, {}",
-        out.report.date, out.report.machine
+        "Speed targets of the walls, measured in one run{}: {}, {}",
+        of_runs(options.repeats),
+        out.report.date,
+        out.report.machine
     );
     println!("| target | measured | verdict |\n|---|---|---|");
     let (c, l) = (options.compared, options.largest);
@@ -447,8 +477,8 @@ pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<T
     out.add(against_ntdda(options, &automatic, &at_1ms)?)?;
     out.add(standing(options, &at_1ms)?)?;
     out.add(standing_steps(options)?)?;
-    let steps_2d = stepped(vec![c, l], 2, options.steps_2d)?;
-    let steps_3d = stepped(vec![c, l], 3, options.steps_3d)?;
+    let steps_2d = stepped(vec![c, l], 2, options.steps_2d, options.repeats)?;
+    let steps_3d = stepped(vec![c, l], 3, options.steps_3d, options.repeats)?;
     for found in largest(options, &automatic, &steps_2d, &steps_3d)? {
         out.add(found)?;
     }
@@ -456,6 +486,16 @@ pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<T
         out.add(found)?;
     }
     Ok(out.report)
+}
+
+/// How a timed reading was taken, where more than one run: ", the median
+/// of 3 runs".
+fn of_runs(repeats: usize) -> String {
+    if repeats > 1 {
+        format!(", the median of {repeats} runs")
+    } else {
+        String::new()
+    }
 }
 
 /// `n` with a comma between each three digits.
