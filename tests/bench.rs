@@ -585,12 +585,30 @@ fn targets_report_every_target_with_its_verdict() {
         assert!(!t.measured.is_empty());
     }
     let compared = &report.targets[..2];
-    for t in compared {
+    // Each kind's static settlement, as the wall at rest's row reads it.
+    let at_rest = &report.targets[4].measured;
+    for (t, kind) in compared.iter().zip(["rigid", "deformable"]) {
         let drift: f64 = t.measured.split("drift ").nth(1).unwrap()[..8]
             .trim()
             .parse()
             .unwrap();
         assert_eq!(t.met, Some(drift <= 1.8e-4), "{t:?}");
+        let settled = |text: &str, before: &str| -> String {
+            let after = text.split(before).nth(1);
+            after
+                .and_then(|t| t.get(..8))
+                .unwrap_or("missing")
+                .to_string()
+        };
+        let reading = (at_rest.split("; "))
+            .skip_while(|r| !r.starts_with(kind))
+            .find(|r| r.starts_with("static settlement"))
+            .unwrap_or_default();
+        assert_eq!(
+            settled(&t.measured, "its static settlement "),
+            settled(reading, "static settlement "),
+            "{t:?} against {at_rest}"
+        );
     }
     // MuJoCo far faster: not met. One run each: no median to name.
     let fast = targets(&options(mujoco(1e-9)), None).unwrap();

@@ -81,18 +81,25 @@ fn run(
         .ok_or_else(|| anyhow::anyhow!("no run of the wall at dt {dt} s"))
 }
 
+/// The static settlement of the wall of `courses` courses and `kind`, m:
+/// where two steps of `STATIC_STEP` leave it.
+pub fn static_settlement(courses: usize, max_wall: f64, kind: BlockKind) -> anyhow::Result<f64> {
+    Ok(run((courses, max_wall), kind, STATIC_STEP, 0.0)?.end_drift)
+}
+
 /// The wall of `courses` courses and `kind` at rest, each run `seconds`
-/// long (each stopped after `max_wall` wall-clock seconds): what it read
-/// at the standing steps and the largest step tried that it stands at,
-/// and whether it stands at both standing steps.
+/// long (each stopped after `max_wall` wall-clock seconds), against its
+/// static settlement `settled` (m): what it read at the standing steps
+/// and the largest step tried that it stands at, and whether it stands at
+/// both standing steps.
 pub fn reading(
     courses: usize,
     seconds: f64,
     max_wall: f64,
     kind: BlockKind,
+    settled: f64,
 ) -> anyhow::Result<(String, bool)> {
     let wall = (courses, max_wall);
-    let settled = run(wall, kind, STATIC_STEP, 0.0)?.end_drift;
     let mut stands = true;
     let mut at = Vec::new();
     // The standing steps' runs, which the sweep reads again rather than
