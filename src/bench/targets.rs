@@ -490,9 +490,9 @@ pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<T
     let (c, l) = (options.compared, options.largest);
     let automatic = simulated(options, vec![options.ntdda, c, l], Vec::new())?;
     let settled = settlements(options)?;
-    for (&kind, &settled) in KINDS.iter().zip(&settled) {
+    for (&kind, &at) in KINDS.iter().zip(&settled) {
         let row = row_of(&automatic, c, kind, sim_key)?;
-        out.add(against_mujoco(row, options.mujoco.as_ref(), Some(settled)))?;
+        out.add(against_mujoco(row, options.mujoco.as_ref(), Some(at)))?;
     }
     let at_1ms = simulated(options, vec![options.standing, options.ntdda], vec![1e-3])?;
     out.add(against_ntdda(options, &automatic, &at_1ms)?)?;
