@@ -148,7 +148,10 @@ impl Guards {
                 "at t = {t} s, the total energy rose {:.3e} J above its lowest value although nothing does work on the blocks; the fastest are {}; {}{}",
                 stats.energy_growth,
                 named.join(", "),
-                crate::summary::energy_advice(stats),
+                crate::summary::energy_advice(
+                    stats,
+                    dda_core::error::stiff_penalty(run.penalty(), run.automatic_penalty())
+                ),
                 CONTINUE
             );
         }

@@ -79,6 +79,8 @@ pub trait RunView {
     fn dt(&self) -> f64;
     /// The normal penalty now (after any raises).
     fn penalty(&self) -> f64;
+    /// The model's automatic penalty, whatever the one in use.
+    fn automatic_penalty(&self) -> f64;
     fn statistics(&self) -> &Statistics;
     /// Why automatic values were chosen.
     fn notes(&self) -> &[String];

@@ -20,6 +20,8 @@ pub trait Simulation {
     fn dt(&self) -> f64;
     /// The normal penalty now (after any raises).
     fn penalty(&self) -> f64;
+    /// The model's automatic penalty, whatever the one in use.
+    fn automatic_penalty(&self) -> f64;
     fn statistics(&self) -> &Statistics;
     /// Why automatic values were chosen.
     fn notes(&self) -> &[String];
@@ -72,6 +74,9 @@ macro_rules! delegate {
         }
         fn penalty(&self) -> f64 {
             dda_core::Driver::penalty(self)
+        }
+        fn automatic_penalty(&self) -> f64 {
+            dda_core::Driver::automatic_penalty(self)
         }
         fn statistics(&self) -> &Statistics {
             dda_core::Driver::statistics(self)
@@ -277,6 +282,9 @@ impl<S: Simulation> RunView for S {
     }
     fn penalty(&self) -> f64 {
         Simulation::penalty(self)
+    }
+    fn automatic_penalty(&self) -> f64 {
+        Simulation::automatic_penalty(self)
     }
     fn statistics(&self) -> &Statistics {
         Simulation::statistics(self)

@@ -242,7 +242,8 @@ impl SummaryWriter {
         let driver = run;
         let mut stats = driver.statistics().clone();
         let (mut time, mut penalty) = (driver.time(), driver.penalty());
-        let mut warnings = warnings(&stats);
+        let stiff = dda_core::error::stiff_penalty(penalty, driver.automatic_penalty());
+        let mut warnings = warnings(&stats, stiff);
         // A run that blew up may leave numbers JSON cannot hold (they would be
         // null); their last finite values stand in, said so.
         let known = &self.known;
@@ -352,7 +353,7 @@ impl From<&dda_core::Cycle> for CycleReport {
 }
 
 /// The driver's reports of steps it could not do well.
-fn warnings(stats: &dda_core::Statistics) -> Vec<String> {
+fn warnings(stats: &dda_core::Statistics, stiff: Option<String>) -> Vec<String> {
     let mut out = Vec::new();
     if stats.unconverged_steps > 0 {
         out.push(format!(
@@ -380,7 +381,7 @@ fn warnings(stats: &dda_core::Statistics) -> Vec<String> {
         ));
     }
     if stats.energy_growth_steps > 0 {
-        let advice = energy_advice(stats);
+        let advice = energy_advice(stats, stiff);
         out.push(format!(
             "the total energy rose by up to {:.3e} J in {} steps although nothing did work on the blocks; \
              the method added energy and the results are suspect ({advice})",
@@ -393,7 +394,10 @@ fn warnings(stats: &dda_core::Statistics) -> Vec<String> {
 /// Why the energy rose, from what the run saw: friction itself never adds
 /// energy, so a rise comes from raised penalties, unsolved passes or steps
 /// accepted without agreement.
-pub(crate) fn energy_advice(stats: &dda_core::Statistics) -> String {
+/// `stiff`: the penalty named where it is far above the automatic one
+/// (`dda_core::error::stiff_penalty`), the cause left where the run saw
+/// no other.
+pub(crate) fn energy_advice(stats: &dda_core::Statistics, stiff: Option<String>) -> String {
     let mut causes = Vec::new();
     if stats.penalty_raises > 0 {
         causes.push(format!(
@@ -417,7 +421,14 @@ pub(crate) fn energy_advice(stats: &dda_core::Statistics) -> String {
         );
     }
     if causes.is_empty() {
-        "no cut, raise or unconverged pass explains it; please report the scene".to_string()
+        match stiff {
+            // A spring's energy, half its stiffness times its gap squared,
+            // carries the gap's round-off times that stiffness.
+            Some(stiff) => format!(
+                "{stiff}: a spring's energy carries its gap's round-off times its stiffness, so at that penalty the check can read round-off as a rise; a penalty nearer the automatic one (analysis.penalty left out) keeps it below the check"
+            ),
+            None => "no cut, raise or unconverged pass explains it; please report the scene".to_string(),
+        }
     } else {
         causes.join("; ")
     }

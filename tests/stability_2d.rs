@@ -245,3 +245,58 @@ fn energy_growth_stops_the_run() {
     assert!(error.contains("block 1 ("), "{error}");
     assert!(error.contains("leave raise_penalty off"), "{error}");
 }
+
+/// A penalty 5e19 times the automatic one (1e30 against 2e10 N/m³) leaves
+/// the block's factorisation to round-off: the run stops there, and the
+/// error names the penalty against the automatic one, not zero masses,
+/// which scene validation already refuses.
+#[test]
+fn a_matrix_swamped_by_the_penalty_names_the_penalty() {
+    let (summary, _) = stopped("npd-stop", "penalty: 1e30, dt: 0.001", 0.5, 0.0);
+    let error = summary["error"].as_str().unwrap();
+    assert!(error.contains("not positive definite"), "{error}");
+    assert!(
+        error.contains(
+            "the penalty, 1.000e30 N/m³, is 5.0e19 times the automatic one (2.000e10 N/m³"
+        ),
+        "{error}"
+    );
+    assert!(error.contains("analysis.penalty left out"), "{error}");
+    assert!(!error.contains("zero mass"), "{error}");
+}
+
+/// The block sliding on its incline at the same penalty factorises, but
+/// its energy check reads the springs' round-off as a rise that no cut,
+/// raise or unconverged pass explains: the error names the penalty
+/// instead of asking for the scene to be reported.
+#[test]
+fn an_energy_rise_at_a_swamping_penalty_names_the_penalty() {
+    let text = std::fs::read_to_string(common::example("sliding_block_2d.ron"))
+        .unwrap()
+        .replace("penalty: 2e10", "penalty: 1e30")
+        .replace("duration: 1.0", "duration: 0.01");
+    assert!(text.contains("penalty: 1e30"));
+    let out = common::out_dir("swamped-energy");
+    std::fs::create_dir_all(&out).unwrap();
+    let scene = out.join("scene.ron");
+    std::fs::write(&scene, text).unwrap();
+    let result = Command::new(env!("CARGO_BIN_EXE_dda"))
+        .args([
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr).into_owned();
+    let _ = std::fs::remove_dir_all(&out);
+    assert!(!result.status.success(), "{stderr}");
+    assert!(stderr.contains("the total energy rose"), "{stderr}");
+    assert!(
+        stderr.contains("is 5.0e19 times the automatic one"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("round-off"), "{stderr}");
+    assert!(!stderr.contains("please report the scene"), "{stderr}");
+}

@@ -603,7 +603,31 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             None => rayon::scope(|_| self.try_step(dt_limit)),
         };
         self.stats.wall_time += started.elapsed();
-        result
+        result.map_err(|e| self.with_advice(e))
+    }
+
+    /// The automatic penalty of this model (N/m³), whatever the one in use.
+    pub fn automatic_penalty(&self) -> f64 {
+        self.system.automatic_penalty()
+    }
+
+    /// `e` with the advice this model's settings make right: a failed
+    /// factorisation names a penalty far above the automatic one as its
+    /// cause, since it is the one setting that can swamp the blocks' terms
+    /// (scene validation keeps masses and moduli positive).
+    fn with_advice(&self, e: DdaError) -> DdaError {
+        match e {
+            DdaError::Factorization { detail, advice } => {
+                let advice = crate::error::stiff_penalty(self.penalty, self.automatic_penalty())
+                    .map_or(advice, |stiff| {
+                        format!(
+                            "{stiff}: springs that much stiffer than the blocks leave the factorisation to round-off; a penalty nearer the automatic one (analysis.penalty left out) keeps the matrix positive definite"
+                        )
+                    });
+                DdaError::Factorization { detail, advice }
+            }
+            e => e,
+        }
     }
 
     /// Whether the next step runs on a pool of one thread

@@ -232,7 +232,7 @@ impl LinearSolver for SparseCholesky {
                 ..Default::default()
             },
         )
-        .map_err(|e| DdaError::Factorization(format!("{e:?}")))?;
+        .map_err(|e| DdaError::not_positive_definite(format!("{e:?}")))?;
         let need = symbolic
             .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
             .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
@@ -288,7 +288,7 @@ impl LinearSolver for SparseCholesky {
             numeric
                 .factorize(tree, split, values, &mut self.factor)
                 .map_err(|s| {
-                    DdaError::Factorization(format!("NonPositivePivot in supernode {s}"))
+                    DdaError::not_positive_definite(format!("NonPositivePivot in supernode {s}"))
                 })?;
         } else {
             self.factor.fill(0.0);
@@ -302,7 +302,7 @@ impl LinearSolver for SparseCholesky {
                     MemStack::new(self.scratch.get_mut()),
                     Default::default(),
                 )
-                .map_err(|e| DdaError::Factorization(format!("{e:?}")))?;
+                .map_err(|e| DdaError::not_positive_definite(format!("{e:?}")))?;
         }
         if self.factor.len() >= self.single_from {
             // On both cores: a large factor's copy reads 8 bytes an entry.

@@ -171,7 +171,7 @@ impl LinearSolver for ConjugateGradient {
             let inverse = block
                 .cholesky()
                 .ok_or_else(|| {
-                    DdaError::Factorization(format!(
+                    DdaError::not_positive_definite(format!(
                         "the diagonal block of DOF {start}..{} is not positive definite",
                         start + d
                     ))
