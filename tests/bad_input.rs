@@ -221,6 +221,15 @@ fn nan_and_infinity_are_rejected() {
         "analysis.gravity",
         "is -inf, not a finite number",
     );
+    // Finite, but beyond any gravity a model spins at: a run once
+    // overflowed on it and asked for a smaller step.
+    let text = with("gravity: (0.0, -9.81)", "gravity: (1e300, -9.81)");
+    assert_error(
+        &text,
+        "gravity",
+        "analysis.gravity",
+        "gravity's magnitude 1e300 m/s² is above 1e5",
+    );
     let text = with("force: (0.0, -1e4)", "force: (inf, -1e4)");
     assert_error(&text, "PointLoad", "loads[0].force", "not a finite number");
 }
@@ -290,6 +299,22 @@ fn material_values() {
     );
     let text = with("poisson: 0.25", "poisson: -0.1");
     assert_error(&text, rock, r#"materials["rock"].poisson"#, "[0, 0.5)");
+    // Densities no material has: a run once failed on them with advice
+    // meant for real blocks.
+    let text = with("density: 2700.0", "density: 1e-300");
+    assert_error(
+        &text,
+        rock,
+        r#"materials["rock"].density"#,
+        "the density 1e-300 kg/m³ is below 0.01 kg/m³, lighter than any solid",
+    );
+    let text = with("density: 2700.0", "density: 1e300");
+    assert_error(
+        &text,
+        rock,
+        r#"materials["rock"].density"#,
+        "the density 1e300 kg/m³ is above 1e6 kg/m³, denser than any material",
+    );
 }
 
 #[test]

@@ -62,15 +62,40 @@ pub fn check_elastic(young: f64, poisson: f64) -> Result<(), DdaError> {
     Ok(())
 }
 
+/// The lightest density a material may have, kg/m³: the lightest aerogels
+/// weigh about 0.16.
+pub const LIGHTEST_DENSITY: f64 = 0.01;
+
+/// The densest a material may be, kg/m³: osmium, the densest element, is
+/// 22,590.
+pub const DENSEST_DENSITY: f64 = 1e6;
+
 /// The check of a material's mass density, which the blocks' mass matrices
-/// scale by: finite and positive. Errors name the field `density`.
+/// scale by: finite, and from [`LIGHTEST_DENSITY`] to [`DENSEST_DENSITY`].
+/// Beyond those a run failed with advice meant for real blocks (1e-300
+/// read its springs' round-off as an energy rise and asked for the scene
+/// to be reported; 1e300 overflowed and asked for a smaller step). Errors
+/// name the field `density`.
 pub fn check_density(density: f64) -> Result<(), DdaError> {
     positive(
         "density",
         "the density",
         density,
         "give the mass per unit volume (kg/m³)",
-    )
+    )?;
+    let beyond = if density < LIGHTEST_DENSITY {
+        format!("below {LIGHTEST_DENSITY} kg/m³, lighter than any solid (the lightest aerogels weigh about 0.16)")
+    } else if density > DENSEST_DENSITY {
+        format!("above {DENSEST_DENSITY:e} kg/m³, denser than any material (osmium, the densest, 22,590: a point load adds weight)")
+    } else {
+        return Ok(());
+    };
+    Err(DdaError::Setting {
+        field: "density",
+        message: format!(
+            "the density {density:e} kg/m³ is {beyond}; give it in kg/m³ (rock about 2,700, brick about 1,800)"
+        ),
+    })
 }
 
 #[cfg(test)]
@@ -97,5 +122,12 @@ mod tests {
         assert!(check_density(2700.0).is_ok());
         assert_eq!(field(check_density(0.0)), "density");
         assert_eq!(field(check_density(f64::NAN)), "density");
+        // Its bounds are in, beyond them out.
+        assert!(check_density(LIGHTEST_DENSITY).is_ok());
+        assert!(check_density(DENSEST_DENSITY).is_ok());
+        assert_eq!(field(check_density(1e-300)), "density");
+        assert_eq!(field(check_density(0.009)), "density");
+        assert_eq!(field(check_density(1.1e6)), "density");
+        assert_eq!(field(check_density(1e300)), "density");
     }
 }

@@ -18,6 +18,10 @@ use super::{BlockSpec, Coords, GroundMotionSpec, JointLaw, LawTable, Load, Mater
 use super::{Scene, SceneBlock, SetLaws};
 use super::{SceneError, Source};
 
+/// The strongest gravity a scene may have, m/s²: about 10,000 g, where a
+/// geotechnical centrifuge spins models at a few hundred.
+const STRONGEST_GRAVITY: f64 = 1e5;
+
 type Result<T = ()> = std::result::Result<T, SceneError>;
 
 /// The blocks the ground motion drives, the motion, and a note on a
@@ -148,6 +152,14 @@ impl Scene {
             let g = self.vector::<D>(&at("gravity"), "gravity", g, "g")?;
             let finite = |v: &f64| settings::finite("", "gravity", *v);
             self.core_field(&at("gravity"), g.iter().try_for_each(finite))?;
+            // Beyond it a run overflowed and asked for a smaller step.
+            let magnitude = g.iter().fold(0.0_f64, |m, v| m.hypot(*v));
+            if magnitude > STRONGEST_GRAVITY {
+                return Err(self.error(
+                    &at("gravity"),
+                    format!("gravity's magnitude {magnitude:e} m/s² is above {STRONGEST_GRAVITY:e} (about 10,000 g; a geotechnical centrifuge spins models at a few hundred g); give it in m/s² (the Earth's 9.81)"),
+                ));
+            }
         }
         if D == 3 && self.written(&at("plane")) {
             return Err(self.error(
