@@ -70,7 +70,7 @@ pub enum PolyhedronError {
     #[error("vertex {vertex}: the surface is not manifold there (its faces do not form one fan); make blocks that touch at a corner separate blocks")]
     NonManifoldVertex { vertex: usize },
     #[error(
-        "face {face} has zero area (its corners lie on one line); remove it or correct its corners"
+        "face {face} has zero area against the block's size (its corners lie on one line, or the block is a needle); remove it or correct its corners, or split a long block"
     )]
     DegenerateFace { face: usize },
     #[error("face {face}: vertices {a} and {b} coincide; merge them into one")]
@@ -83,8 +83,10 @@ pub enum PolyhedronError {
     },
     #[error("face {face} is not a simple polygon (two of its edges cross); reorder its corners around the face")]
     SelfIntersectingFace { face: usize },
-    #[error("the polyhedron has zero volume (its corners lie in one plane); give corners that enclose a volume")]
-    ZeroVolume,
+    /// `volume` (m³) at most `VOLUME_EPS` times the cube of `size`, the
+    /// diagonal of the corners' bounds (m): flat, or a needle.
+    #[error("the polyhedron has zero volume against its size ({volume:.3e} m³, at most 1e-12 of the cube of its size, {size:.3e} m corner to corner): its corners lie in one plane, or it is a needle; give corners that enclose a volume, or split a long block")]
+    ZeroVolume { volume: f64, size: f64 },
     /// Refused by [`validate_outward`] only.
     #[error("the faces are listed clockwise seen from outside (the surface faces inward); reverse the order of every face's corners")]
     InsideOut,
@@ -124,7 +126,7 @@ impl PolyhedronError {
             | E::CoincidentVertices { face, .. }
             | E::NonPlanarFace { face, .. }
             | E::SelfIntersectingFace { face } => Fault::Face(face),
-            E::ZeroVolume => Fault::Block,
+            E::ZeroVolume { .. } => Fault::Block,
         }
     }
 }
@@ -678,7 +680,7 @@ pub fn validate(
     }
     let volume = central_moments(vertices, faces).volume;
     if volume.abs() <= VOLUME_EPS * size * size * size {
-        return Err(PolyhedronError::ZeroVolume);
+        return Err(PolyhedronError::ZeroVolume { volume, size });
     }
     let faces: Vec<Vec<usize>> = if volume < 0.0 {
         faces
@@ -1452,7 +1454,23 @@ mod tests {
             Point3::new(0.0, 1.0, 0.0),
         ];
         let tf = tetrahedron().1;
-        assert_eq!(err(&flat, &tf), PolyhedronError::ZeroVolume);
+        assert!(matches!(
+            err(&flat, &tf),
+            PolyhedronError::ZeroVolume { .. }
+        ));
+        // A needle three million times as long as it is wide is refused,
+        // saying so, not that its corners lie in one plane.
+        let (long, sides) = cuboid(
+            Point3::origin(),
+            Vector3::new(3e6, 1.0, 1.0),
+            Rotation3::identity(),
+        );
+        let needle = err(&long, &sides);
+        assert!(
+            matches!(needle, PolyhedronError::ZeroVolume { volume, .. } if (volume - 3e6).abs() < 1e-2),
+            "{needle:?}"
+        );
+        assert!(needle.to_string().contains("or it is a needle"), "{needle}");
         // A box of zero height has zero-area sides.
         let (v0, f0) = cuboid(
             Point3::origin(),
