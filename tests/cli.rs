@@ -172,6 +172,11 @@ fn a_failing_run_keeps_its_history_and_says_why() {
     let stderr = String::from_utf8(result.stderr).unwrap();
     assert!(stderr.contains("error: the run failed at t = "), "{stderr}");
     assert!(stderr.contains("non-finite"), "{stderr}");
+    // An overflow of the load, not a step too long, is what to look for.
+    assert!(
+        stderr.contains("a value of the scene far beyond any physical scale"),
+        "{stderr}"
+    );
 
     // The rows of time 0 were written before the failing step.
     let rows = read_history(out.join("history.csv")).unwrap();

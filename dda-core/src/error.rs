@@ -10,7 +10,7 @@ pub enum DdaError {
     /// where it is far above the automatic one).
     #[error("the system matrix is not positive definite ({detail}); {advice}")]
     Factorization { detail: String, advice: String },
-    #[error("a step produced a non-finite displacement at time {time}: the model is unstable (try a smaller time step or penalty)")]
+    #[error("a step produced a non-finite displacement at time {time}: the model is unstable; a value of the scene far beyond any physical scale (a load, a velocity, a stiffness or a damping near 1e300) overflows a double; else a smaller dt or a softer penalty keeps the springs resolved")]
     NotFinite { time: f64 },
     /// A value outside its range: `field` names it (like `dt`, or
     /// `friction_angle` for a law's parameter), `message` says what to write.
