@@ -135,6 +135,38 @@ fn a_bad_field_path_names_the_file_the_path_and_the_fields_there() {
     );
     assert!(e.contains("bad.ron:3:"), "{e}");
     assert!(e.contains("sweeps"), "{e}");
+
+    // A place copied from a scene's error, brackets and all, is given back
+    // in the dots a study writes: swept, set or searched.
+    for (study_text, dots) in [
+        (
+            "sweep: [(field: \"blocks[1].width\", values: [1.0])], figure: Drift",
+            "`blocks.1.width`",
+        ),
+        (
+            "set: {\"materials[\\\"rock\\\"].density\": 2600.0}, sweep: [(field: \"analysis.dt\", values: [0.01])], figure: Drift",
+            "`materials.rock.density`",
+        ),
+        (
+            "search: Bisect(field: \"blocks[1].width\", low: 0.5, high: 1.5, tolerance: 0.1), figure: Drift",
+            "`blocks.1.width`",
+        ),
+    ] {
+        std::fs::write(
+            &path,
+            format!(
+                "Study(scene: File({:?}), {study_text})",
+                scene.display().to_string()
+            ),
+        )
+        .unwrap();
+        let e = format!(
+            "{:#}",
+            study::run(&path, &options(&dir.join("out"))).unwrap_err()
+        );
+        assert!(e.contains("bad.ron"), "{e}");
+        assert!(e.contains(&format!("a study writes it in dots: {dots}")), "{e}");
+    }
 }
 
 #[test]

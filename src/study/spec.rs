@@ -217,6 +217,20 @@ impl Study {
 
     /// What serde cannot check.
     fn check(&self, origin: &str) -> anyhow::Result<()> {
+        // A place as the scene's errors name it (`blocks[1].width`) is a
+        // path here only in dots; say which.
+        let search = (self.search.as_ref()).map(|Search::Bisect { field, .. }| field);
+        let paths = (self.set.keys())
+            .chain(self.sweep.iter().map(|s| &s.field))
+            .chain(search);
+        for path in paths {
+            if path.contains('[') || path.contains(']') {
+                bail!(
+                    "{origin}: the field `{path}` names its place with brackets, as the scene's errors do; a study writes it in dots: `{}`",
+                    dotted(path)
+                );
+            }
+        }
         for s in &self.sweep {
             if s.values.is_empty() {
                 bail!(
@@ -330,4 +344,13 @@ impl Study {
             SceneSource::Inline(_) => None,
         }
     }
+}
+
+/// `path` written in dots: `blocks[1].width` as `blocks.1.width`,
+/// `materials["rock"].density` as `materials.rock.density`.
+fn dotted(path: &str) -> String {
+    path.replace("[\"", ".")
+        .replace("\"]", "")
+        .replace('[', ".")
+        .replace(']', "")
 }
