@@ -47,6 +47,12 @@ fn run_scene(
 )"#,
         -speed
     );
+    run_text(name, &text)
+}
+
+/// Runs `dda run` on the scene `text` in a folder of its own; returns
+/// (summary.json as JSON, stderr, whether the run succeeded).
+fn run_text(name: &str, text: &str) -> (serde_json::Value, String, bool) {
     let out = common::out_dir(name);
     std::fs::create_dir_all(&out).unwrap();
     let scene = out.join("scene.ron");
@@ -276,22 +282,8 @@ fn an_energy_rise_at_a_swamping_penalty_names_the_penalty() {
         .replace("penalty: 2e10", "penalty: 1e30")
         .replace("duration: 1.0", "duration: 0.01");
     assert!(text.contains("penalty: 1e30"));
-    let out = common::out_dir("swamped-energy");
-    std::fs::create_dir_all(&out).unwrap();
-    let scene = out.join("scene.ron");
-    std::fs::write(&scene, text).unwrap();
-    let result = Command::new(env!("CARGO_BIN_EXE_dda"))
-        .args([
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&result.stderr).into_owned();
-    let _ = std::fs::remove_dir_all(&out);
-    assert!(!result.status.success(), "{stderr}");
+    let (_, stderr, ok) = run_text("swamped-energy", &text);
+    assert!(!ok, "{stderr}");
     assert!(stderr.contains("the total energy rose"), "{stderr}");
     assert!(
         stderr.contains("is 5.0e19 times the automatic one"),

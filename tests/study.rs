@@ -111,18 +111,20 @@ fn a_bad_field_path_names_the_file_the_path_and_the_fields_there() {
     std::fs::create_dir_all(&dir).unwrap();
     let scene = common::example("sliding_block_2d.ron");
     let path = dir.join("bad.ron");
-    std::fs::write(
-        &path,
-        format!(
-            "Study(scene: File({:?}), sweep: [(field: \"analysis.dtt.x\", values: [0.01])], figure: Drift)",
+    // The error of a study of the sliding block whose body, after its
+    // scene, is `body`.
+    let error_of = |body: &str| {
+        let text = format!(
+            "Study(scene: File({:?}), {body})",
             scene.display().to_string()
-        ),
-    )
-    .unwrap();
-    let e = format!(
-        "{:#}",
-        study::run(&path, &options(&dir.join("out"))).unwrap_err()
-    );
+        );
+        std::fs::write(&path, text).unwrap();
+        format!(
+            "{:#}",
+            study::run(&path, &options(&dir.join("out"))).unwrap_err()
+        )
+    };
+    let e = error_of("sweep: [(field: \"analysis.dtt.x\", values: [0.01])], figure: Drift");
     assert!(e.contains("bad.ron"), "{e}");
     assert!(e.contains("analysis.dtt"), "{e}");
     assert!(e.contains("duration, mode, velocity_ratio"), "{e}");
@@ -138,7 +140,7 @@ fn a_bad_field_path_names_the_file_the_path_and_the_fields_there() {
 
     // A place copied from a scene's error, brackets and all, is given back
     // in the dots a study writes: swept, set or searched.
-    for (study_text, dots) in [
+    for (body, dots) in [
         (
             "sweep: [(field: \"blocks[1].width\", values: [1.0])], figure: Drift",
             "`blocks.1.width`",
@@ -152,18 +154,7 @@ fn a_bad_field_path_names_the_file_the_path_and_the_fields_there() {
             "`blocks.1.width`",
         ),
     ] {
-        std::fs::write(
-            &path,
-            format!(
-                "Study(scene: File({:?}), {study_text})",
-                scene.display().to_string()
-            ),
-        )
-        .unwrap();
-        let e = format!(
-            "{:#}",
-            study::run(&path, &options(&dir.join("out"))).unwrap_err()
-        );
+        let e = error_of(body);
         assert!(e.contains("bad.ron"), "{e}");
         assert!(e.contains(&format!("a study writes it in dots: {dots}")), "{e}");
     }
