@@ -55,7 +55,7 @@ pub enum ExtrudeError {
     /// The 2D scene itself is invalid.
     #[error(transparent)]
     Scene(#[from] SceneError),
-    #[error("the depth must be a positive length in m, got {0}")]
+    #[error("the depth must be a positive length in m, got {}", crate::output::plain_number(*.0))]
     Depth(f64),
     #[error("{0} is already a 3D scene (dimension: 3); extrude takes a 2D scene")]
     NotTwoD(String),
@@ -85,7 +85,8 @@ pub fn extrude_with(scene: &Scene, how: &Extrusion) -> Result<Scene, ExtrudeErro
     scene.validate()?;
     let blocks = scene.expanded_blocks();
     let mut out = scene.clone();
-    out.derive_origin(format!("{} (extruded {depth} m)", scene.origin()));
+    let shown = crate::output::plain_number(depth);
+    out.derive_origin(format!("{} (extruded {shown} m)", scene.origin()));
     out.dimension = 3;
 
     let g = scene.gravity();

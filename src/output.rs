@@ -415,6 +415,16 @@ pub fn read_points(path: impl AsRef<Path>) -> anyhow::Result<Vec<PointRow>> {
         .collect())
 }
 
+/// A number as a person writes it: plainly from 1e-3 to 1e5 (and 0), with
+/// an exponent beyond (1e300 is "1e300", not 301 digits).
+pub fn plain_number(x: f64) -> String {
+    if x != 0.0 && !(1e-3..1e5).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 /// A time as written: a sum of steps within two units of round-off of a
 /// 15-digit decimal is written as that decimal, so 2000 steps of 0.001 s
 /// read 2, not 1.9999999999999998; any other time (a duration of 2π, a
@@ -555,6 +565,20 @@ mod tests {
         assert_eq!(round_time(std::f64::consts::TAU), std::f64::consts::TAU);
         assert_eq!(round_time(0.0), 0.0);
         assert!(round_time(f64::NAN).is_nan());
+    }
+
+    /// Plain within [1e-3, 1e5), and 0; an exponent beyond, never 301
+    /// digits.
+    #[test]
+    fn plain_numbers_are_short() {
+        use super::plain_number;
+        assert_eq!(plain_number(0.25), "0.25");
+        assert_eq!(plain_number(1.0), "1");
+        assert_eq!(plain_number(0.0), "0");
+        assert_eq!(plain_number(0.001), "0.001");
+        assert_eq!(plain_number(1e5), "1e5");
+        assert_eq!(plain_number(1e300), "1e300");
+        assert_eq!(plain_number(-1e-300), "-1e-300");
     }
 
     #[test]

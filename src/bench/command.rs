@@ -142,7 +142,10 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
             })?;
             print_simulate(&rows, repeats);
             let (points, json) = fitted("simulate", &rows, SimulateRow::point)?;
-            let title = format!("Walls, {seconds} s simulated: mean time per step");
+            let title = format!(
+                "Walls, {} s simulated: mean time per step",
+                crate::output::plain_number(seconds)
+            );
             (points, json, title)
         }
         None => {

@@ -3,6 +3,7 @@
 use super::scaling::{series_name, Fit};
 use super::simulate::SimulateRow;
 use super::{BenchRow, PerStep, SHAKE_FREQUENCY};
+use crate::output::plain_number;
 use crate::scene::BlockKind;
 
 /// The step-timing table, then where each step's time goes.
@@ -105,7 +106,8 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
         "automatic dt and penalty"
     };
     println!(
-        "running-bond walls of n × n bricks, {seconds} s simulated with {stepping}, median of {}",
+        "running-bond walls of n × n bricks, {} s simulated with {stepping}, median of {}",
+        plain_number(seconds),
         runs(repeats)
     );
     if let Some(a) = rows.first().and_then(|r| r.shake) {
@@ -169,7 +171,7 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
             "the {n} × {n} {} wall stopped at the wall-clock cap, at t = {:.4} of {} s",
             series_name(r.dimension, r.kind),
             r.reached,
-            r.seconds,
+            plain_number(r.seconds),
             n = r.courses,
         );
     }

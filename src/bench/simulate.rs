@@ -15,6 +15,7 @@ use super::{
     centroids, check_walls, drift, peak_memory_mb, scaling, shake, wall, PerStep, Stepping, Timed,
 };
 use crate::observe::Observer;
+use crate::output::plain_number;
 use crate::scene::{AnyModel, BlockKind};
 use crate::step_log::StepsWriter;
 
@@ -241,7 +242,7 @@ fn simulate_driver<D: Timed>(
                 eprintln!(
                     "{what}: t = {:.4} of {} s, {} steps, {:.1} s of wall time",
                     d.time(),
-                    options.seconds,
+                    plain_number(options.seconds),
                     d.statistics().steps,
                     (now - started).as_secs_f64()
                 );
@@ -263,7 +264,8 @@ fn simulate_driver<D: Timed>(
     if !completed {
         eprintln!(
             "{what}: stopped at the wall-clock cap of {} s, at t = {reached:.4} of {} s",
-            options.max_wall, options.seconds
+            plain_number(options.max_wall),
+            plain_number(options.seconds)
         );
     }
     Ok(SimulateRow {

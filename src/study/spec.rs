@@ -73,8 +73,7 @@ impl Value {
     /// As written in study.csv and folder names.
     pub fn label(&self) -> String {
         match self {
-            Value::Number(x) if *x != 0.0 && !(1e-3..1e5).contains(&x.abs()) => format!("{x:e}"),
-            Value::Number(x) => format!("{x}"),
+            Value::Number(x) => crate::output::plain_number(*x),
             Value::Text(s) => s.clone(),
         }
     }
