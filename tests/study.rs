@@ -138,26 +138,36 @@ fn a_bad_field_path_names_the_file_the_path_and_the_fields_there() {
     assert!(e.contains("bad.ron:3:"), "{e}");
     assert!(e.contains("sweeps"), "{e}");
 
-    // A place copied from a scene's error, brackets and all, is given back
-    // in the dots a study writes: swept, set or searched.
-    for (body, dots) in [
-        (
-            "sweep: [(field: \"blocks[1].width\", values: [1.0])], figure: Drift",
-            "`blocks.1.width`",
-        ),
-        (
-            "set: {\"materials[\\\"rock\\\"].density\": 2600.0}, sweep: [(field: \"analysis.dt\", values: [0.01])], figure: Drift",
-            "`materials.rock.density`",
-        ),
-        (
-            "search: Bisect(field: \"blocks[1].width\", low: 0.5, high: 1.5, tolerance: 0.1), figure: Drift",
-            "`blocks.1.width`",
-        ),
-    ] {
-        let e = error_of(body);
-        assert!(e.contains("bad.ron"), "{e}");
-        assert!(e.contains(&format!("a study writes it in dots: {dots}")), "{e}");
-    }
+    // A place copied from a scene's error, brackets and all, is the field
+    // its dots name, wherever a study names a path.
+    let study = dda::study::spec::Study::parse(
+        r#"Study(
+            scene: File("x.ron"),
+            set: {"materials[\"rock\"].density": 2600.0},
+            sweep: [
+                (field: "blocks[1].width", values: [1.0]),
+                (field: "analysis.dt", values: [0.01]),
+            ],
+            figure: Drift,
+            reference: Finest("blocks[1].width"),
+            charts: [FigureAgainst(x: "blocks[1].width", series: "analysis.dt")],
+        )"#,
+        "brackets.ron",
+    )
+    .unwrap();
+    assert_eq!(study.fields(), ["blocks.1.width", "analysis.dt"]);
+    assert!(
+        study.set.contains_key("materials.rock.density"),
+        "{:?}",
+        study.set
+    );
+    assert!(
+        matches!(&study.reference, Some(dda::study::spec::Reference::Finest(f)) if f == "blocks.1.width")
+    );
+    assert!(matches!(
+        &study.charts[..],
+        [dda::study::spec::Chart::FigureAgainst { x, .. }] if x == "blocks.1.width"
+    ));
 }
 
 #[test]

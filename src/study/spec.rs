@@ -202,7 +202,7 @@ impl Study {
     pub fn parse(text: &str, origin: &str) -> anyhow::Result<Study> {
         let options = ron::Options::default()
             .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
-        let study: Study = options.from_str(text).map_err(|e| {
+        let mut study: Study = options.from_str(text).map_err(|e| {
             anyhow::anyhow!(
                 "{origin}:{}:{}: {}",
                 e.span.start.line,
@@ -210,26 +210,46 @@ impl Study {
                 e.code
             )
         })?;
+        study.dot_paths();
         study.check(origin)?;
         Ok(study)
     }
 
-    /// What serde cannot check.
-    fn check(&self, origin: &str) -> anyhow::Result<()> {
-        // A place as the scene's errors name it (`blocks[1].width`) is a
-        // path here only in dots; say which.
-        let search = (self.search.as_ref()).map(|Search::Bisect { field, .. }| field);
-        let paths = (self.set.keys())
-            .chain(self.sweep.iter().map(|s| &s.field))
-            .chain(search);
-        for path in paths {
-            if path.contains('[') || path.contains(']') {
-                bail!(
-                    "{origin}: the field `{path}` names its place with brackets, as the scene's errors do; a study writes it in dots: `{}`",
-                    dotted(path)
-                );
+    /// Every path written in dots: a place as the scene's errors name it
+    /// (`blocks[1].width`, `materials["rock"].density`) is the same field
+    /// as `blocks.1.width` and `materials.rock.density`, as in the Python
+    /// package's `Scene`, so study.csv, run folders and charts name it one
+    /// way.
+    fn dot_paths(&mut self) {
+        self.set = std::mem::take(&mut self.set)
+            .into_iter()
+            .map(|(k, v)| (dotted(&k), v))
+            .collect();
+        let mut paths: Vec<&mut String> = self.sweep.iter_mut().map(|s| &mut s.field).collect();
+        if let Some(Search::Bisect { field, .. }) = &mut self.search {
+            paths.push(field);
+        }
+        if let Some(Reference::Finest(f)) = &mut self.reference {
+            paths.push(f);
+        }
+        for c in &mut self.charts {
+            match c {
+                Chart::ErrorVsTime { series } => paths.extend(series.as_mut()),
+                Chart::StabilityMap { x, y, .. } => paths.extend([x, y]),
+                Chart::Bars { by } => paths.push(by),
+                Chart::FigureAgainst { x, series } => {
+                    paths.push(x);
+                    paths.extend(series.as_mut());
+                }
             }
         }
+        for path in paths {
+            *path = dotted(path);
+        }
+    }
+
+    /// What serde cannot check.
+    fn check(&self, origin: &str) -> anyhow::Result<()> {
         for s in &self.sweep {
             if s.values.is_empty() {
                 bail!(
