@@ -67,9 +67,12 @@ pub fn to_tree<T: Serialize>(value: &T) -> Node {
         .expect("building a tree never fails")
 }
 
-/// `blocks[1].angle` and `blocks.1.angle` alike.
+/// `blocks[1].angle` and `blocks.1.angle` alike, and a key as the
+/// scene's errors name it: `materials["rock"].density`.
 fn segments(path: &str) -> Vec<String> {
-    path.replace('[', ".")
+    path.replace("[\"", ".")
+        .replace("\"]", "")
+        .replace('[', ".")
         .replace(']', "")
         .split('.')
         .filter(|s| !s.is_empty())

@@ -72,7 +72,7 @@ def test_scene_fields_read_and_change_by_path(tmp_path):
     assert scene["analysis.dt"] == pytest.approx(1e-3)
     assert scene["default_joint.friction_angle"] == 20.0
     assert scene["blocks.1.angle"] == scene["blocks[1].angle"] == 30.0
-    assert scene["materials.rock.density"] == 2700.0
+    assert scene["materials.rock.density"] == scene['materials["rock"].density'] == 2700.0
     with pytest.raises(KeyError, match="dtt"):
         scene["analysis.dtt"]
 
