@@ -77,8 +77,9 @@ impl Guards {
             .collect();
         if !blown.is_empty() {
             bail!(
-                "at t = {t} s, {} a non-finite position or velocity: the model is unstable; a value of the scene far beyond any physical scale (a load, a velocity, a stiffness or a damping near 1e300) overflows a double; else a smaller dt or a softer penalty keeps the springs resolved",
-                blocks(&blown, "has", "have")
+                "at t = {t} s, {} a non-finite position or velocity: the model is unstable; {}",
+                blocks(&blown, "has", "have"),
+                dda_core::error::OVERFLOW_ADVICE
             );
         }
         let stats = run.statistics();

@@ -629,7 +629,8 @@ fn output(run: &dyn RunView, observers: &mut [&mut dyn Observer]) -> anyhow::Res
     for i in 0..run.block_count() {
         if !run.is_finite(i) {
             bail!(
-                "block {i} has a non-finite position or velocity: the model is unstable; a value of the scene far beyond any physical scale (a load, a velocity, a stiffness or a damping near 1e300) overflows a double; else a smaller dt or a softer penalty keeps the springs resolved"
+                "block {i} has a non-finite position or velocity: the model is unstable; {}",
+                dda_core::error::OVERFLOW_ADVICE
             );
         }
     }

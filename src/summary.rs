@@ -242,7 +242,11 @@ impl SummaryWriter {
         let driver = run;
         let mut stats = driver.statistics().clone();
         let (mut time, mut penalty) = (driver.time(), driver.penalty());
-        let stiff = dda_core::error::stiff_penalty(penalty, driver.automatic_penalty());
+        // The automatic penalty sorts the blocks' sizes: read only where
+        // an energy rise needs its advice.
+        let stiff = (stats.energy_growth_steps > 0)
+            .then(|| dda_core::error::stiff_penalty(penalty, driver.automatic_penalty()))
+            .flatten();
         let mut warnings = warnings(&stats, stiff);
         // A run that blew up may leave numbers JSON cannot hold (they would be
         // null); their last finite values stand in, said so.

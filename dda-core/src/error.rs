@@ -10,7 +10,10 @@ pub enum DdaError {
     /// where it is far above the automatic one).
     #[error("the system matrix is not positive definite ({detail}); {advice}")]
     Factorization { detail: String, advice: String },
-    #[error("a step produced a non-finite displacement at time {time}: the model is unstable; a value of the scene far beyond any physical scale (a load, a velocity, a stiffness or a damping near 1e300) overflows a double; else a smaller dt or a softer penalty keeps the springs resolved")]
+    #[error(
+        "a step produced a non-finite displacement at time {time}: the model is unstable; {}",
+        OVERFLOW_ADVICE
+    )]
     NotFinite { time: f64 },
     /// A value outside its range: `field` names it (like `dt`, or
     /// `friction_angle` for a law's parameter), `message` says what to write.
@@ -33,6 +36,10 @@ pub enum DdaError {
     #[error("{0}")]
     Checkpoint(String),
 }
+
+/// What to check where a run's numbers stop being finite: the implicit
+/// step is stable at any dt, so it is first an input out of all scale.
+pub const OVERFLOW_ADVICE: &str = "a value of the scene far beyond any physical scale (a load, a velocity, a stiffness or a damping near 1e300) overflows a double; else a smaller dt or a softer penalty keeps the springs resolved";
 
 /// A penalty at least this many times the automatic one is named as the
 /// likely cause of a failed factorisation or an unexplained rise of the

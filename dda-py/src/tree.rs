@@ -70,10 +70,7 @@ pub fn to_tree<T: Serialize>(value: &T) -> Node {
 /// `blocks[1].angle` and `blocks.1.angle` alike, and a key as the
 /// scene's errors name it: `materials["rock"].density`.
 fn segments(path: &str) -> Vec<String> {
-    path.replace("[\"", ".")
-        .replace("\"]", "")
-        .replace('[', ".")
-        .replace(']', "")
+    dda::scene::dotted_path(path)
         .split('.')
         .filter(|s| !s.is_empty())
         .map(str::to_string)

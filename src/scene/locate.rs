@@ -10,6 +10,18 @@ use std::fmt;
 use serde::de::{self, DeserializeSeed, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use serde::Deserializer;
 
+/// A place as errors name it, written in dots: `blocks[1].width` as
+/// `blocks.1.width`, `materials["rock"].density` as
+/// `materials.rock.density`; a dotted path stays as it is. Studies and the
+/// Python package read a path through it, so either way names one field.
+pub fn dotted_path(place: &str) -> String {
+    place
+        .replace("[\"", ".")
+        .replace("\"]", "")
+        .replace('[', ".")
+        .replace(']', "")
+}
+
 /// One step of a path into the scene.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Seg {

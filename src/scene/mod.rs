@@ -35,6 +35,7 @@ pub use analysis::{Analysis, Damping, Mode};
 pub use build::{AnyModel, LawTable, Model, Model3};
 use dimension::SceneElement;
 pub use error::SceneError;
+pub use locate::dotted_path;
 
 /// One experiment. Field order and names are the file format.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -9,6 +9,7 @@ use anyhow::{bail, Context};
 use serde::{Deserialize, Serialize};
 
 use super::figure::Figure;
+use crate::scene::dotted_path;
 
 /// One study. Field order and names are the file format.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -223,7 +224,7 @@ impl Study {
     fn dot_paths(&mut self) {
         self.set = std::mem::take(&mut self.set)
             .into_iter()
-            .map(|(k, v)| (dotted(&k), v))
+            .map(|(k, v)| (dotted_path(&k), v))
             .collect();
         let mut paths: Vec<&mut String> = self.sweep.iter_mut().map(|s| &mut s.field).collect();
         if let Some(Search::Bisect { field, .. }) = &mut self.search {
@@ -244,7 +245,7 @@ impl Study {
             }
         }
         for path in paths {
-            *path = dotted(path);
+            *path = dotted_path(path);
         }
     }
 
@@ -363,13 +364,4 @@ impl Study {
             SceneSource::Inline(_) => None,
         }
     }
-}
-
-/// `path` written in dots: `blocks[1].width` as `blocks.1.width`,
-/// `materials["rock"].density` as `materials.rock.density`.
-fn dotted(path: &str) -> String {
-    path.replace("[\"", ".")
-        .replace("\"]", "")
-        .replace('[', ".")
-        .replace(']', "")
 }
