@@ -7,7 +7,8 @@
 //! The file is written beside and renamed over the last one, so a run
 //! killed while writing it resumes from the one before. It names the crate
 //! version and a digest of the scene; another version's checkpoint, or one
-//! of a scene changed since, is refused.
+//! of a scene changed since, is refused. It ends with a digest of itself,
+//! so a byte changed on disk is refused rather than resumed from.
 
 use std::path::{Path, PathBuf};
 
@@ -67,10 +68,14 @@ pub fn scene_path(scene: &Scene) -> String {
 }
 
 impl Checkpoint {
-    /// Writes `dir/checkpoint.bin` whole or not at all.
+    /// Writes `dir/checkpoint.bin` whole or not at all: the magic line,
+    /// the encoded checkpoint, then the encoding's digest (8 bytes, little
+    /// endian).
     pub fn write(&self, dir: &Path) -> anyhow::Result<()> {
+        let body = postcard::to_stdvec(self).context("cannot encode the checkpoint")?;
         let mut bytes = MAGIC.to_vec();
-        bytes.extend(postcard::to_stdvec(self).context("cannot encode the checkpoint")?);
+        bytes.extend(&body);
+        bytes.extend(digest(&body).to_le_bytes());
         write_atomically(&dir.join(FILE), &bytes)
     }
 
@@ -96,6 +101,15 @@ impl Checkpoint {
                 path.display()
             );
         }
+        // A byte changed since it was written (the version, read above,
+        // still names the release to resume with).
+        let sum = body.len().checked_sub(8).map(|at| body.split_at(at));
+        let Some((body, _)) = sum.filter(|(b, s)| digest(b).to_le_bytes() == **s) else {
+            bail!(
+                "{} is damaged or was written by another build of dda {ours} (its digest does not match its contents); run the scene again",
+                path.display()
+            );
+        };
         // A build of the same version whose saved state changed shape
         // reads it no better than a damaged file.
         postcard::from_bytes(body).map_err(|e| {

@@ -215,6 +215,20 @@ fn a_torn_checkpoint_leaves_the_previous_one() {
     // Another build of the same version whose saved state changed shape
     // fails the same way, and the message says so.
     assert!(stderr.contains("another build of dda"), "{stderr}");
+
+    // One byte changed anywhere (the last of the driver's state, a
+    // velocity's, once resumed from without a word) is refused too.
+    for at in [good.len() - 9, good.len() / 2, good.len() - 1] {
+        let mut changed = good.clone();
+        changed[at] ^= 0x01;
+        std::fs::write(out.join("checkpoint.bin"), &changed).unwrap();
+        let stderr = refused(&["run", "--resume", out.to_str().unwrap()]);
+        assert!(
+            stderr.contains("checkpoint.bin is damaged")
+                && stderr.contains("digest does not match"),
+            "byte {at}: {stderr}"
+        );
+    }
 }
 
 /// A checkpoint of another version, or of a scene changed since, is
