@@ -116,6 +116,9 @@ enum Command {
             allow_negative_numbers = true
         )]
         shake: Option<f64>,
+        /// With --simulate: settle each wall at rest under its weight before its timed run (static steps that take no time, as a scene's analysis.settle), so the run starts from its static settlement; the settling's wall time is reported apart
+        #[arg(long, requires = "simulate")]
+        settle: bool,
         /// With --simulate: write each run's steps.csv into this folder (a row per step: its length, passes, moves, factorisations, cuts, wall time and its phases), named after its wall, as 40x40_deformable_2d.csv; dda plot FILE charts one
         #[arg(long, value_name = "DIR", requires = "simulate")]
         step_log: Option<PathBuf>,
@@ -437,6 +440,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
             max_wall,
             dt,
             shake,
+            settle,
             step_log,
             chart,
             json,
@@ -463,6 +467,7 @@ fn execute(command: Command, registry: &LawRegistry) -> anyhow::Result<()> {
                 max_wall,
                 dts: dt,
                 shake,
+                settle,
                 step_log,
                 chart,
                 json,

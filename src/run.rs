@@ -15,7 +15,7 @@ use crate::progress::Progress;
 use crate::scene::{AnyModel, Model, Scene};
 use crate::simulation::Simulation;
 use crate::step_log::StepsWriter;
-use crate::summary::SummaryWriter;
+use crate::summary::{SettleReport, SummaryWriter};
 pub use crate::summary::{Status, Summary};
 use crate::vtk::VtkWriter;
 
@@ -451,6 +451,28 @@ pub fn run_model_observed<S: Simulation>(
             return Err(e);
         }
     };
+    // A resumed run was settled when it started.
+    if let (Some(settle), None) = (&scene.analysis.settle, &resumed) {
+        match model.driver.settle(settle.steps) {
+            Ok(settling) => {
+                let report = SettleReport::from(&settling);
+                if !options.quiet && report.settled {
+                    eprintln!(
+                        "settled before the run in {} static steps ({:.2} s of wall time)",
+                        report.steps, report.wall_time
+                    );
+                }
+                summary.settling = Some(report);
+            }
+            Err(e) => {
+                let e = anyhow::Error::new(e).context(
+                    "the model failed to settle before the run (analysis.settle); no step of the run was taken",
+                );
+                let _ = summary.on_finish(&model.driver, Some(&e));
+                return Err(e);
+            }
+        }
+    }
     if options.notes {
         for note in model.all_notes() {
             eprintln!("note: {note}");

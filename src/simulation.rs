@@ -4,7 +4,7 @@
 
 use dda_2d::Driver2d;
 use dda_3d::Driver3d;
-use dda_core::{ContactKey, DdaError, Statistics};
+use dda_core::{ContactKey, DdaError, Settling, Statistics};
 
 use crate::observe::{BlockShape, ContactLine, PointLine, RunView};
 
@@ -62,6 +62,10 @@ pub trait Simulation {
     fn save(&self) -> Result<Vec<u8>, DdaError>;
     /// Back to a state [`Simulation::save`] gave.
     fn restore(&mut self, bytes: &[u8]) -> Result<(), DdaError>;
+    /// Brings the model to rest under its loads now in at most
+    /// `most_steps` static steps ([`dda_core::Driver::settle`]); the
+    /// measured points' displacements then start from there.
+    fn settle(&mut self, most_steps: usize) -> Result<Settling, DdaError>;
 }
 
 macro_rules! delegate {
@@ -138,6 +142,13 @@ macro_rules! delegate {
         }
         fn restore(&mut self, bytes: &[u8]) -> Result<(), DdaError> {
             dda_core::Driver::restore(self, bytes)
+        }
+        fn settle(&mut self, most_steps: usize) -> Result<Settling, DdaError> {
+            let settling = dda_core::Driver::settle(self, most_steps)?;
+            for m in &mut self.system.measured {
+                m.start = m.point;
+            }
+            Ok(settling)
         }
         fn is_finite(&self, block: usize) -> bool {
             let c = self.system.blocks[block].centroid();

@@ -122,9 +122,63 @@ pub struct Summary {
     pub phases: BTreeMap<String, f64>,
     /// Why automatic values were chosen.
     pub notes: Vec<String>,
+    /// The settling before the run (`analysis.settle`), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub settling: Option<SettleReport>,
     /// The files written in the output directory, this one included.
     #[serde(default)]
     pub outputs: Vec<String>,
+}
+
+/// What the settling before the run did (`analysis.settle`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SettleReport {
+    /// Static steps taken.
+    pub steps: usize,
+    /// Whether its last step, whole, moved no more than
+    /// [`dda_core::driver::SETTLED_SHARE`] of its largest, out of balance
+    /// by no more than [`dda_core::driver::SETTLED_BALANCE`].
+    pub settled: bool,
+    /// The largest point displacement of a step, and of the last, m.
+    pub largest_step: f64,
+    pub last_step: f64,
+    /// The last step's residual over the loads the first started out of
+    /// balance by (settled at most [`dda_core::driver::SETTLED_BALANCE`]).
+    pub balance: f64,
+    /// Open-close passes and factorisations of its steps.
+    pub open_close_iterations: usize,
+    pub factorizations: usize,
+    /// Wall-clock seconds, which `wall_time` includes.
+    pub wall_time: f64,
+}
+
+impl From<&dda_core::Settling> for SettleReport {
+    fn from(s: &dda_core::Settling) -> Self {
+        Self {
+            steps: s.steps,
+            settled: s.settled,
+            largest_step: s.largest_step,
+            last_step: s.last_step,
+            balance: s.balance,
+            open_close_iterations: s.statistics.open_close_iterations,
+            factorizations: s.statistics.factorizations,
+            wall_time: s.wall_time.as_secs_f64(),
+        }
+    }
+}
+
+impl SettleReport {
+    /// The warning of a settling that did not settle, if it did not.
+    pub fn warning(&self) -> Option<String> {
+        (!self.settled).then(|| {
+            format!(
+                "the model did not settle in {} static steps (analysis.settle): each step still moved it (the last {:.3e} m, the largest {:.3e} m) or ended out of balance; a model that stands settles in a few, so this one may not stand under its loads at t = 0 (a block sliding or toppling: look at the first frame). The run starts where the steps left the blocks",
+                self.steps,
+                self.last_step,
+                self.largest_step
+            )
+        })
+    }
 }
 
 impl Summary {
@@ -168,6 +222,8 @@ pub struct SummaryWriter {
     known: Known,
     /// What was written, once the run has finished.
     pub summary: Option<Summary>,
+    /// The settling before the run, if any.
+    pub settling: Option<SettleReport>,
 }
 
 impl SummaryWriter {
@@ -194,6 +250,7 @@ impl SummaryWriter {
             print_warnings: true,
             known: Known::default(),
             summary: None,
+            settling: None,
         }
     }
 }
@@ -248,6 +305,7 @@ impl SummaryWriter {
             .then(|| dda_core::error::stiff_penalty(penalty, driver.automatic_penalty()))
             .flatten();
         let mut warnings = warnings(&stats, stiff);
+        warnings.extend(self.settling.as_ref().and_then(SettleReport::warning));
         // A run that blew up may leave numbers JSON cannot hold (they would be
         // null); their last finite values stand in, said so.
         let known = &self.known;
@@ -324,6 +382,7 @@ impl SummaryWriter {
                 .map(|(name, time)| (name.to_string(), time.as_secs_f64()))
                 .collect(),
             notes: driver.notes().iter().chain(&self.notes).cloned().collect(),
+            settling: self.settling.clone(),
             outputs: self.outputs.clone(),
         }
     }

@@ -32,6 +32,7 @@ use crate::system::{BlockMatrix, BlockSystem};
 use crate::{BLOCKS_PER_TASK, CONTACTS_PER_TASK};
 use chosen::Chosen;
 use predict::RecentSteps;
+pub use settle::{Settling, SETTLED_BALANCE, SETTLED_SHARE, SETTLE_STEP};
 use terms::{ContactLoad, ContactTerms, Decision, Kept};
 use touching::Touching;
 
@@ -47,6 +48,7 @@ mod impact;
 mod pass;
 mod pattern;
 mod predict;
+mod settle;
 mod springs;
 mod step_motion;
 mod terms;
@@ -149,6 +151,12 @@ struct Trial<const T: usize> {
     /// The residual at the step's start (its first pass's first), N: the
     /// scale every pass's residual is measured against.
     load_scale: f64,
+    /// The first pass's first residual and the last one reckoned, N:
+    /// how far from balance the step starts and ends (`settle.rs` reads
+    /// them; a later pass's first residual can raise `load_scale` far
+    /// above the first where the pass before it moved far).
+    rest_norm: f64,
+    end_norm: f64,
     /// Contacts started in their foreseen state, until a pass turns one
     /// back.
     foreseen: Vec<usize>,
@@ -170,6 +178,13 @@ enum Motion<'a> {
     /// start velocities make in dt.
     Explicit(&'a [f64]),
 }
+
+/// The note on a model run without contact damping.
+const UNDAMPED_NOTE: &str = "contact damping is off (Shi's undamped penalty springs): a block landing on, or released onto, its contacts bounces on them, and near its friction limit (a factor of safety below about 1.1) the bounces can start a slide of millimetres to metres; analysis.contact_damping: 1.0 ends impacts and holds such blocks (docs/limits.md)";
+
+/// [`UNDAMPED_NOTE`] once the model has settled: nothing is released onto
+/// its contacts any more.
+const UNDAMPED_SETTLED_NOTE: &str = "contact damping is off (Shi's undamped penalty springs): the model starts settled on its contacts, but a block that lands on them in the run bounces, and near its friction limit (a factor of safety below about 1.1) the bounces can start a slide of millimetres to metres; analysis.contact_damping: 1.0 ends impacts and holds such blocks (docs/limits.md)";
 
 /// Runs a [`BlockSystem`] in time.
 pub struct Driver<S: BlockSystem<N, T>, const N: usize, const T: usize> {
@@ -275,6 +290,12 @@ pub struct Driver<S: BlockSystem<N, T>, const N: usize, const T: usize> {
     /// follows the blocks' motion (see [`AUTO_MOTION_SHARE`]).
     dt_cap: Option<f64>,
     time: f64,
+    /// Whether the model is settling (`settle.rs`): its steps take no
+    /// time, and read the loads and supports where the run starts.
+    settling: bool,
+    /// The last accepted step's residual at its start and at its end, N
+    /// (`Trial::rest_norm`, `Trial::end_norm`).
+    residuals: (f64, f64),
     /// What rounding left out of `time` (a compensated sum, so thousands of
     /// steps of 0.001 s add up to 2 s, not 1.9999999999998905).
     time_carry: f64,
@@ -361,9 +382,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
         };
         if settings.contact_damping == 0.0 && system.block_count() > 1 {
-            notes.push(
-                "contact damping is off (Shi's undamped penalty springs): a block landing on, or released onto, its contacts bounces on them, and near its friction limit (a factor of safety below about 1.1) the bounces can start a slide of millimetres to metres; analysis.contact_damping: 1.0 ends impacts and holds such blocks (docs/limits.md)".into(),
-            );
+            notes.push(UNDAMPED_NOTE.into());
         }
         let dofs = (0..blocks).map(|i| system.dofs(i)).collect();
         let block_size = system.block_size();
@@ -412,6 +431,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             striking: Vec::new(),
             sliding_impact: Vec::new(),
             time: 0.0,
+            settling: false,
+            residuals: (0.0, 0.0),
             time_carry: 0.0,
             dt,
             dt_next: dt,
@@ -716,6 +737,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             break trial;
         };
+        self.residuals = (trial.rest_norm, trial.end_norm);
         // What the automatic step bounds, read before the blocks move.
         let motion =
             (self.dt_cap.is_some()).then(|| self.step_motion(&trial, &split::<N>(&trial.d)));
@@ -770,7 +792,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             Vec::new()
         };
         self.supports = if self.settings.contact_damping > 0.0 {
-            self.system.supports(self.time, self.time + dt)
+            self.system.supports(self.time, self.load_time(dt))
         } else {
             Vec::new()
         };
@@ -835,7 +857,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     };
                     if *state != other && self.stats.cycles.len() < CYCLES_KEPT {
                         self.stats.cycles.push(Cycle {
-                            time: self.time + dt,
+                            time: self.load_time(dt),
                             key: self.contacts[i].key,
                             between: [other, *state],
                             kept,

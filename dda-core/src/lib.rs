@@ -42,7 +42,7 @@ pub use block_set::{BlockSet, Element, RotationUpdate};
 pub use constitutive::ConstitutiveLaw;
 pub use contact::{ContactLaw, ContactResponse, ContactState, DynContactLaw, LocalKinematics};
 pub use contacts::{BlockVector, Contact, ContactKey, ContactRecord, Entrance, EntranceRows};
-pub use driver::Driver;
+pub use driver::{Driver, Settling};
 pub use error::DdaError;
 pub use loads::{FixedPoint, Force, MeasuredPoint, PointLoad};
 pub use motion::{GroundMotion, Quantity, Record};

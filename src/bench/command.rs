@@ -35,6 +35,8 @@ pub struct Command {
     /// With `simulate`: the amplitude of the 2 Hz horizontal sine the
     /// walls' bases are shaken by, m/s² (`None`: at rest).
     pub shake: Option<f64>,
+    /// With `simulate`: settle each wall before its timed run.
+    pub settle: bool,
     /// With `simulate`: a folder for each run's `steps.csv`.
     pub step_log: Option<PathBuf>,
     /// The scaling chart's file, `.png` or `.svg`.
@@ -138,6 +140,7 @@ pub fn command(c: &Command) -> anyhow::Result<()> {
                 solver: c.solver,
                 dts: c.dts.clone(),
                 shake: c.shake,
+                settle: c.settle,
                 step_log: c.step_log.clone(),
             })?;
             print_simulate(&rows, repeats);

@@ -74,6 +74,7 @@ fn run(
         solver: Solver::Direct,
         dts: vec![dt],
         shake: None,
+        settle: false,
         step_log: None,
     })?;
     rows.into_iter()

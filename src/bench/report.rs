@@ -110,6 +110,9 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
         plain_number(seconds),
         runs(repeats)
     );
+    if rows.first().is_some_and(|r| r.settle_s.is_some()) {
+        println!("each wall settled under its weight first (--settle)");
+    }
     if let Some(a) = rows.first().and_then(|r| r.shake) {
         println!(
             "the bases shaken along the walls by a {SHAKE_FREQUENCY} Hz sine of {a} m/s² (drift includes the base's motion)"
@@ -166,6 +169,18 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
         })
         .collect();
     print_phases(&labelled, given);
+    for r in rows {
+        let Some(settle_s) = r.settle_s else { continue };
+        let how = match r.settled {
+            Some(true) => "settled",
+            _ => "did not settle",
+        };
+        println!(
+            "the {n} × {n} {} wall {how} before its run in {settle_s:.2} s of wall time (not in wall s; drift is from where it settled)",
+            series_name(r.dimension, r.kind),
+            n = r.courses,
+        );
+    }
     for r in rows.iter().filter(|r| !r.completed) {
         println!(
             "the {n} × {n} {} wall stopped at the wall-clock cap, at t = {:.4} of {} s",

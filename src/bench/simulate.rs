@@ -44,6 +44,10 @@ pub struct SimulateOptions {
     /// The amplitude of the horizontal sine (2 Hz) each wall's base is
     /// shaken by for the whole run, m/s² ([`shake`]); `None`: at rest.
     pub shake: Option<f64>,
+    /// Whether each wall settles under its weight before its timed run
+    /// ([`crate::simulation::Simulation::settle`], in at most a scene's
+    /// default number of static steps); its wall time is not the run's.
+    pub settle: bool,
     /// A folder for each run's `steps.csv` ([`crate::step_log`]), named
     /// after its wall (`40x40_deformable_2d.csv`, with `_dt0.001` at a
     /// given step and `_run2` for a later repeat); `None`: none written.
@@ -90,6 +94,12 @@ pub struct SimulateRow {
     /// The largest centroid displacement of any brick at the run's end, m:
     /// a wall at rest ends at its static settlement unless it creeps.
     pub end_drift: f64,
+    /// The settling before the run (`--settle`): its wall time, s, and
+    /// whether it settled; `None` without.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settle_s: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settled: Option<bool>,
     /// The process's peak resident memory so far, MB (Linux; 0 elsewhere).
     pub peak_memory_mb: f64,
     /// The runs made of this wall, this the median by wall time per
@@ -217,6 +227,10 @@ fn simulate_driver<D: Timed>(
         Some(path) => Some(StepsWriter::create(path, &*driver)?),
         None => None,
     };
+    let settling = match options.settle {
+        true => Some(driver.settle(crate::scene::Settle::default().steps)?),
+        false => None,
+    };
     let start = centroids(driver);
     let cap = Duration::from_secs_f64(options.max_wall);
     let started = Instant::now();
@@ -289,6 +303,8 @@ fn simulate_driver<D: Timed>(
         per_step: PerStep::of(stats),
         drift: largest,
         end_drift: drift(driver, &start),
+        settle_s: settling.as_ref().map(|s| s.wall_time.as_secs_f64()),
+        settled: settling.map(|s| s.settled),
         peak_memory_mb: peak_memory_mb(),
         runs: 1,
     })
@@ -322,6 +338,8 @@ pub(crate) mod tests {
             per_step: Default::default(),
             drift,
             end_drift: drift,
+            settle_s: None,
+            settled: None,
             peak_memory_mb: 80.0,
             runs: 1,
         }

@@ -224,6 +224,7 @@ fn simulated(
         solver: Solver::Direct,
         dts,
         shake: None,
+        settle: false,
         step_log: None,
     })
 }

@@ -52,6 +52,12 @@ dda_core::with_settings! {
         /// status "failed", with a report; `Continue` runs on and warns.
         #[serde(skip_serializing_if = "is_default")]
         on_failure: OnFailure = OnFailure::Stop,
+        /// Bring the model to rest under its loads at t = 0 before the run
+        /// (`settle: ()`), so gravity is on when the run's own loads begin;
+        /// default none: gravity comes on at once and the model rings
+        /// about its settlement. Implicit integrator only.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        settle: Option<Settle> = None,
     }
 }
 
@@ -89,6 +95,24 @@ impl Damping {
         let hint =
             "give the frequency (Hz) at which the ratio holds, like the structure's first mode";
         positive("frequency", "the damping frequency", self.frequency, hint)
+    }
+}
+
+/// Settling before the run: static steps that take no time
+/// ([`dda_core::Driver::settle`]); the run starts at rest where they leave
+/// the blocks, and its displacements are measured from there.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Settle {
+    /// The most static steps, at least 1; default 20. A model that stands
+    /// settles in a few (a wall in 2–4); one still moving after them
+    /// cannot stand under its loads, and the summary says so.
+    pub steps: usize,
+}
+
+impl Default for Settle {
+    fn default() -> Self {
+        Self { steps: 20 }
     }
 }
 

@@ -31,7 +31,7 @@ pub use crate::generators::Bond;
 use crate::generators::{self as g, Failure, Generated};
 use crate::values::ordered_map;
 pub use crate::values::{Coords, JointLaw};
-pub use analysis::{Analysis, Damping, Mode};
+pub use analysis::{Analysis, Damping, Mode, Settle};
 pub use build::{AnyModel, LawTable, Model, Model3};
 use dimension::SceneElement;
 pub use error::SceneError;

@@ -170,6 +170,20 @@ impl Scene {
         if let Some(d) = &a.damping {
             self.core_field(&at("damping"), d.check())?;
         }
+        if let Some(settle) = &a.settle {
+            if settle.steps == 0 {
+                return Err(self.error(
+                    &at("settle").field("steps"),
+                    "settling takes at least one static step; give 1 or more, or leave steps out for 20",
+                ));
+            }
+            if a.integrator == dda_core::Integrator::Explicit {
+                return Err(self.error(
+                    &at("settle"),
+                    "settling takes implicit steps; with integrator: Explicit, relax the model to rest in a run of its own with local_damping: 0.8, or remove settle",
+                ));
+            }
+        }
         // The driver checks its own settings; the scene names the place.
         self.core_field(&Place::root().field("analysis"), a.settings().validate())
     }

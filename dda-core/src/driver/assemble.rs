@@ -55,7 +55,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let moving = approach.unwrap_or(&trial.d);
         let mut matrix = std::mem::take(&mut self.matrix);
         residual.fill(0.0);
-        let end = self.time + dt;
+        let end = self.load_time(dt);
         let ratio = self.settings.velocity_ratio;
         let alpha = self.settings.mass_damping;
         let (system, velocity, struck_early) = (&self.system, &self.velocity, &self.struck_early);

@@ -26,7 +26,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
 
     /// Moves the blocks by `d`, the time by `dt`, and checks the energy.
     pub(super) fn finish_step(&mut self, d: &[f64], dt: f64, spring_energy: f64) {
-        self.advance_time(dt);
+        if !self.settling {
+            self.advance_time(dt);
+        }
         self.system.commit(&split::<N>(d), dt, self.time);
         self.stats.steps += 1;
         self.check_energy(spring_energy);

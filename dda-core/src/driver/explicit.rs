@@ -139,7 +139,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         trial: &Trial<T>,
     ) -> (Vec<f64>, HalfAndEnd<N>) {
         self.supports = if self.settings.contact_damping > 0.0 {
-            self.system.supports(self.time, self.time + dt)
+            self.system.supports(self.time, self.load_time(dt))
         } else {
             Vec::new()
         };
@@ -205,6 +205,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             pulled: vec![false; self.contacts.len()],
             within: vec![false; self.contacts.len()],
             load_scale: 0.0,
+            rest_norm: 0.0,
+            end_norm: 0.0,
             foreseen: Vec::new(),
             first_moves: 0,
         }

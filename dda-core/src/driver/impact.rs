@@ -226,7 +226,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         rows: &[Row<N>],
     ) -> BTreeMap<usize, BlockMatrix<N>> {
         let rigid = Self::RIGID_DOFS;
-        let supports = self.system.supports(self.time, self.time + dt);
+        let supports = self.system.supports(self.time, self.load_time(dt));
         let mut compliance = BTreeMap::new();
         for block in rows.iter().flat_map(|r| r.blocks) {
             compliance.entry(block).or_insert_with(|| {

@@ -542,10 +542,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             }
             if residual.iter().any(|v| !v.is_finite()) {
                 return Err(DdaError::NotFinite {
-                    time: self.time + dt,
+                    time: self.load_time(dt),
                 });
             }
             let norm = residual.iter().map(|r| r * r).sum::<f64>().sqrt();
+            trial.end_norm = norm;
+            if iteration == 0 && !later {
+                trial.rest_norm = norm;
+            }
             if iteration == 0 {
                 // A later pass starts from the last one's solution, so its
                 // residual is only what the changed states add: measured
@@ -602,6 +606,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 }
                 if !converged {
                     trial.d = best.1;
+                    trial.end_norm = best.0;
                 }
                 return Ok(converged);
             }
@@ -638,6 +643,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 }
                 if norm > last {
                     trial.d.clone_from(&best.1);
+                    trial.end_norm = best.0;
                     kept = false;
                     last = best.0;
                     anderson.restart();
@@ -702,6 +708,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 self.stats.warm_starts += 1;
                 self.load(dt, masses, trial, &mut residual, None, Motion::Implicit);
                 let norm = residual.iter().map(|r| r * r).sum::<f64>().sqrt();
+                trial.end_norm = norm;
                 if norm < best.0 {
                     best.0 = norm;
                     best.1.clone_from(&trial.d);
@@ -809,7 +816,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 .reduce(|| 0.0, f64::max);
             if !largest.is_finite() {
                 return Err(DdaError::NotFinite {
-                    time: self.time + dt,
+                    time: self.load_time(dt),
                 });
             }
             // A kept factor stiffer than the tangent makes short moves

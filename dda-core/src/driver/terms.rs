@@ -568,6 +568,8 @@ mod tests {
             pulled: vec![false],
             within: vec![false],
             load_scale: 0.0,
+            rest_norm: 0.0,
+            end_norm: 0.0,
             foreseen: Vec::new(),
             first_moves: 0,
         }
