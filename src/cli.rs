@@ -619,7 +619,18 @@ fn check<S: Simulation>(path: &Path, scene: &Scene, model: &Model<S>) {
         );
     }
     println!("needs about {} of memory", bytes_text(expected.memory));
+    let settles = scene.analysis.settle.map(|s| s.steps);
+    if let Some(steps) = settles {
+        println!("settles under its loads at t = 0 before the run, in at most {steps} static steps (analysis.settle)");
+    }
     for note in model.all_notes() {
+        // Settled, nothing is released onto the contacts.
+        let note = match settles {
+            Some(_) if note == dda_core::driver::UNDAMPED_NOTE => {
+                dda_core::driver::UNDAMPED_SETTLED_NOTE.to_string()
+            }
+            _ => note,
+        };
         eprintln!("note: {note}");
     }
     for warning in &expected.warnings {

@@ -141,6 +141,25 @@ fn check_accepts_a_good_scene() {
     assert!(stdout.contains("duration 0.05 s"), "{stdout}");
 }
 
+/// A scene that settles says so, and its note on undamped springs speaks
+/// of blocks landing in the run, not of release.
+#[test]
+fn check_says_a_scene_settles_first() {
+    let result = dda(&["check", "examples/drum_column_2d.ron"]);
+    assert!(result.status.success());
+    let stdout = String::from_utf8(result.stdout).unwrap();
+    assert!(
+        stdout.contains("settles under its loads at t = 0 before the run, in at most 20 static steps (analysis.settle)"),
+        "{stdout}"
+    );
+    let stderr = String::from_utf8(result.stderr).unwrap();
+    assert!(
+        stderr.contains("the model starts settled on its contacts")
+            && !stderr.contains("released onto"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn check_rejects_a_bad_scene_on_stderr() {
     let result = dda(&["check", &data("overlapping.ron")]);

@@ -180,11 +180,11 @@ enum Motion<'a> {
 }
 
 /// The note on a model run without contact damping.
-const UNDAMPED_NOTE: &str = "contact damping is off (Shi's undamped penalty springs): a block landing on, or released onto, its contacts bounces on them, and near its friction limit (a factor of safety below about 1.1) the bounces can start a slide of millimetres to metres; analysis.contact_damping: 1.0 ends impacts and holds such blocks (docs/limits.md)";
+pub const UNDAMPED_NOTE: &str = "contact damping is off (Shi's undamped penalty springs): a block landing on, or released onto, its contacts bounces on them, and near its friction limit (a factor of safety below about 1.1) the bounces can start a slide of millimetres to metres; analysis.contact_damping: 1.0 ends impacts and holds such blocks (docs/limits.md)";
 
 /// [`UNDAMPED_NOTE`] once the model has settled: nothing is released onto
 /// its contacts any more.
-const UNDAMPED_SETTLED_NOTE: &str = "contact damping is off (Shi's undamped penalty springs): the model starts settled on its contacts, but a block that lands on them in the run bounces, and near its friction limit (a factor of safety below about 1.1) the bounces can start a slide of millimetres to metres; analysis.contact_damping: 1.0 ends impacts and holds such blocks (docs/limits.md)";
+pub const UNDAMPED_SETTLED_NOTE: &str = "contact damping is off (Shi's undamped penalty springs): the model starts settled on its contacts, but a block that lands on them in the run bounces, and near its friction limit (a factor of safety below about 1.1) the bounces can start a slide of millimetres to metres; analysis.contact_damping: 1.0 ends impacts and holds such blocks (docs/limits.md)";
 
 /// Runs a [`BlockSystem`] in time.
 pub struct Driver<S: BlockSystem<N, T>, const N: usize, const T: usize> {
