@@ -105,7 +105,7 @@ impl Node {
             if last {
                 if let Some(fields) = node.fields_mut() {
                     if !fields.iter().any(|(name, _)| name == seg) {
-                        fields.push((seg.clone(), shape(value, None)));
+                        fields.push((seg.clone(), shape_new(value)));
                         return Ok(());
                     }
                 }
@@ -438,6 +438,21 @@ fn write_list<'a>(
 /// float was stays a float, a string where a name was is a name (or, where
 /// a compound value was, RON text), a list where a tuple was a tuple, a
 /// dict where a struct was that struct.
+/// A value for a struct field not yet written: a dict is a struct, as the
+/// scene's optional fields that hold several values are (`analysis.settle`,
+/// `analysis.damping`); anything else as [`shape`] makes it.
+fn shape_new(value: &Given) -> Node {
+    match value {
+        Given::Dict(entries) => Node::Struct(
+            String::new(),
+            (entries.iter())
+                .map(|(k, v)| (k.clone(), shape_new(v)))
+                .collect(),
+        ),
+        _ => shape(value, None),
+    }
+}
+
 pub fn shape(value: &Given, old: Option<&Node>) -> Node {
     // Options and newtype structs wrap what the value really replaces.
     match old {

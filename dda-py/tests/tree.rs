@@ -100,6 +100,29 @@ fn a_change_is_checked_and_an_integer_stays_a_float() {
     assert!(error.contains("dtt"), "{error}");
 }
 
+/// An optional field not written yet takes a dict as its struct:
+/// `analysis.settle = {}` settles with the defaults.
+#[test]
+fn a_dict_sets_an_optional_struct_not_yet_written() {
+    let mut scene = sliding();
+    assert_eq!(scene.scene.analysis.settle, None);
+    scene.set("analysis.settle", &Given::Dict(vec![])).unwrap();
+    assert_eq!(
+        scene.scene.analysis.settle,
+        Some(dda::scene::Settle::default())
+    );
+    scene.set("analysis.settle.steps", &Given::Int(5)).unwrap();
+    assert_eq!(scene.scene.analysis.settle.map(|s| s.steps), Some(5));
+    let damping = vec![
+        ("ratio".to_string(), Given::Float(0.05)),
+        ("frequency".to_string(), Given::Float(2.0)),
+    ];
+    scene
+        .set("analysis.damping", &Given::Dict(damping))
+        .unwrap();
+    assert_eq!(scene.scene.analysis.damping.map(|d| d.ratio), Some(0.05));
+}
+
 #[test]
 fn measured_points_are_set_by_path_and_checked() {
     let mut scene = sliding();

@@ -193,6 +193,20 @@ def test_a_measured_point_slides_with_its_block(tmp_path):
     assert dda.run(example("free_fall_2d.ron"), out=tmp_path / "none").points is None
 
 
+def test_a_settled_stack_starts_at_rest(tmp_path):
+    """analysis.settle set from Python as a dict: the ten-block stack
+    starts at its static settlement and stays there (tests/settle.rs)."""
+    scene = dda.Scene.load(example("stacked_blocks_2d.ron"))
+    scene["analysis.settle"] = {}
+    scene["analysis.duration"] = 0.2
+    run = scene.run(out=tmp_path / "settled")
+    settling = run.summary["settling"]
+    assert settling["settled"] and settling["steps"] <= 3
+    top = rows_of_block(run.history, 10)
+    assert 4.75 - top["y"][0] > 3e-4
+    assert np.ptp(top["y"]) < 1e-9
+
+
 def test_contacts_not_asked_for_say_how_to_get_them(tmp_path):
     run = dda.run(example("free_fall_2d.ron"), out=tmp_path / "fall")
     with pytest.raises(dda.DdaError, match="contacts: true"):
