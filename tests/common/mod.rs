@@ -42,9 +42,15 @@ pub fn run_edited(
 ) -> (dda::Summary, PathBuf) {
     let mut scene = dda::Scene::load(example(name)).unwrap();
     edit(&mut scene);
-    let out = out_dir(&format!("{tag}-{}", name.trim_end_matches(".ron")));
+    run_scene(&scene, &format!("{tag}-{}", name.trim_end_matches(".ron")))
+}
+
+/// Runs a scene as `dda run` does into a fresh folder named by `tag`;
+/// returns the summary and the folder.
+pub fn run_scene(scene: &dda::Scene, tag: &str) -> (dda::Summary, PathBuf) {
+    let out = out_dir(tag);
     let summary = dda::run::run_scene(
-        &scene,
+        scene,
         &out,
         Default::default(),
         &dda_contact::LawRegistry::with_builtin(),
