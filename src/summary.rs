@@ -136,14 +136,14 @@ pub struct SettleReport {
     /// Static steps taken.
     pub steps: usize,
     /// Whether its last step, whole, moved no more than
-    /// [`dda_core::driver::SETTLED_SHARE`] of its largest, out of balance
-    /// by no more than [`dda_core::driver::SETTLED_BALANCE`].
+    /// [`dda_core::driver::settle::SETTLED_SHARE`] of its largest, out of balance
+    /// by no more than [`dda_core::driver::settle::SETTLED_BALANCE`].
     pub settled: bool,
     /// The largest point displacement of a step, and of the last, m.
     pub largest_step: f64,
     pub last_step: f64,
     /// The last step's residual over the loads the first started out of
-    /// balance by (settled at most [`dda_core::driver::SETTLED_BALANCE`]).
+    /// balance by (settled at most [`dda_core::driver::settle::SETTLED_BALANCE`]).
     pub balance: f64,
     /// Open-close passes and factorisations of its steps.
     pub open_close_iterations: usize,

@@ -32,7 +32,6 @@ use crate::system::{BlockMatrix, BlockSystem};
 use crate::{BLOCKS_PER_TASK, CONTACTS_PER_TASK};
 use chosen::Chosen;
 use predict::RecentSteps;
-pub use settle::{Settling, SETTLED_BALANCE, SETTLED_SHARE, SETTLE_STEP};
 use terms::{ContactLoad, ContactTerms, Decision, Kept};
 use touching::Touching;
 
@@ -48,7 +47,7 @@ mod impact;
 mod pass;
 mod pattern;
 mod predict;
-mod settle;
+pub mod settle;
 mod springs;
 mod step_motion;
 mod terms;
