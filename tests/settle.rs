@@ -239,6 +239,19 @@ fn a_block_just_past_its_friction_limit_does_not_settle() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// A model under no load at all settles at once, and its summary reads
+/// back: the balance is 0, not 0/0.
+#[test]
+fn a_model_under_no_load_settles_at_once() {
+    let text = stack("Rigid", true).replace("gravity: (0.0, -9.81),", "gravity: (0.0, 0.0),");
+    let out = common::run_text("settled_weightless_stack", &text);
+    let report = settling(&out);
+    assert!(report.settled && report.balance == 0.0, "{report:?}");
+    let rows = dda::read_history(out.join("history.csv")).unwrap();
+    assert_eq!(moved(&rows, 10), 0.0);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// Settling takes at least one step, and implicit ones.
 #[test]
 fn a_settling_that_cannot_be_is_refused_where_it_is_written() {

@@ -106,9 +106,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         };
         let mut result = Ok(());
         let mut loads = 0.0;
+        let failed = |s: &Statistics| (s.cuts(), s.unconverged_steps, s.newton_failures);
         while settling.steps < most_steps.max(1) {
             self.dt_next = SETTLE_STEP;
-            let failed = |s: &Statistics| (s.cuts(), s.unconverged_steps, s.newton_failures);
             let before = failed(&self.stats);
             result = self.step(SETTLE_STEP);
             if result.is_err() {
@@ -121,7 +121,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             if settling.steps == 1 {
                 loads = start;
             }
-            settling.balance = end / loads;
+            // With no loads at all nothing is out of balance (and 0/0
+            // would write null into summary.json).
+            settling.balance = if loads > 0.0 { end / loads } else { 0.0 };
             // A cut step moves less for being short, not for being at rest
             // (a block sliding off is cut to the displacement bound), and
             // an unconverged one is not at rest either.
