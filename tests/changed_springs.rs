@@ -147,22 +147,24 @@ fn a_later_pass_moves_on_the_factor_with_the_changed_springs() {
     assert!(gap < 1e-12, "centroids {gap} m apart");
 }
 
-/// The 3D 10-course rigid wall settling at dt 1 ms for 0.3 s: a sliding
+/// The 3D 12-course rigid wall settling at dt 1 ms for 0.3 s: a sliding
 /// contact's friction turns with its slip, so its terms change with each
-/// pass; beyond the floor the small ones are left to the moves, and 30
-/// later passes start so. They make no factorisation (387 → 357), in
-/// about as many moves (1,969 against 1,966), and the wall ends where it
-/// would (1.2e-14 m apart).
+/// pass; beyond the floor the small ones are left to the moves, and 49
+/// later passes start so. They make 53 factorisations fewer (318 → 265),
+/// for 58 moves more (1,419 → 1,477, 4 %), and the wall ends where it
+/// would (1.9e-14 m apart). The 10-course wall, used before its head joints'
+/// corners kept their springs from step to step, now starts only 14 such
+/// passes: most of its passes had been made by those corners' flipping.
 #[test]
 fn a_later_pass_in_3d_moves_on_the_factor_with_the_changed_springs() {
-    let scene = wall(10, 3, Stepping::Fixed, BlockKind::Rigid).unwrap();
+    let scene = wall(12, 3, Stepping::Fixed, BlockKind::Rigid).unwrap();
     let steps = 300;
     let (on, at_on, _) = run(&scene, steps, true, 64);
     let (off, at_off, _) = run(&scene, steps, true, 0);
     let gap = apart(&at_on, &at_off);
     report(["with the terms", "without"], &on, &off, gap, steps);
-    assert!(on.changed_spring_passes >= 20, "{on:?}");
-    fewer_factorisations(&on, &off, 20, 30);
+    assert!(on.changed_spring_passes >= 40, "{on:?}");
+    fewer_factorisations(&on, &off, 40, off.newton_iterations / 20);
     assert!(gap < 1e-12, "centroids {gap} m apart");
 }
 

@@ -76,19 +76,54 @@ fn a_moving_wall_skips_weighings_on_the_same_path() {
     same_path(&scene, 0.02 - 1e-9, false, 6);
 }
 
-/// The 3D model of the 36 × 36 deformable wall at dt 1 ms, its first 50
+/// The 3D model of the 30 × 30 deformable wall at dt 1 ms, its first 50
 /// steps: steps start on the kept factor unweighed only while its
-/// matrix's change, grown at twice its rate between the last two
-/// weighings (`MARGIN`), stays within its limit. So the four steps that
-/// start unweighed are steps a weighing would have started on the same
-/// factor, and the run takes the same path as weighing every step. Grown
-/// at its rate alone (`MARGIN` 1), seven steps started unweighed, the run
-/// went another way (412 moves and 85 factorisations against 406 and 87)
-/// and this test fails; at 1.5 it still holds.
+/// matrix's change, grown at `MARGIN` times its rate between the last two
+/// weighings, stays within its limit, and so never after a factor's first
+/// weighing, whose rate is unknown. So the 12 steps that start unweighed
+/// are steps a weighing would have started on the same factor, and the
+/// run takes the same path as weighing every step. With that foresight
+/// left out, 15 steps started unweighed, the run went another way (329
+/// moves and 57 factorisations against 320 and 60) and this test fails;
+/// with `MARGIN` 0 (the rate read, not grown) it holds.
 #[test]
 fn a_factor_near_its_limit_is_weighed_in_3d() {
+    let scene = wall(30, 3, Stepping::Fixed, BlockKind::Deformable).unwrap();
+    same_path(&scene, 0.05 - 1e-9, true, 10);
+}
+
+/// What the rule cannot foresee: a contact that closes, opens or changes
+/// entrance brings its springs into the matrix whole, so the change jumps.
+/// The 3D model of the 36 × 36 deformable wall read the same change over
+/// 18 steps in which no contact changed (growth 0), then 5/4 of it after
+/// 12 contacts changed, and twice its limit after 8 more: a step started
+/// unweighed on a factor that a weighing would have replaced. The moves'
+/// own test of the kept factor replaces it there, so the run takes the
+/// same passes and ends where weighing every step does, to round-off, in
+/// a few moves more (measured: 15 unweighed starts; 331 moves and 46
+/// factorisations against 326 and 47; the walls 1.8e-14 m apart).
+#[test]
+fn a_jump_no_rate_foresees_costs_a_few_moves() {
     let scene = wall(36, 3, Stepping::Fixed, BlockKind::Deformable).unwrap();
-    same_path(&scene, 0.05 - 1e-9, true, 4);
+    let end = 0.05 - 1e-9;
+    let (on, at_on) = run(&scene, end, true, 3);
+    let (off, at_off) = run(&scene, end, true, 0);
+    let gap = common::apart(&at_on, &at_off);
+    println!(
+        "unweighed starts {}; moves {} and {}, factorisations {} and {}; walls {gap:.2e} m apart",
+        on.unweighed_starts,
+        on.newton_iterations,
+        off.newton_iterations,
+        on.factorizations,
+        off.factorizations
+    );
+    for s in [&on, &off] {
+        common::ran_clean(s, 50);
+    }
+    assert!(on.unweighed_starts >= 10, "{on:?}");
+    assert_eq!(on.open_close_iterations, off.open_close_iterations);
+    assert!(on.newton_iterations * 50 <= off.newton_iterations * 51);
+    assert!(gap < 1e-12, "walls {gap} m apart");
 }
 
 /// The 40 × 40 deformable wall at its automatic step and penalty for

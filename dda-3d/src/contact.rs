@@ -761,9 +761,18 @@ pub(crate) fn segment_distance(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>
     ((p - (a + ab * s)).norm(), s)
 }
 
-/// The larger of each of two (area, spring area) pairs.
+/// The wider of two (area, spring area) pairs: a true area brings its own
+/// spring area, and a corner's fallback spring area (no true area) counts
+/// only where no pair has a true area. Taking the two maxima apart let a
+/// fallback from a face that round-off picks outweigh the true area, so a
+/// head joint's corners changed their springs from step to step.
 fn widest(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
-    (a.0.max(b.0), a.1.max(b.1))
+    match (a.0 > 0.0, b.0 > 0.0) {
+        (true, true) if b.0 > a.0 => b,
+        (true, _) => a,
+        (false, true) => b,
+        (false, false) => (0.0, a.1.max(b.1)),
+    }
 }
 
 /// The most corners of an entered face clipped against whole (a face of

@@ -38,10 +38,15 @@ const UNWEIGHED_CHANGES: usize = 64;
 /// How much faster than between the last two weighings the change may
 /// grow (`UNWEIGHED_STEPS`). The 40 × 40 3D deformable wall at dt 1 ms
 /// read 0.90, 0.95 and 1.15 of the limit on three steps: twice the rate
-/// weighs the second's next step, where the factor no longer fits. On
-/// the 36 × 36 3D deformable wall's first 50 steps, at the rate alone
-/// seven steps start unweighed instead of four, and the run parts from
-/// the path of weighing every step (412 moves against 406).
+/// weighs the second's next step, where the factor no longer fits. Read
+/// while a 3D head joint's corners still changed their springs at every
+/// step, which kept the change growing. On the 3D walls read since (first
+/// 50 steps at dt 1 ms) the rate alone takes the same path as twice it
+/// (30 × 30 deformable, 40 × 40 rigid), and so does none (0; 30 × 30, and
+/// 36 × 36 with the same counts): their change stands still between
+/// changes of the contacts, and those come in jumps that no rate foresees
+/// (`tests/unweighed_factor.rs`). So no test holds this value now; it
+/// stays where it was measured.
 const MARGIN: f64 = 2.0;
 
 /// The least motion of the last step, as a share of the median block
