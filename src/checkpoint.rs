@@ -17,6 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::observe::Cursor;
 use crate::output::write_atomically;
+use crate::summary::SettleReport;
 use crate::Scene;
 
 /// The checkpoint's file name in the run's folder.
@@ -46,6 +47,9 @@ pub struct Checkpoint {
     pub next_checkpoint: f64,
     /// Wall-clock seconds the run took before this checkpoint.
     pub wall_time: f64,
+    /// What the settling before the run did (`analysis.settle`), for the
+    /// resumed run's summary: a resumed run does not settle again.
+    pub settling: Option<SettleReport>,
 }
 
 /// FNV-1a, 64 bits: stable across builds and platforms, unlike std's hasher.

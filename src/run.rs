@@ -374,6 +374,7 @@ pub fn run_model_observed<S: Simulation>(
         outputs,
     );
     summary.earlier_wall_time = resumed.as_ref().map_or(0.0, |c| c.wall_time);
+    summary.settling = resumed.as_ref().and_then(|c| c.settling.clone());
     // A file that cannot be made fails the run before it starts, and says so
     // in summary.json when that can still be written.
     let contacts_path = out_dir.join("contacts.csv");
@@ -497,6 +498,7 @@ pub fn run_model_observed<S: Simulation>(
         observers.push(&mut **observer);
     }
     summary.print_warnings = !options.quiet;
+    let settling = summary.settling.clone();
     observers.push(&mut summary);
 
     let mut keeper = options.checkpoint_every.map(|every| Keeper {
@@ -512,6 +514,7 @@ pub fn run_model_observed<S: Simulation>(
         },
         started: Instant::now(),
         wall_before: resumed.as_ref().map_or(0.0, |c| c.wall_time),
+        settling: settling.clone(),
     });
     let first_output = resumed.as_ref().map_or(0, |c| c.next_output);
     let limit = model.settings.max_penetration_ratio * model.driver.length_scale();
@@ -549,6 +552,8 @@ struct Keeper {
     started: Instant,
     /// Wall-clock seconds of the run before it was resumed.
     wall_before: f64,
+    /// What the settling before the run did, kept for a resumed run.
+    settling: Option<SettleReport>,
 }
 
 impl Keeper {
@@ -573,6 +578,7 @@ impl Keeper {
             every: self.schedule.every,
             next_checkpoint: self.schedule.next,
             wall_time: self.wall_before + self.started.elapsed().as_secs_f64(),
+            settling: self.settling.clone(),
         };
         checkpoint.write(&self.dir)
     }

@@ -197,6 +197,34 @@ fn every_checkpoint_resumes_to_the_same_end() {
     assert_eq!(read(first.join("checkpoint.bin")), checkpoint);
 }
 
+/// A resumed run does not settle again, and its summary still reports the
+/// settling the run started with (`analysis.settle`), which the checkpoint
+/// keeps; before it did, the resumed summary had none.
+#[test]
+fn a_resumed_run_reports_its_settling() {
+    let dir = folder("settled");
+    let scene = scene(
+        &dir,
+        "drum_column_2d.ron",
+        "duration: 10.0",
+        "duration: 1.0",
+    );
+    // Its ground motion's record, beside the scene as in examples/.
+    std::fs::create_dir_all(dir.join("data")).unwrap();
+    let record = "data/ground_motion_2d.csv";
+    std::fs::copy(Path::new("examples").join(record), dir.join(record)).unwrap();
+    let (first, again, _) = resumed_copy(&dir, &scene, &["history.csv"]);
+    assert!(read(first.join("history.csv")) == read(again.join("history.csv")));
+    let settling = |dir: &Path| {
+        let summary: serde_json::Value =
+            serde_json::from_slice(&read(dir.join("summary.json"))).unwrap();
+        summary["settling"].clone()
+    };
+    let (before, after) = (settling(&first), settling(&again));
+    assert_eq!(before["settled"], true, "{before}");
+    assert_eq!(before, after);
+}
+
 /// A checkpoint torn while it was written (the run killed then) is the
 /// temporary file beside it: the run resumes from the previous one. A
 /// damaged checkpoint is refused with its name.
