@@ -52,6 +52,12 @@ pub struct Summary {
     /// Steps cut because a contact penetrated too deep.
     #[serde(default)]
     pub penetration_cuts: usize,
+    /// Steps cut because their last pass's Newton-Raphson iteration
+    /// stalled out of balance, and steps accepted so at the smallest step.
+    #[serde(default)]
+    pub newton_cuts: usize,
+    #[serde(default)]
+    pub unsolved_steps: usize,
     /// Steps accepted at the smallest time step without open-close agreement.
     pub unconverged_steps: usize,
     /// Steps whose open-close passes cycled between two sets of states,
@@ -184,7 +190,7 @@ impl SettleReport {
 impl Summary {
     /// Steps cut, for any reason, as `Statistics::cuts` counts them.
     pub fn cuts(&self) -> usize {
-        self.open_close_cuts + self.displacement_cuts + self.penetration_cuts
+        self.open_close_cuts + self.displacement_cuts + self.penetration_cuts + self.newton_cuts
     }
 }
 
@@ -357,6 +363,8 @@ impl SummaryWriter {
             displacement_cuts: stats.displacement_cuts,
             penalty_raises: stats.penalty_raises,
             penetration_cuts: stats.penetration_cuts,
+            newton_cuts: stats.newton_cuts,
+            unsolved_steps: stats.unsolved_steps,
             unconverged_steps: stats.unconverged_steps,
             cycle_breaks: stats.cycle_breaks,
             foreseen: stats.foreseen,
@@ -424,6 +432,15 @@ fn warnings(stats: &dda_core::Statistics, stiff: Option<String>) -> Vec<String> 
              open-close agreement; their contact states may be wrong (try a smaller dt, a softer penalty \
              or a larger open_close_limit)",
             stats.unconverged_steps
+        ));
+    }
+    if stats.unsolved_steps > 0 {
+        out.push(format!(
+            "{} steps could not solve their equations even at the smallest time step (Newton-Raphson \
+             stalled out of balance) and were accepted at their best iterate; the blocks may be out of \
+             balance there (a smaller dt, or a softer penalty, makes the springs less stiff against the \
+             blocks' inertia)",
+            stats.unsolved_steps
         ));
     }
     if stats.deep_penetration_steps > 0 {

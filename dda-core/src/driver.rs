@@ -138,6 +138,9 @@ struct Trial<const T: usize> {
     entrances: Vec<usize>,
     directions: Vec<SVector<f64, T>>,
     converged: bool,
+    /// Whether the last pass solved the step: its Newton-Raphson iteration
+    /// converged, or stalled within `UNSOLVED_SHARE` of the loads.
+    solved: bool,
     /// Contacts whose state or entrance the last pass changed.
     unsettled: Vec<usize>,
     /// Contacts this step has opened because their dashpot pulled (the
@@ -688,10 +691,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut moved_by;
         let trial = loop {
             let trial = self.attempt(dt)?;
-            if !trial.converged && dt / 3.0 >= floor {
+            if (!trial.converged || !trial.solved) && dt / 3.0 >= floor {
                 dt /= 3.0;
                 cut = true;
-                self.stats.open_close_cuts += 1;
+                if trial.converged {
+                    self.stats.newton_cuts += 1;
+                } else {
+                    self.stats.open_close_cuts += 1;
+                }
                 continue;
             }
             let d = split::<N>(&trial.d);
@@ -721,6 +728,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     self.stats.penetration_cuts += 1;
                     continue;
                 }
+            }
+            if !trial.solved {
+                self.stats.unsolved_steps += 1;
             }
             if !trial.converged {
                 self.stats.unconverged_steps += 1;

@@ -22,6 +22,13 @@ pub struct Statistics {
     pub penalty_raises: usize,
     /// Steps cut because a contact penetrated too deep.
     pub penetration_cuts: usize,
+    /// Steps cut to a third because the last pass's Newton-Raphson
+    /// iteration stalled out of balance (`UNSOLVED_SHARE` in
+    /// `driver/pass.rs`), and steps accepted so at the smallest step.
+    #[serde(default)]
+    pub newton_cuts: usize,
+    #[serde(default)]
+    pub unsolved_steps: usize,
     /// Steps accepted at the smallest time step without open-close agreement.
     pub unconverged_steps: usize,
     /// Steps whose open-close passes returned to the states of two passes
@@ -121,7 +128,7 @@ pub struct Statistics {
 impl Statistics {
     /// Steps cut, for any reason: open-close, displacement, penetration.
     pub fn cuts(&self) -> usize {
-        self.open_close_cuts + self.displacement_cuts + self.penetration_cuts
+        self.open_close_cuts + self.displacement_cuts + self.penetration_cuts + self.newton_cuts
     }
 
     /// Adds an iterative solver's work.

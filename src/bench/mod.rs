@@ -271,6 +271,8 @@ fn difference(after: &Statistics, before: &Statistics) -> Statistics {
         open_close_cuts: after.open_close_cuts - before.open_close_cuts,
         displacement_cuts: after.displacement_cuts - before.displacement_cuts,
         penetration_cuts: after.penetration_cuts - before.penetration_cuts,
+        newton_cuts: after.newton_cuts - before.newton_cuts,
+        unsolved_steps: after.unsolved_steps - before.unsolved_steps,
         unconverged_steps: after.unconverged_steps - before.unconverged_steps,
         times: after.times.since(&before.times),
         wall_time: after.wall_time.saturating_sub(before.wall_time),

@@ -201,6 +201,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             directions,
             d,
             converged: true,
+            solved: true,
             unsettled: Vec::new(),
             pulled: vec![false; self.contacts.len()],
             within: vec![false; self.contacts.len()],

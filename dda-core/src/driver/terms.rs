@@ -564,6 +564,7 @@ mod tests {
             entrances: vec![0],
             directions: vec![SVector::<f64, 1>::from([1.0])],
             converged: false,
+            solved: true,
             unsettled: Vec::new(),
             pulled: vec![false],
             within: vec![false],
