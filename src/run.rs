@@ -514,7 +514,7 @@ pub fn run_model_observed<S: Simulation>(
         },
         started: Instant::now(),
         wall_before: resumed.as_ref().map_or(0.0, |c| c.wall_time),
-        settling: settling.clone(),
+        settling,
     });
     let first_output = resumed.as_ref().map_or(0, |c| c.next_output);
     let limit = model.settings.max_penetration_ratio * model.driver.length_scale();

@@ -126,7 +126,8 @@ pub struct Statistics {
 }
 
 impl Statistics {
-    /// Steps cut, for any reason: open-close, displacement, penetration.
+    /// Steps cut, for any reason: open-close, displacement, penetration,
+    /// a pass that stalled out of balance.
     pub fn cuts(&self) -> usize {
         self.open_close_cuts + self.displacement_cuts + self.penetration_cuts + self.newton_cuts
     }
