@@ -112,6 +112,46 @@ fn a_block_past_its_friction_limit_slides_from_the_first_static_step() {
     }
 }
 
+/// The same at a tenth and ten times the example's penalty (2e10 N/m³),
+/// at dt 0.4 s: at 0.99 each whole step adds ½·a·dt² within 1 % and the
+/// first slides; at 1.01 the block stands, never cut: it settles into its
+/// springs and its own elasticity (4.7e-5 and 1.4e-6 m, against 1.5e-3
+/// m slid by the first output at 0.99) and moves less than 1e-10 m from
+/// the second output on (measured 1e-12).
+#[test]
+fn the_static_verdict_holds_at_other_penalties() {
+    let a = 9.81 * 30f64.to_radians().sin() * 0.01;
+    let whole = 0.5 * a * 0.4 * 0.4;
+    for scale in [0.1, 10.0] {
+        let at = |fos: f64| {
+            let mut scene = incline(fos, 0.4);
+            scene.analysis.penalty = Some(2e10 * scale);
+            slides(&format!("static_{fos}_penalty_{scale}"), &scene)
+        };
+        let (moved, summary) = at(0.99);
+        println!(
+            "0.99 at {scale} × the penalty: {moved:?}, {} cuts",
+            summary.cuts()
+        );
+        assert_eq!(summary.unsolved_steps, 0);
+        assert!(moved[0] > 0.25 * whole, "{moved:?}");
+        for step in moved[1..].windows(2) {
+            let added = step[1] - step[0];
+            assert!(
+                (added / whole - 1.0).abs() < 0.01,
+                "{added} against {whole}"
+            );
+        }
+        let (moved, summary) = at(1.01);
+        println!("1.01 at {scale} × the penalty: {moved:?}");
+        assert_eq!(summary.cuts(), 0);
+        assert!(moved.iter().all(|&m| m < 1e-4), "{moved:?}");
+        for step in moved[1..].windows(2) {
+            assert!((step[1] - step[0]).abs() < 1e-10, "{moved:?}");
+        }
+    }
+}
+
 /// Where the step may not be cut (`min_dt_ratio` above a third), a pass
 /// that stalls out of balance is accepted at its best iterate, counted and
 /// warned of, with advice that names the step and the penalty.
