@@ -67,6 +67,21 @@ fn slides(name: &str, scene: &Scene) -> (Vec<f64>, dda::Summary) {
     (moved, summary)
 }
 
+/// The block of run `name` slid at least a quarter of `whole` (½·a·dt², m)
+/// by the first output, its first step cut to thirds, and `whole` within
+/// 1 % in each step from the second output on: the steps after the cut
+/// grow back to dt by then.
+fn slides_a_whole_step_each(name: &str, moved: &[f64], whole: f64) {
+    assert!(moved[0] > 0.25 * whole, "{name}: {moved:?}");
+    for step in moved[1..].windows(2) {
+        let added = step[1] - step[0];
+        assert!(
+            (added / whole - 1.0).abs() < 0.01,
+            "{name}: {added} against {whole}"
+        );
+    }
+}
+
 /// At a factor of safety of 0.99 the block slides from the first step, at
 /// every dt, 2D and 3D: where the displacement bound does not cut the
 /// steps (dt 0.04 and 0.4 s) each whole step adds ½·a·dt² within 1 %
@@ -90,16 +105,7 @@ fn a_block_past_its_friction_limit_slides_from_the_first_static_step() {
             let whole = 0.5 * a * dt * dt;
             assert_eq!(summary.unsolved_steps, 0, "{name}");
             if dt < 1.0 {
-                assert!(moved[0] > 0.25 * whole, "{name}: {moved:?}");
-                // The steps after the cut grow back to dt by the second
-                // output; each after that is whole.
-                for step in moved[1..].windows(2) {
-                    let added = step[1] - step[0];
-                    assert!(
-                        (added / whole - 1.0).abs() < 0.01,
-                        "{name}: {added} against {whole}"
-                    );
-                }
+                slides_a_whole_step_each(&name, &moved, whole);
             } else {
                 assert!(moved[0] > 0.1, "{name}: {moved:?}");
             }
@@ -134,14 +140,7 @@ fn the_static_verdict_holds_at_other_penalties() {
             summary.cuts()
         );
         assert_eq!(summary.unsolved_steps, 0);
-        assert!(moved[0] > 0.25 * whole, "{moved:?}");
-        for step in moved[1..].windows(2) {
-            let added = step[1] - step[0];
-            assert!(
-                (added / whole - 1.0).abs() < 0.01,
-                "{added} against {whole}"
-            );
-        }
+        slides_a_whole_step_each(&format!("0.99 at {scale}"), &moved, whole);
         let (moved, summary) = at(1.01);
         println!("1.01 at {scale} × the penalty: {moved:?}");
         assert_eq!(summary.cuts(), 0);
