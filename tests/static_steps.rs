@@ -35,35 +35,38 @@ fn incline(fos: f64, dt: f64) -> Scene {
     Scene::from_str(&text, "static incline").unwrap()
 }
 
-/// The block's distance from its start at each output after the first
-/// (m), and the run's summary.
-fn slides(name: &str, scene: &Scene) -> (Vec<f64>, dda::Summary) {
+/// The block's centroid in the plane of the 2D model at each output, (x,
+/// y) in 2D and (x, z) in the extruded 3D model, and the run's summary.
+fn centroids(name: &str, scene: &Scene) -> (Vec<[f64; 2]>, dda::Summary) {
     let out = common::run_text(name, &scene.to_ron());
     let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let at = |name: &str| header.iter().position(|h| *h == name);
-    let (block, xyz) = (at("block").unwrap(), ["x", "y", "z"].map(at));
-    let centroids: Vec<[f64; 3]> = lines
+    let (block, x) = (at("block").unwrap(), at("x").unwrap());
+    let up = at("z").or(at("y")).unwrap();
+    let centroids = lines
         .map(|l| {
             l.split(',')
                 .map(|v| v.parse::<f64>().unwrap())
                 .collect::<Vec<_>>()
         })
         .filter(|v| v[block] == 1.0)
-        .map(|v| xyz.map(|k| k.map_or(0.0, |k| v[k])))
-        .collect();
-    let moved = (centroids[1..].iter())
-        .map(|c| {
-            (0..3)
-                .map(|k| (c[k] - centroids[0][k]).powi(2))
-                .sum::<f64>()
-                .sqrt()
-        })
+        .map(|v| [v[x], v[up]])
         .collect();
     let summary =
         serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
     let _ = std::fs::remove_dir_all(&out);
+    (centroids, summary)
+}
+
+/// The block's distance from its start at each output after the first
+/// (m), and the run's summary.
+fn slides(name: &str, scene: &Scene) -> (Vec<f64>, dda::Summary) {
+    let (centroids, summary) = centroids(name, scene);
+    let moved = (centroids[1..].iter())
+        .map(|c| (c[0] - centroids[0][0]).hypot(c[1] - centroids[0][1]))
+        .collect();
     (moved, summary)
 }
 
@@ -169,4 +172,101 @@ fn an_unsolved_step_at_the_smallest_step_is_warned_of() {
         "{:?}",
         summary.warnings
     );
+}
+
+/// A 1 m block of the incline's rock resting on a 20 m ledge, its centroid
+/// `overhang` beyond the ledge's edge (m; negative: over the ledge), at
+/// `penalty` (N/m³), in static steps of 0.1 s for 4 s.
+fn ledge(overhang: f64, penalty: f64) -> Scene {
+    let text = format!(
+        r#"Scene(
+    analysis: (duration: 4.0, dt: 0.1, mode: Static, penalty: {penalty:?}, gravity: (0.0, -9.81)),
+    output: (interval: 0.1),
+    materials: {{ "rock": (density: 2700.0, young: 1e10, poisson: 0.25) }},
+    default_joint: Coulomb(friction_angle: 35.0),
+    blocks: [
+        Rectangle(center: (-10.0, -0.5), width: 20.0, height: 1.0, fixed: true),
+        Rectangle(center: ({overhang:?}, 0.5), width: 1.0, height: 1.0),
+    ],
+)"#
+    );
+    Scene::from_str(&text, "ledge").unwrap()
+}
+
+/// A block on a ledge stands in static steps while its centroid is over the
+/// ledge and tips once it is beyond the edge, however little: 1 mm either
+/// side of the edge (a tenth of a per cent of its width), at a tenth, one
+/// and ten times the example's penalty, in 2D and in the extruded 3D model.
+/// Over the ledge it settles into its springs (at most 4.9e-5 m, at a tenth
+/// of the penalty) and then moves less than 1e-11 m an output over its last
+/// 2 s (measured 7e-13 m); beyond it, it has turned off the edge by 4 s,
+/// its centroid moved out at least 1e-3 m (measured 8.4-8.9 mm) and down.
+///
+/// Before, the corner at the block's back pulled across the open-close band
+/// (a closed contact opened only a contact tolerance, 1e-7 of w0 = 10.5 m,
+/// past its tensile strength: on a spring of about 1e10 N/m some 1e4 N,
+/// 40 % of the block's weight), and the block stood 1 cm beyond the edge.
+#[test]
+fn a_block_tips_off_its_ledge_in_static_steps_as_soon_as_it_overhangs() {
+    for scale in [0.1, 1.0, 10.0] {
+        for overhang in [1e-3, -1e-3] {
+            let plane = ledge(overhang, 2e10 * scale);
+            let prism = dda::extrude::extrude(&plane, 1.0).unwrap();
+            for (dimension, scene) in [(2, plane), (3, prism)] {
+                let name = format!("ledge_{overhang}_{scale}_{dimension}d");
+                let (at, _) = centroids(&name, &scene);
+                let moved: Vec<[f64; 2]> = (at.iter())
+                    .map(|c| [c[0] - at[0][0], c[1] - at[0][1]])
+                    .collect();
+                let last = moved[moved.len() - 1];
+                println!("{name}: moved {last:?}");
+                if overhang > 0.0 {
+                    assert!(last[0] > 1e-3 && last[1] < 0.0, "{name}: {last:?}");
+                } else {
+                    assert!(last[0].hypot(last[1]) < 1e-4, "{name}: {last:?}");
+                    for pair in moved[20..].windows(2) {
+                        let step = (pair[1][0] - pair[0][0]).hypot(pair[1][1] - pair[0][1]);
+                        assert!(step < 1e-11, "{name}: {moved:?}");
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// At a factor of safety of 0.99 the block slides down its incline in
+/// static steps (of 4 s, bound-limited) until the line of its weight
+/// passes the incline's lower edge, at s = −10 + 0.5·tan 30° = −9.7113 m
+/// along the incline from its centre, and then tips off it: in 2D and in
+/// the extruded 3D model, no output finds it standing beyond that point
+/// (by more than its springs' 1e-3 m), and it has fallen off by 300 s.
+/// Before, the corner at its back pulled across the open-close band and
+/// it stood at s = −9.733 m for good.
+#[test]
+fn a_block_sliding_off_its_incline_tips_where_its_weight_passes_the_edge() {
+    let tipping = -10.0 + 0.5 * 30f64.to_radians().tan();
+    let (cos, sin) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let mut plane = incline(0.99, 4.0);
+    plane.analysis.duration = 300.0;
+    let prism = dda::extrude::extrude(&plane, 1.0).unwrap();
+    for (dimension, scene) in [(2, plane), (3, prism)] {
+        let name = format!("static_tipping_{dimension}d");
+        let (at, _) = centroids(&name, &scene);
+        // Along the incline (s) and off it (n), from the incline's centre.
+        let frame: Vec<[f64; 2]> = (at.iter())
+            .map(|c| [c[0] * cos + c[1] * sin, -c[0] * sin + c[1] * cos])
+            .collect();
+        let standing: Vec<f64> = (frame.iter())
+            .filter(|c| (c[1] - 1.0).abs() < 1e-3)
+            .map(|c| c[0])
+            .collect();
+        let farthest = standing.iter().copied().fold(f64::INFINITY, f64::min);
+        let last = frame[frame.len() - 1];
+        println!("{name}: stood as far as s = {farthest}, ended at {last:?}");
+        assert!(farthest > tipping - 1e-3, "{name}: stood at s = {farthest}");
+        assert!(
+            last[0] < -10.5 && last[1] < 0.5,
+            "{name}: ended at {last:?}"
+        );
+    }
 }
