@@ -991,6 +991,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             damping: self.settings.contact_damping,
             tolerance: self.settings.contact_tolerance * self.length_scale,
             static_step: self.settings.velocity_ratio == 0.0,
+            commit_open: self.settings.open_at_strength
+                && self.settings.integrator == Integrator::Implicit,
             penalty: self.penalty,
             chosen: &self.chosen,
         }

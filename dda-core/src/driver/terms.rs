@@ -75,6 +75,9 @@ pub(super) struct ContactTerms<'a, const N: usize, const T: usize, E = Entrance<
     /// Whether the step is static (velocity ratio 0): its decisions open
     /// a contact past its tensile strength without the band.
     pub static_step: bool,
+    /// Whether a closed contact pulling past its tensile strength at the
+    /// step's end is committed open (`Settings::open_at_strength`).
+    pub commit_open: bool,
     pub penalty: f64,
     /// Each contact's chosen entrance, side by side (where held).
     pub chosen: &'a Chosen<N, T, E>,
@@ -446,11 +449,22 @@ impl<const N: usize, const T: usize, E: EntranceRows<N, T>> ContactTerms<'_, N, 
         let kin = self.kinematics(i, e, trial, dt);
         let history = c.record.history.as_ref().expect("history set at search");
         let law = &self.laws[c.law];
-        let state = if trial.within[i] {
+        let mut state = if trial.within[i] {
             ContactState::Locked
         } else {
             trial.states[i]
         };
+        if self.commit_open && state.is_closed() {
+            // Opened where the law would open it a contact tolerance
+            // further open: at its strength, not past the band.
+            let further = LocalKinematics {
+                gap: kin.gap + kin.tolerance,
+                ..kin
+            };
+            if law.next_state(state, &further, history) == ContactState::Open {
+                state = ContactState::Open;
+            }
+        }
         let response = if state.is_closed() {
             law.response(state, &kin, history)
         } else {
@@ -625,6 +639,7 @@ mod tests {
                 damping,
                 tolerance: 1e-7,
                 static_step: false,
+                commit_open: false,
                 penalty: PENALTY,
                 chosen: &chosen,
             };
@@ -655,6 +670,7 @@ mod tests {
             damping: 0.0,
             tolerance: 1e-7,
             static_step: false,
+            commit_open: false,
             penalty: PENALTY,
             chosen: &Chosen::default(),
         };
