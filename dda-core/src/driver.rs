@@ -898,7 +898,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let foreseen = self.recent.foresee(dt)?;
         let deciding = Instant::now();
         let at_rest = std::mem::replace(&mut trial.d, foreseen);
-        let decisions = self.decisions_at(trial, dt, &trial.d, true);
+        let decisions = self.decisions_at(trial, dt, &trial.d);
         let foreseen = std::mem::replace(&mut trial.d, at_rest);
         self.stats.times.open_close += deciding.elapsed();
         let closings = self.settings.restitution.is_none();
@@ -920,21 +920,9 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// Every contact's decision at the trial, in the kept buffer (give it
     /// back to `self.decisions`). Each reads the trial and writes nothing:
     /// they are made in parallel and come in contact order.
-    /// With `foreseen`, at a motion foreseen rather than solved: the
-    /// open-close band then holds in static steps too, since the foreseen
-    /// motion of a static step that follows a loaded one overshoots (a
-    /// hanging block's bond, loaded to 0.8 of its strength, was foreseen
-    /// at 1.08 of it, started open and broke).
-    fn decisions_at(
-        &mut self,
-        trial: &Trial<T>,
-        dt: f64,
-        moving: &[f64],
-        foreseen: bool,
-    ) -> Vec<Decision<T>> {
+    fn decisions_at(&mut self, trial: &Trial<T>, dt: f64, moving: &[f64]) -> Vec<Decision<T>> {
         let mut decisions = std::mem::take(&mut self.decisions);
-        let mut terms = self.terms();
-        terms.static_step &= !foreseen;
+        let terms = self.terms();
         let contacts = &self.contacts;
         (0..self.contacts.len())
             .into_par_iter()
@@ -959,7 +947,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let decisions = if std::mem::take(&mut self.decisions_read) && approach.is_none() {
             std::mem::take(&mut self.decisions)
         } else {
-            self.decisions_at(trial, dt, moving, false)
+            self.decisions_at(trial, dt, moving)
         };
         let mut changed = false;
         trial.unsettled.clear();
@@ -990,7 +978,6 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             striking: &self.striking,
             damping: self.settings.contact_damping,
             tolerance: self.settings.contact_tolerance * self.length_scale,
-            static_step: self.settings.velocity_ratio == 0.0,
             commit_open: self.settings.open_at_strength
                 && self.settings.integrator == Integrator::Implicit,
             penalty: self.penalty,

@@ -86,22 +86,23 @@ macro_rules! with_settings {
             /// does not slide off during the first bounces; 0 gives Shi's
             /// undamped springs, whose rebound depends on the step.
             contact_damping: f64 = 0.0,
-            /// Whether a dynamic step's closed contact opens at its tensile
-            /// strength; default `false`: a contact tolerance past it. The
+            /// Whether a closed contact opens at its tensile strength;
+            /// default `false`: a contact tolerance past it, a band that
+            /// keeps passes from opening and closing it by turns. The
             /// spring over that band pulls, up to the spring's stiffness
-            /// times contact_tolerance·w0, so the onset of uplift (a rocking
-            /// column's heel, an arch's hinge) waits for a pull that grows
-            /// with the penalty: a rigid 1 m × 4 m column under a slowly
-            /// rising base acceleration lifted at 0.267 g at a penalty of
-            /// 2e10 and not by 0.28 g at 2e11, where its threshold is
-            /// 0.25 g (`tests/uplift.rs`). With `true`, a contact that ends
-            /// a step pulling past its strength is committed open, so the
-            /// next step starts without it: both lifted at 0.255 g, in 2D
-            /// and 3D. It costs a ringing
-            /// wall passes (the 10,051-block wall at dt 1 ms: 11.2 moves a
-            /// step instead of 7, twice the time), since its joints pull
-            /// and let go as it rings. A static step always opens at the
-            /// strength.
+            /// times contact_tolerance·w0, so uplift waits for a pull that
+            /// grows with the penalty: a rigid 1 m × 4 m column under a
+            /// slowly rising base acceleration lifted at 0.267 g at a
+            /// penalty of 2e10 and not by 0.28 g at 2e11, where its
+            /// threshold is 0.25 g (`tests/uplift.rs`); and a static step,
+            /// with no inertia to carry a block across the band, lets a
+            /// block stand 1 mm beyond its ledge (`tests/static_steps.rs`).
+            /// With `true`, a contact that ends a step pulling past its
+            /// strength is committed open, so the next step starts without
+            /// it: the column lifts at 0.255 g at both penalties, in 2D and
+            /// 3D, and the block tips. It costs a ringing wall passes (the
+            /// 10,051-block wall at dt 1 ms: 11.2 moves a step instead of
+            /// 7, twice the time).
             open_at_strength: bool = false,
             /// Coefficient of restitution e of impacts, in [0, 1]; default
             /// `None` (off: the springs and dashpots alone decide a rebound,

@@ -883,7 +883,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// `decide`, which follows at the same trial.
     fn decisions_change(&mut self, trial: &Trial<T>, dt: f64) -> bool {
         let deciding = Instant::now();
-        let decisions = self.decisions_at(trial, dt, &trial.d, false);
+        let decisions = self.decisions_at(trial, dt, &trial.d);
         let change = decisions.iter().any(|d| d.changed);
         self.decisions = decisions;
         self.decisions_read = change;

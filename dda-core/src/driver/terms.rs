@@ -72,9 +72,6 @@ pub(super) struct ContactTerms<'a, const N: usize, const T: usize, E = Entrance<
     pub damping: f64,
     /// The contact tolerance (m).
     pub tolerance: f64,
-    /// Whether the step is static (velocity ratio 0): its decisions open
-    /// a contact past its tensile strength without the band.
-    pub static_step: bool,
     /// Whether a closed contact pulling past its tensile strength at the
     /// step's end is committed open (`Settings::open_at_strength`).
     pub commit_open: bool,
@@ -382,22 +379,6 @@ impl<const N: usize, const T: usize, E: EntranceRows<N, T>> ContactTerms<'_, N, 
                 }
             }
         }
-        if self.static_step && state.is_closed() && next.is_closed() {
-            // A static step opens a closed contact past its tensile
-            // strength without the open-close band: the band's pull (up
-            // to the spring over contact_tolerance·w0, 40 % of the
-            // resting block's weight) is an equilibrium where no inertia
-            // moves anything on, so a block whose centroid overhangs its
-            // ledge stood on it. Closing keeps the band, so a contact
-            // opened so does not close again until it penetrates by it.
-            let further = LocalKinematics {
-                gap: kin.gap + kin.tolerance,
-                ..kin
-            };
-            if law.next_state(state, &further, history) == ContactState::Open {
-                next = ContactState::Open;
-            }
-        }
         if state.is_closed() && next.is_closed() && next != state {
             // Where the contact can carry almost no shear and carries
             // almost none (a wall's head joint, at no normal force),
@@ -638,7 +619,6 @@ mod tests {
                 striking: &[],
                 damping,
                 tolerance: 1e-7,
-                static_step: false,
                 commit_open: false,
                 penalty: PENALTY,
                 chosen: &chosen,
@@ -669,7 +649,6 @@ mod tests {
             striking: &[],
             damping: 0.0,
             tolerance: 1e-7,
-            static_step: false,
             commit_open: false,
             penalty: PENALTY,
             chosen: &Chosen::default(),
