@@ -102,7 +102,8 @@ macro_rules! with_settings {
             /// it: the column lifts at 0.255 g at both penalties, in 2D and
             /// 3D, and the block tips. It costs a ringing wall passes (the
             /// 10,051-block wall at dt 1 ms: 11.2 moves a step instead of
-            /// 7, twice the time).
+            /// 7, twice the time). Implicit integrator only: the explicit
+            /// one keeps the band.
             open_at_strength: bool = false,
             /// Coefficient of restitution e of impacts, in [0, 1]; default
             /// `None` (off: the springs and dashpots alone decide a rebound,
