@@ -210,7 +210,7 @@ fn moved_from_start(at: &[[f64; 2]]) -> Vec<[f64; 2]> {
 /// springs (at most 4.9e-5 m, at a tenth of the penalty) and then moves
 /// less than 1e-11 m an output over its last 2 s (measured 7e-13 m);
 /// beyond it, it has turned off the edge by 4 s, its centroid moved out at
-/// least 1e-3 m (measured 8.4-8.9 mm) and down.
+/// least 1e-3 m (measured 8.3-8.6 mm) and down.
 ///
 /// By default a closed contact opens only a contact tolerance past its
 /// strength (1e-7 of w0 = 10.5 m: on a spring of about 1e10 N/m some 1e4 N,
