@@ -691,7 +691,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut moved_by;
         let trial = loop {
             let trial = self.attempt(dt)?;
-            if (!trial.converged || !trial.solved) && dt / 3.0 >= floor {
+            // A settling step out of balance is not cut: the next one goes
+            // on from it, and the settling ends only in balance.
+            let unsolved = !trial.solved && !self.settling;
+            if (!trial.converged || unsolved) && dt / 3.0 >= floor {
                 dt /= 3.0;
                 cut = true;
                 if trial.converged {
@@ -729,7 +732,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                     continue;
                 }
             }
-            if !trial.solved {
+            if unsolved {
                 self.stats.unsolved_steps += 1;
             }
             if !trial.converged {

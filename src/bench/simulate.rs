@@ -100,6 +100,12 @@ pub struct SimulateRow {
     pub settle_s: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub settled: Option<bool>,
+    /// The settling's static steps and open-close passes (its cut
+    /// attempts' included); `None` without.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settle_steps: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settle_passes: Option<usize>,
     /// The process's peak resident memory so far, MB (Linux; 0 elsewhere).
     pub peak_memory_mb: f64,
     /// The runs made of this wall, this the median by wall time per
@@ -304,6 +310,8 @@ fn simulate_driver<D: Timed>(
         drift: largest,
         end_drift: drift(driver, &start),
         settle_s: settling.as_ref().map(|s| s.wall_time.as_secs_f64()),
+        settle_steps: settling.as_ref().map(|s| s.steps),
+        settle_passes: (settling.as_ref()).map(|s| s.statistics.open_close_iterations),
         settled: settling.map(|s| s.settled),
         peak_memory_mb: peak_memory_mb(),
         runs: 1,
@@ -339,6 +347,8 @@ pub(crate) mod tests {
             drift,
             end_drift: drift,
             settle_s: None,
+            settle_steps: None,
+            settle_passes: None,
             settled: None,
             peak_memory_mb: 80.0,
             runs: 1,
