@@ -311,7 +311,9 @@ fn simulate_driver<D: Timed>(
         end_drift: drift(driver, &start),
         settle_s: settling.as_ref().map(|s| s.wall_time.as_secs_f64()),
         settle_steps: settling.as_ref().map(|s| s.steps),
-        settle_passes: (settling.as_ref()).map(|s| s.statistics.open_close_iterations),
+        settle_passes: settling
+            .as_ref()
+            .map(|s| s.statistics.open_close_iterations),
         settled: settling.map(|s| s.settled),
         peak_memory_mb: peak_memory_mb(),
         runs: 1,

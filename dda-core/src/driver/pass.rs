@@ -319,7 +319,8 @@ const OWN_LARGE_FACTOR_CONTRACTION: f64 = 0.9;
 /// at a factor of safety of 0.99 under a static step of 40 s, its inertia
 /// negligible against its springs, stalled at 4.4e-4 of the loads (0.9 %
 /// of its weight) with its contact locked: accepted so, it stood a whole
-/// step where no balance exists.
+/// step where no balance exists. A settling step is not cut so
+/// (`Driver::step`): the settling ends only in balance.
 const UNSOLVED_SHARE: f64 = 1e-6;
 
 /// Factor entries from which the large factor's rules apply (the
