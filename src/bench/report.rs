@@ -176,10 +176,11 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
             _ => "did not settle",
         };
         println!(
-            "the {n} × {n} {} wall {how} before its run in {settle_s:.2} s of wall time, {} static steps and {} passes (not in wall s; drift is from where it settled)",
+            "the {n} × {n} {} wall {how} before its run in {settle_s:.2} s of wall time, {} static steps, {} passes and {} factorisations (not in wall s; drift is from where it settled)",
             series_name(r.dimension, r.kind),
             r.settle_steps.unwrap_or(0),
             r.settle_passes.unwrap_or(0),
+            r.settle_factorizations.unwrap_or(0),
             n = r.courses,
         );
     }

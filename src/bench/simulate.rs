@@ -100,12 +100,14 @@ pub struct SimulateRow {
     pub settle_s: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub settled: Option<bool>,
-    /// The settling's static steps and open-close passes (its cut
-    /// attempts' included); `None` without.
+    /// The settling's static steps, open-close passes and factorisations
+    /// (its cut attempts' included); `None` without.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub settle_steps: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub settle_passes: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settle_factorizations: Option<usize>,
     /// The process's peak resident memory so far, MB (Linux; 0 elsewhere).
     pub peak_memory_mb: f64,
     /// The runs made of this wall, this the median by wall time per
@@ -314,6 +316,7 @@ fn simulate_driver<D: Timed>(
         settle_passes: settling
             .as_ref()
             .map(|s| s.statistics.open_close_iterations),
+        settle_factorizations: (settling.as_ref()).map(|s| s.statistics.factorizations),
         settled: settling.map(|s| s.settled),
         peak_memory_mb: peak_memory_mb(),
         runs: 1,
@@ -351,6 +354,7 @@ pub(crate) mod tests {
             settle_s: None,
             settle_steps: None,
             settle_passes: None,
+            settle_factorizations: None,
             settled: None,
             peak_memory_mb: 80.0,
             runs: 1,

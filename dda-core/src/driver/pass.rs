@@ -456,13 +456,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         // 0.3 s took 4.0 s instead of 6.2, the 20 × 20 wall's first 0.5 s
         // at the automatic step 27 s instead of 37; the 3D 20-course
         // deformable wall at rest, whose first steps slide, factorised 0.78
-        // times a step instead of 1.61.
-        let keeps_as_large = self.large_factor() || hand_over;
-        let give_way = if keeps_as_large {
-            KEPT_LARGE_FACTOR_CONTRACTION
-        } else {
-            KEPT_FACTOR_CONTRACTION
-        };
+        // times a step instead of 1.61. Read at each move (below), not
+        // once here: a model's first pass learns its factor's size only
+        // from its first factorisation. Read here, the settling 60 × 60 3D
+        // deformable wall's first pass took the small factor's rules and
+        // factorised 8 times instead of once (the 100 × 100 one 23 times
+        // instead of 9, 15 s against 7.4).
         let (mut stale, drift) = if self.large_factor() {
             (usize::MAX, LARGE_FACTOR_DRIFT)
         } else {
@@ -634,6 +633,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             // (`OWN_LARGE_FACTOR_CONTRACTION`). A kept factor's
             // move that raised the residual is undone: the next move is
             // Newton's from the best iterate.
+            let keeps_as_large = self.large_factor() || hand_over;
+            let give_way = if keeps_as_large {
+                KEPT_LARGE_FACTOR_CONTRACTION
+            } else {
+                KEPT_FACTOR_CONTRACTION
+            };
             if kept && norm > give_way * last {
                 if inexact && self.large_factor() {
                     // The move may have fallen short by the single-precision
