@@ -1,6 +1,6 @@
 //! The `dda bench` command times walls of growing size against the smallest.
 
-use dda::bench::simulate::{simulate, SimulateOptions};
+use dda::bench::simulate::{simulate, SimulateOptions, SimulateRow};
 use dda::bench::{bench, wall, wall_scene, BenchOptions, Stepping};
 use dda::scene::{BlockKind, Solver};
 mod common;
@@ -430,20 +430,27 @@ fn a_settled_wall_stays_at_rest() {
 /// ends only in balance: 3 steps and 5 passes, 1.8 s (4.2 s at 100 × 100).
 #[test]
 fn a_large_deformable_wall_settles_in_a_few_passes() {
+    let r = settled_deformable_wall(70, 2);
+    assert!(r.settle_steps.is_some_and(|s| s <= 4), "{r:?}");
+    assert!(r.settle_passes.is_some_and(|p| p <= 6), "{r:?}");
+}
+
+/// The deformable wall of `n` courses in `dimension` 2 or 3, settled and
+/// then run one step of 1 ms; it must have settled.
+fn settled_deformable_wall(n: usize, dimension: u32) -> SimulateRow {
     let options = SimulateOptions {
         kinds: vec![BlockKind::Deformable],
+        dimensions: vec![dimension],
         settle: true,
-        ..rigid_wall(70, 0.001, vec![0.001])
+        ..rigid_wall(n, 0.001, vec![0.001])
     };
-    for r in simulate(&options).unwrap() {
-        println!(
-            "settled in {:?} steps, {:?} passes, {:?} s",
-            r.settle_steps, r.settle_passes, r.settle_s
-        );
-        assert!(r.completed && r.settled == Some(true), "{r:?}");
-        assert!(r.settle_steps.is_some_and(|s| s <= 4), "{r:?}");
-        assert!(r.settle_passes.is_some_and(|p| p <= 6), "{r:?}");
-    }
+    let r = simulate(&options).unwrap().remove(0);
+    println!(
+        "settled in {:?} steps, {:?} passes, {:?} factorisations, {:?} s",
+        r.settle_steps, r.settle_passes, r.settle_factorizations, r.settle_s
+    );
+    assert!(r.completed && r.settled == Some(true), "{r:?}");
+    r
 }
 
 /// A large 3D deformable wall settles on few factorisations: its first
@@ -454,20 +461,8 @@ fn a_large_deformable_wall_settles_in_a_few_passes() {
 /// of once (0.65 s).
 #[test]
 fn a_large_3d_wall_settles_on_few_factorisations() {
-    let options = SimulateOptions {
-        kinds: vec![BlockKind::Deformable],
-        dimensions: vec![3],
-        settle: true,
-        ..rigid_wall(60, 0.001, vec![0.001])
-    };
-    for r in simulate(&options).unwrap() {
-        println!(
-            "settled in {:?} steps, {:?} passes, {:?} factorisations, {:?} s",
-            r.settle_steps, r.settle_passes, r.settle_factorizations, r.settle_s
-        );
-        assert!(r.completed && r.settled == Some(true), "{r:?}");
-        assert!(r.settle_factorizations.is_some_and(|f| f <= 3), "{r:?}");
-    }
+    let r = settled_deformable_wall(60, 3);
+    assert!(r.settle_factorizations.is_some_and(|f| f <= 3), "{r:?}");
 }
 
 /// A settled 3D wall stands still too, each step in one move: the corners
