@@ -316,7 +316,7 @@ fn simulate_driver<D: Timed>(
         settle_passes: settling
             .as_ref()
             .map(|s| s.statistics.open_close_iterations),
-        settle_factorizations: (settling.as_ref()).map(|s| s.statistics.factorizations),
+        settle_factorizations: settling.as_ref().map(|s| s.statistics.factorizations),
         settled: settling.map(|s| s.settled),
         peak_memory_mb: peak_memory_mb(),
         runs: 1,
