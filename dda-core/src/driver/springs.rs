@@ -61,6 +61,7 @@ impl<const T: usize> Springs<T> {
             turning: self.turning,
             direction: self.direction,
             slope: 0.0,
+            slipping: false,
         }
     }
 }

@@ -28,6 +28,10 @@ pub(super) struct ContactLoad<const N: usize, const T: usize> {
     /// A sliding contact's d(friction)/d(gap) (computed only for coupled
     /// solves; 0 otherwise).
     pub slope: f64,
+    /// Whether its shear force is its strength's at the trial: sliding
+    /// beyond its elastic limit, or locked and past its strength (the
+    /// return map's friction branch either way).
+    pub slipping: bool,
 }
 
 /// One contact's open-close decision at a trial.
@@ -319,6 +323,7 @@ impl<const N: usize, const T: usize, E: EntranceRows<N, T>> ContactTerms<'_, N, 
             turning,
             direction,
             slope,
+            slipping,
         }
     }
 
