@@ -431,10 +431,9 @@ fn a_settled_wall_stays_at_rest() {
 ///
 /// Its first pass starts with every contact locked, thousands of them
 /// slipping past their strength: counted by state alone, they never
-/// handed the pass to the whole tangent, and it made a factor at every
-/// move once its kept one slowed, 12 factorisations in the settling
-/// instead of 7 (the 100 × 100 wall 16, with a Newton failure, instead
-/// of 6).
+/// handed the pass to the whole tangent at its first rise, and it went on
+/// with fresh factors, 12 factorisations in the settling instead of 7
+/// (the 100 × 100 wall 16, with a Newton failure, instead of 6).
 #[test]
 fn a_large_deformable_wall_settles_in_a_few_passes() {
     let r = settled_deformable_wall(70, 2);
