@@ -327,3 +327,93 @@ fn heymans_arch_above_its_minimum_settles_and_stands() {
     assert!(crown < 1e-8, "the settled crown moved {crown} m");
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// A running-bond wall of 68 deformable bricks (8 courses of 0.25 m ×
+/// 0.125 m, 2 m long) on a fixed footing, gravity tilted by 30° so that
+/// every bed joint carries its load at tan 30°, its friction set for a
+/// factor of safety `fos`, settled in at most 12 static steps, then run
+/// 0.01 s; in 2D, or as its extruded prism model 0.25 m deep.
+fn tilted_wall(fos: f64, dimension: u32) -> dda::Scene {
+    let phi = (fos * 30f64.to_radians().tan()).atan().to_degrees();
+    let (sin, cos) = 30f64.to_radians().sin_cos();
+    let text = format!(
+        "Scene(
+    analysis: (duration: 0.01, gravity: ({:?}, {:?}), settle: (steps: 12)),
+    output: (interval: 0.01),
+    materials: {{ \"brick\": (density: 1800.0, young: 5e9, poisson: 0.2) }},
+    default_joint: Coulomb(friction_angle: {phi:?}),
+    blocks: [
+        Rectangle(center: (1.0, -0.25), width: 3.0, height: 0.5, fixed: true),
+        Wall(origin: (0.0, 0.0), length: 2.0, courses: 8, brick_length: 0.25, brick_height: 0.125),
+    ],
+)",
+        9.81 * sin,
+        -9.81 * cos
+    );
+    let plane = dda::Scene::from_str(&text, "tilted wall").unwrap();
+    if dimension == 2 {
+        plane
+    } else {
+        dda::extrude::extrude(&plane, 0.25).unwrap()
+    }
+}
+
+/// The farthest any block of run `out` (in `dimension` 2 or 3) moves
+/// from where it was at t = 0, m.
+fn farthest(out: &Path, dimension: u32) -> f64 {
+    let path = out.join("history.csv");
+    let points: Vec<(usize, [f64; 3])> = if dimension == 2 {
+        let rows = dda::read_history(path).unwrap();
+        rows.iter().map(|r| (r.block, [r.x, r.y, 0.0])).collect()
+    } else {
+        let rows = dda::read_history_3d(path).unwrap();
+        rows.iter().map(|r| (r.block, r.position)).collect()
+    };
+    // Rows come in time order, so a block's first is its place at t = 0.
+    let mut start = std::collections::HashMap::new();
+    let mut far: f64 = 0.0;
+    for (block, p) in points {
+        let s = *start.entry(block).or_insert(p);
+        let d = (0..3).map(|k| (p[k] - s[k]).powi(2)).sum::<f64>().sqrt();
+        far = far.max(d);
+    }
+    far
+}
+
+/// The tilted wall settles at a factor of safety of 1.01 and does not at
+/// 0.99, in 2D and its extruded 3D model: a settling near the friction
+/// limit with hundreds of bed-joint contacts at their strength, where a
+/// static pass hands over to the whole tangent (friction coupled to the
+/// normal force) for locked contacts past their strength as for sliding
+/// ones. At 1.01 the settled wall then stands: no brick moves more than
+/// 1e-9 m over the run's 0.01 s (measured 1.7e-13 m in 2D, 1.9e-12 m in
+/// 3D). Measured: 8 and 4 static steps at 1.01; at 0.99 the settling
+/// thrashes, up to 40 passes a step (`docs/limits.md`, "A many-block wall
+/// settling near its friction limit"). The verdicts are the same with
+/// that count switched off: this test holds the verdicts near the limit,
+/// `bench::a_large_deformable_wall_settles_in_a_few_passes` the count.
+#[test]
+fn a_tilted_wall_settles_just_within_its_friction_limit_and_not_past_it() {
+    for dimension in [2, 3] {
+        for fos in [1.01, 0.99] {
+            let (summary, out) = common::run_scene(
+                &tilted_wall(fos, dimension),
+                &format!("tilted_{dimension}_{fos}"),
+            );
+            let report = summary.settling.clone().expect("the settling is reported");
+            println!("{dimension}D at FS {fos}: {report:?}");
+            if fos > 1.0 {
+                assert!(report.settled, "{dimension}D: {report:?}");
+                let still = farthest(&out, dimension);
+                println!("{dimension}D: the settled wall moved {still} m");
+                assert!(
+                    still < 1e-9,
+                    "{dimension}D: the settled wall moved {still} m"
+                );
+            } else {
+                assert!(!report.settled, "{dimension}D: {report:?}");
+            }
+            let _ = std::fs::remove_dir_all(&out);
+        }
+    }
+}
