@@ -981,8 +981,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             striking: &self.striking,
             damping: self.settings.contact_damping,
             tolerance: self.settings.contact_tolerance * self.length_scale,
+            // A settling keeps the band: its static steps have no inertia
+            // to carry a block across a contact opened between them, so
+            // they would open and close it by turns and never end still.
             commit_open: self.settings.open_at_strength
-                && self.settings.integrator == Integrator::Implicit,
+                && self.settings.integrator == Integrator::Implicit
+                && !self.settling,
             penalty: self.penalty,
             chosen: &self.chosen,
         }

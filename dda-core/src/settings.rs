@@ -102,8 +102,14 @@ macro_rules! with_settings {
             /// it: the column lifts at 0.255 g at both penalties, in 2D and
             /// 3D, and the block tips. It costs a ringing wall passes (the
             /// 10,051-block wall at dt 1 ms: 11.2 moves a step instead of
-            /// 7, twice the time). Implicit integrator only: the explicit
-            /// one keeps the band.
+            /// 7, twice the time). A settling's static steps keep the band
+            /// (with no inertia, a block would cross a contact opened
+            /// between them and back, and never end still); the run then
+            /// opens what pulls. A running-bond wall near its toppling
+            /// limit stands on the band's pull: a tilted 68-brick wall
+            /// whose joints can carry at most 0.994 of its load stands
+            /// with the band and topples with `true` (`tests/settle.rs`).
+            /// Implicit integrator only: the explicit one keeps the band.
             open_at_strength: bool = false,
             /// Coefficient of restitution e of impacts, in [0, 1]; default
             /// `None` (off: the springs and dashpots alone decide a rebound,
