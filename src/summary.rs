@@ -145,6 +145,11 @@ pub struct SettleReport {
     /// [`dda_core::driver::settle::SETTLED_SHARE`] of its largest, out of balance
     /// by no more than [`dda_core::driver::settle::SETTLED_BALANCE`].
     pub settled: bool,
+    /// Whether, not settled, it was undone: a step moved a block farther
+    /// than a tenth of the median block size (as one falls, slides or
+    /// topples), and the run started from the model as it was.
+    #[serde(default)]
+    pub undone: bool,
     /// The largest point displacement of a step, and of the last, m.
     pub largest_step: f64,
     pub last_step: f64,
@@ -163,6 +168,7 @@ impl From<&dda_core::Settling> for SettleReport {
         Self {
             steps: s.steps,
             settled: s.settled,
+            undone: s.undone,
             largest_step: s.largest_step,
             last_step: s.last_step,
             balance: s.balance,
@@ -178,10 +184,15 @@ impl SettleReport {
     pub fn warning(&self) -> Option<String> {
         (!self.settled).then(|| {
             format!(
-                "the model did not settle in {} static steps (analysis.settle): each step still moved it (the last {:.3e} m, the largest {:.3e} m) or ended out of balance; a model that stands settles in a few, so this one may not stand under its loads at t = 0 (a block sliding or toppling: look at the first frame). The run starts where the steps left the blocks",
+                "the model did not settle in {} static steps (analysis.settle): each step still moved it (the last {:.3e} m, the largest {:.3e} m) or ended out of balance; a model that stands settles in a few, so this one may not stand under its loads at t = 0 (a block sliding or toppling). {}",
                 self.steps,
                 self.last_step,
-                self.largest_step
+                self.largest_step,
+                if self.undone {
+                    "A step moved a block as one falls, slides or topples, so the settling was undone: the run starts from the model as it was, at rest, as an unsettled one does"
+                } else {
+                    "The run starts where the steps left the blocks"
+                }
             )
         })
     }

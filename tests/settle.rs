@@ -331,7 +331,7 @@ fn heymans_arch_above_its_minimum_settles_and_stands() {
 }
 
 /// A running-bond wall of deformable bricks (`courses` courses of 0.25 m ×
-/// 0.125 m, 2 m long) on a fixed footing, gravity tilted by 30° so that
+/// 0.125 m, 2 m long unless [`tilted_wall_of`] says) on a fixed footing, gravity tilted by 30° so that
 /// every bed joint carries its load at tan 30°, its friction set for a
 /// factor of safety `fos` on those joints, settled in at most 12 static
 /// steps, then run for `duration` s with `more` added to the analysis; in
@@ -344,6 +344,18 @@ fn heymans_arch_above_its_minimum_settles_and_stands() {
 /// 1.01 and 0.994 at 1.16, reaching 1 only at FS 1.1746: the wedge at the
 /// downhill end topples about its toe first.
 fn tilted_wall(fos: f64, courses: u32, duration: f64, more: &str, dimension: u32) -> dda::Scene {
+    tilted_wall_of(2.0, fos, courses, duration, more, dimension)
+}
+
+/// [`tilted_wall`], `length` m long.
+fn tilted_wall_of(
+    length: f64,
+    fos: f64,
+    courses: u32,
+    duration: f64,
+    more: &str,
+    dimension: u32,
+) -> dda::Scene {
     let phi = (fos * 30f64.to_radians().tan()).atan().to_degrees();
     let (sin, cos) = 30f64.to_radians().sin_cos();
     let text = format!(
@@ -353,13 +365,15 @@ fn tilted_wall(fos: f64, courses: u32, duration: f64, more: &str, dimension: u32
     materials: {{ \"brick\": (density: 1800.0, young: 5e9, poisson: 0.2) }},
     default_joint: Coulomb(friction_angle: {phi:?}),
     blocks: [
-        Rectangle(center: (1.0, -0.25), width: 3.0, height: 0.5, fixed: true),
-        Wall(origin: (0.0, 0.0), length: 2.0, courses: {courses}, brick_length: 0.25, brick_height: 0.125),
+        Rectangle(center: ({:?}, -0.25), width: {:?}, height: 0.5, fixed: true),
+        Wall(origin: (0.0, 0.0), length: {length:?}, courses: {courses}, brick_length: 0.25, brick_height: 0.125),
     ],
 )",
         9.81 * sin,
         -9.81 * cos,
-        duration / 2.0
+        duration / 2.0,
+        length / 2.0,
+        length + 1.0
     );
     let plane = dda::Scene::from_str(&text, "tilted wall").unwrap();
     if dimension == 2 {
@@ -485,4 +499,40 @@ fn tilted_walls_opened_at_strength_slide_and_topple_as_limit_analysis_says() {
             let _ = std::fs::remove_dir_all(&out);
         }
     }
+}
+
+/// A tilted wall 1 m long and 2 m tall (16 courses) topples whatever its
+/// friction (here FS 2): its weight's line from its centroid leaves its
+/// base 0.577 m from the middle of a 1 m base. Its settling's static steps
+/// move bricks by centimetres (with no inertia, as far as the
+/// displacement bound lets them), so it gives up after two such steps and
+/// is undone: the run is the unsettled run to the last digit, the wall
+/// turning from rest. Kept, such a state put a toppling brick of a 264-brick
+/// wall 2.8 mm into its neighbour, and the run failed at once.
+#[test]
+fn a_settling_that_topples_a_wall_is_undone() {
+    let settled = tilted_wall_of(1.0, 2.0, 16, 0.05, "", 2);
+    let (summary, out) = common::run_scene(&settled, "toppling_settled");
+    let report = summary.settling.clone().expect("the settling is reported");
+    println!("{report:?}");
+    assert!(
+        !report.settled && report.undone && report.steps <= 3,
+        "{report:?}"
+    );
+    assert!(
+        (summary.warnings.iter()).any(|w| w.contains("the settling was undone")),
+        "{:?}",
+        summary.warnings
+    );
+    let mut unsettled = settled.clone();
+    unsettled.analysis.settle = None;
+    let (_, plain) = common::run_scene(&unsettled, "toppling_unsettled");
+    let rows = dda::read_history(out.join("history.csv")).unwrap();
+    let plain_rows = dda::read_history(plain.join("history.csv")).unwrap();
+    assert_eq!(rows, plain_rows, "the undone run is not the unsettled one");
+    let turned = (rows.iter()).fold(0.0f64, |m, r| m.max(r.rotation.abs()));
+    println!("turned {turned} rad by 0.05 s");
+    assert!(turned > 1e-4, "turned {turned} rad");
+    let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_dir_all(&plain);
 }

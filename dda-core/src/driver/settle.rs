@@ -13,7 +13,7 @@
 use std::time::{Duration, Instant};
 
 use super::predict::RecentSteps;
-use super::Driver;
+use super::{Driver, BOUND_BLOCK_SHARE};
 use crate::error::DdaError;
 use crate::settings::Integrator;
 use crate::statistics::Statistics;
@@ -54,6 +54,10 @@ pub struct Settling {
     /// [`SETTLED_SHARE`] of `largest_step` (or the open-close tolerance)
     /// and ended in balance ([`SETTLED_BALANCE`]).
     pub settled: bool,
+    /// Whether the settling, not settled, was undone: a step of it moved a
+    /// block farther than a tenth of the median block size, as one falls,
+    /// slides or topples, and the run starts from the model as it was.
+    pub undone: bool,
     /// The counters of its steps, which the run's own leave out.
     pub statistics: Statistics,
     pub wall_time: Duration,
@@ -73,8 +77,11 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// Brings the model to rest under its loads at the present time, in at
     /// most `most_steps` static steps of [`SETTLE_STEP`] that take no time;
     /// the blocks then start the run at rest where the settling left them,
-    /// with the contacts' states and springs it found. The run's counters
-    /// and energy check start after it. Implicit integrator only.
+    /// with the contacts' states and springs it found. A settling that does
+    /// not settle, having moved a block as one falls, slides or topples, is
+    /// undone (`Settling::undone`): the run starts from the model as it
+    /// was, at rest. It gives up after two such steps in a row. The run's
+    /// counters and energy check start after it. Implicit integrator only.
     pub fn settle(&mut self, most_steps: usize) -> Result<Settling, DdaError> {
         if self.settings.integrator == Integrator::Explicit {
             return Err(DdaError::Setting {
@@ -83,6 +90,16 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             });
         }
         let started = Instant::now();
+        // Where a settling fails after moving a block as one falls, slides
+        // or topples, the run starts from the model as it was: static
+        // steps with no inertia take a model that cannot stand anywhere
+        // the displacement bound lets them (a toppling brick 2.8 mm into
+        // its neighbour), and from there the run failed at once where the
+        // same model unsettled collapses as it should. One that barely
+        // moved (a block just past its friction limit) starts where it
+        // was left, its springs loaded, as a released block would.
+        // (A block system that cannot be saved keeps its settling's end.)
+        let unsettled = self.save().ok();
         let run_stats = std::mem::take(&mut self.stats);
         let kept = (
             self.settings.velocity_ratio,
@@ -101,11 +118,14 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             last_step: 0.0,
             balance: f64::NAN,
             settled: false,
+            undone: false,
             statistics: Statistics::default(),
             wall_time: Duration::ZERO,
         };
         let mut result = Ok(());
         let mut loads = 0.0;
+        let falling = BOUND_BLOCK_SHARE * self.block_size;
+        let mut fell = false;
         let failed = |s: &Statistics| (s.cuts(), s.unconverged_steps, s.newton_failures);
         while settling.steps < most_steps.max(1) {
             self.dt_next = SETTLE_STEP;
@@ -134,6 +154,15 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 settling.settled = true;
                 break;
             }
+            // Two static steps in a row that moved a block as one falls,
+            // slides or topples: the model does not stand, and further
+            // steps (hundreds of passes each, as contacts open and close
+            // with no inertia) would be undone.
+            let far = self.last_moved > falling;
+            if far && fell {
+                break;
+            }
+            fell = far;
         }
         self.settling = false;
         (
@@ -144,6 +173,12 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         ) = kept;
         settling.statistics = std::mem::replace(&mut self.stats, run_stats);
         result?;
+        if let Some(unsettled) = unsettled.filter(|_| !settling.settled) {
+            if settling.largest_step > falling {
+                self.restore(&unsettled)?;
+                settling.undone = true;
+            }
+        }
         // The run starts at rest from the settled state: its energy check,
         // its foreseen motion and its factor are its own.
         self.velocity.iter_mut().for_each(|v| v.fill(0.0));
