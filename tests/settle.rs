@@ -452,29 +452,39 @@ fn a_low_tilted_wall_settles_just_within_its_friction_limit_and_not_past_it() {
 /// contact tolerance's band (its static steps have no inertia to carry a
 /// block across a contact opened between them); the run then opens the
 /// contacts that pull.
+/// In 2D at the automatic penalty, a tenth and ten times it, and in 3D:
 /// - The 4-course wall at FS 1.01 stands: under 1e-5 m in 0.5 s
-///   (measured 1.2e-6 m in 2D, 2.0e-6 m in 3D).
-/// - At FS 0.99 it slides from rest at g sin 30° (1 − FS), 0.04905 m/s²,
-///   so ½at² = 6.13 mm by 0.5 s, within 5 % (measured 6.27 and 6.22 mm).
+///   (measured 6.1e-7 to 7.1e-6 m in 2D, 1.6e-6 m in 3D).
+/// - At FS 0.99 it slides at g sin 30° (1 − FS) = 0.04905 m/s², within
+///   5 % (measured 0.04939-0.04978 in 2D, 0.04917 in 3D).
 /// - The 8-course wall at FS 1.16, whose joints can carry at most 0.994 of
 ///   its downhill load, falls: its downhill end moves over 1 mm by 0.3 s
-///   (measured 13.1 mm in 2D, 3.8 mm in 3D, toppling about its toe; a
+///   (measured 13-19 mm in 2D, 3.8 mm in 3D, toppling about its toe; a
 ///   collapse's onset follows the steps). With the band alone
 ///   (`open_at_strength: false`, the default) it stands on contacts that
 ///   pull (`docs/limits.md`).
 #[test]
 fn tilted_walls_opened_at_strength_slide_and_topple_as_limit_analysis_says() {
-    let opened = ", open_at_strength: true";
-    for dimension in [2, 3] {
+    // The automatic penalty (5.66e10 N/m³ here), a tenth and ten times it.
+    let setups = [
+        (2, ""),
+        (2, ", penalty: 5e9"),
+        (2, ", penalty: 5e11"),
+        (3, ""),
+    ];
+    for (dimension, penalty) in setups {
+        let opened = format!(", open_at_strength: true{penalty}");
         let cases = [(4, 1.01, 0.5), (4, 0.99, 0.5), (8, 1.16, 0.3)];
         for (courses, fos, duration) in cases {
             let (summary, out) = common::run_scene(
-                &tilted_wall(fos, courses, duration, opened, dimension),
-                &format!("tilted_open_{dimension}_{courses}_{fos}"),
+                &tilted_wall(fos, courses, duration, &opened, dimension),
+                &format!("tilted_open_{dimension}_{courses}_{fos}{penalty}"),
             );
             let report = summary.settling.clone().expect("the settling is reported");
             let moved = farthest(&out, dimension);
-            println!("{dimension}D, {courses} courses at FS {fos}: {report:?}; moved {moved} m");
+            println!(
+                "{dimension}D{penalty}, {courses} courses at FS {fos}: {report:?}; moved {moved} m"
+            );
             match (courses, fos > 1.0) {
                 (4, true) => {
                     assert!(report.settled, "{dimension}D: {report:?}");
