@@ -56,7 +56,8 @@ pub struct Settling {
     pub settled: bool,
     /// Whether the settling, not settled, was undone: a step of it moved a
     /// block farther than a tenth of the median block size, as one falls,
-    /// slides or topples, and the run starts from the model as it was.
+    /// slides or topples, or it gave up after two steps in a row that did
+    /// so or ended unconverged; the run starts from the model as it was.
     pub undone: bool,
     /// The counters of its steps, which the run's own leave out.
     pub statistics: Statistics,
@@ -80,7 +81,8 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// with the contacts' states and springs it found. A settling that does
     /// not settle, having moved a block as one falls, slides or topples, is
     /// undone (`Settling::undone`): the run starts from the model as it
-    /// was, at rest. It gives up after two such steps in a row. The run's
+    /// was, at rest. It gives up after two such steps in a row, or two
+    /// whose open-close passes did not agree, and is undone too. The run's
     /// counters and energy check start after it. Implicit integrator only.
     pub fn settle(&mut self, most_steps: usize) -> Result<Settling, DdaError> {
         if self.settings.integrator == Integrator::Explicit {
@@ -126,6 +128,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let mut loads = 0.0;
         let falling = BOUND_BLOCK_SHARE * self.block_size;
         let mut fell = false;
+        let mut gave_up = false;
         let failed = |s: &Statistics| (s.cuts(), s.unconverged_steps, s.newton_failures);
         while settling.steps < most_steps.max(1) {
             self.dt_next = SETTLE_STEP;
@@ -155,14 +158,17 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 break;
             }
             // Two static steps in a row that moved a block as one falls,
-            // slides or topples: the model does not stand, and further
-            // steps (hundreds of passes each, as contacts open and close
-            // with no inertia) would be undone.
-            let far = self.last_moved > falling;
-            if far && fell {
+            // slides or topples, or whose contacts found no states they
+            // agree on even at the smallest step: the model does not stand,
+            // and further steps (hundreds of passes each, as contacts open
+            // and close with no inertia) would be undone.
+            let unconverged = self.stats.unconverged_steps > before.1;
+            let failing = self.last_moved > falling || unconverged;
+            if failing && fell {
+                gave_up = true;
                 break;
             }
-            fell = far;
+            fell = failing;
         }
         self.settling = false;
         (
@@ -174,7 +180,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         settling.statistics = std::mem::replace(&mut self.stats, run_stats);
         result?;
         if let Some(unsettled) = unsettled.filter(|_| !settling.settled) {
-            if settling.largest_step > falling {
+            if gave_up || settling.largest_step > falling {
                 self.restore(&unsettled)?;
                 settling.undone = true;
             }
