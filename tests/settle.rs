@@ -511,6 +511,38 @@ fn tilted_walls_opened_at_strength_slide_and_topple_as_limit_analysis_says() {
     }
 }
 
+/// Runs `settled` (a scene with `settle`) and the same scene unsettled,
+/// asks that the settling was undone within `most_steps`, warning so, and
+/// that the two runs' histories are the same to the last digit; returns
+/// the settling's report and the history.
+fn undone_as_unsettled(
+    settled: &dda::Scene,
+    tag: &str,
+    most_steps: usize,
+) -> (SettleReport, Vec<HistoryRow>) {
+    let (summary, out) = common::run_scene(settled, &format!("{tag}_settled"));
+    let report = summary.settling.clone().expect("the settling is reported");
+    println!("{report:?}");
+    assert!(
+        !report.settled && report.undone && report.steps <= most_steps,
+        "{report:?}"
+    );
+    assert!(
+        (summary.warnings.iter()).any(|w| w.contains("the settling was undone")),
+        "{:?}",
+        summary.warnings
+    );
+    let mut unsettled = settled.clone();
+    unsettled.analysis.settle = None;
+    let (_, plain) = common::run_scene(&unsettled, &format!("{tag}_unsettled"));
+    let rows = dda::read_history(out.join("history.csv")).unwrap();
+    let plain_rows = dda::read_history(plain.join("history.csv")).unwrap();
+    assert_eq!(rows, plain_rows, "the undone run is not the unsettled one");
+    let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_dir_all(&plain);
+    (report, rows)
+}
+
 /// A tilted wall 1 m long and 2 m tall (16 courses) topples whatever its
 /// friction (here FS 2): its weight's line from its centroid leaves its
 /// base 0.577 m from the middle of a 1 m base. Its settling's static steps
@@ -522,29 +554,10 @@ fn tilted_walls_opened_at_strength_slide_and_topple_as_limit_analysis_says() {
 #[test]
 fn a_settling_that_topples_a_wall_is_undone() {
     let settled = tilted_wall_of(1.0, 2.0, 16, 0.05, "", 2);
-    let (summary, out) = common::run_scene(&settled, "toppling_settled");
-    let report = summary.settling.clone().expect("the settling is reported");
-    println!("{report:?}");
-    assert!(
-        !report.settled && report.undone && report.steps <= 3,
-        "{report:?}"
-    );
-    assert!(
-        (summary.warnings.iter()).any(|w| w.contains("the settling was undone")),
-        "{:?}",
-        summary.warnings
-    );
-    let mut unsettled = settled.clone();
-    unsettled.analysis.settle = None;
-    let (_, plain) = common::run_scene(&unsettled, "toppling_unsettled");
-    let rows = dda::read_history(out.join("history.csv")).unwrap();
-    let plain_rows = dda::read_history(plain.join("history.csv")).unwrap();
-    assert_eq!(rows, plain_rows, "the undone run is not the unsettled one");
+    let (_, rows) = undone_as_unsettled(&settled, "toppling", 3);
     let turned = (rows.iter()).fold(0.0f64, |m, r| m.max(r.rotation.abs()));
     println!("turned {turned} rad by 0.05 s");
     assert!(turned > 1e-4, "turned {turned} rad");
-    let _ = std::fs::remove_dir_all(&out);
-    let _ = std::fs::remove_dir_all(&plain);
 }
 
 /// A tilted wall 2 m long and 2 m tall (16 courses, 132 bricks) at FS
@@ -558,21 +571,7 @@ fn a_settling_that_topples_a_wall_is_undone() {
 #[test]
 fn a_settling_whose_steps_do_not_agree_gives_up_and_is_undone() {
     let settled = tilted_wall_of(2.0, 0.99, 16, 0.02, "", 2);
-    let (summary, out) = common::run_scene(&settled, "unagreed_settled");
-    let report = summary.settling.clone().expect("the settling is reported");
-    println!("{report:?}");
+    let (report, _) = undone_as_unsettled(&settled, "unagreed", 4);
     let tenth = 0.1 * (0.25f64 * 0.125).sqrt();
-    assert!(
-        !report.settled && report.undone && report.steps <= 4,
-        "{report:?}"
-    );
     assert!(report.largest_step < tenth, "{report:?}");
-    let mut unsettled = settled.clone();
-    unsettled.analysis.settle = None;
-    let (_, plain) = common::run_scene(&unsettled, "unagreed_unsettled");
-    let rows = dda::read_history(out.join("history.csv")).unwrap();
-    let plain_rows = dda::read_history(plain.join("history.csv")).unwrap();
-    assert_eq!(rows, plain_rows, "the undone run is not the unsettled one");
-    let _ = std::fs::remove_dir_all(&out);
-    let _ = std::fs::remove_dir_all(&plain);
 }
