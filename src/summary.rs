@@ -147,7 +147,8 @@ pub struct SettleReport {
     pub settled: bool,
     /// Whether, not settled, it was undone: a step moved a block farther
     /// than a tenth of the median block size (as one falls, slides or
-    /// topples), and the run started from the model as it was.
+    /// topples), or it gave up after two steps in a row that did so or
+    /// ended unconverged; the run started from the model as it was.
     #[serde(default)]
     pub undone: bool,
     /// The largest point displacement of a step, and of the last, m.
@@ -189,7 +190,7 @@ impl SettleReport {
                 self.last_step,
                 self.largest_step,
                 if self.undone {
-                    "A step moved a block as one falls, slides or topples, so the settling was undone: the run starts from the model as it was, at rest, as an unsettled one does"
+                    "Its steps moved a block as one falls, slides or topples, or found no contact states they agree on, so the settling was undone: the run starts from the model as it was, at rest, as an unsettled one does"
                 } else {
                     "The run starts where the steps left the blocks"
                 }
