@@ -8,7 +8,10 @@
 //! every period of the blocks on their springs, so its inertia is round-off
 //! beside the springs and it solves the static equations; the open-close
 //! passes find the contacts' states as in any step, and the displacement
-//! bound still cuts a step in which a block falls or slides far.
+//! bound still cuts a step in which a block falls or slides far. With no
+//! inertia such a step takes the block wherever that bound lets it, so a
+//! settling that moves a block so far, or whose steps agree on no contact
+//! states, gives up and is undone: the run starts from the model as it was.
 
 use std::time::{Duration, Instant};
 
