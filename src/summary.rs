@@ -151,6 +151,11 @@ pub struct SettleReport {
     /// ended unconverged; the run started from the model as it was.
     #[serde(default)]
     pub undone: bool,
+    /// Whether, not settled, it stalled: two steps in a row whose Newton
+    /// iterations failed moved nothing and barely cut their residual; the
+    /// model is at rest to within `balance` of its loads.
+    #[serde(default)]
+    pub stalled: bool,
     /// The largest point displacement of a step, and of the last, m.
     pub largest_step: f64,
     pub last_step: f64,
@@ -170,6 +175,7 @@ impl From<&dda_core::Settling> for SettleReport {
             steps: s.steps,
             settled: s.settled,
             undone: s.undone,
+            stalled: s.stalled,
             largest_step: s.largest_step,
             last_step: s.last_step,
             balance: s.balance,
@@ -183,6 +189,12 @@ impl From<&dda_core::Settling> for SettleReport {
 impl SettleReport {
     /// The warning of a settling that did not settle, if it did not.
     pub fn warning(&self) -> Option<String> {
+        if self.stalled {
+            return Some(format!(
+                "the model's settling stalled after {} static steps (analysis.settle): its last two moved it no farther than the contact tolerance (the last {:.3e} m, the largest {:.3e} m) and their Newton iterations stopped {:.1e} of the loads out of balance, as contacts held exactly at their friction strength can stop a static step's; the model is at rest to within that, and the run starts there and shows whether it stands",
+                self.steps, self.last_step, self.largest_step, self.balance
+            ));
+        }
         (!self.settled).then(|| {
             format!(
                 "the model did not settle in {} static steps (analysis.settle): each step still moved it (the last {:.3e} m, the largest {:.3e} m) or ended out of balance; a model that stands settles in a few, so this one may not stand under its loads at t = 0 (a block sliding or toppling). {}",

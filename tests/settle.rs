@@ -511,6 +511,62 @@ fn tilted_walls_opened_at_strength_slide_and_topple_as_limit_analysis_says() {
     }
 }
 
+/// Above the associative limit (FS 1.1746) no rigid-block analysis
+/// decides the 68-brick tilted wall: a 16-brick stair wedge at its
+/// downhill end tips on its toe alone at 0.9623 of the load whatever the
+/// friction, and stands only on compression across its crack that
+/// rigid-block statics leaves undetermined (`tests/python/wall_limit.py`,
+/// `docs/limits.md`). So the verdict there is the elastic model's, and
+/// what this test holds is that 2D and the extruded 3D model give the
+/// same one, with `open_at_strength`, at the automatic penalty:
+/// - FS 2.0 settles and topples, over 1 mm by 0.5 s (with the band alone
+///   the wall stands, 4.6e-13 m);
+/// - FS 3.0 stands, under 1e-4 m in 1 s. Its settling stalls: its static
+///   steps stop moving with contacts held exactly at their friction
+///   strength, out of balance by 3.4e-4 of the loads in 2D, and the
+///   settling says so and ends instead of taking all its steps and
+///   warning that the wall may not stand.
+///
+/// Between the two the verdict follows even the steps: at FS 2.5 the
+/// wall stands with outputs every 0.1 s and topples with them every
+/// 0.5 s, as here.
+#[test]
+fn above_the_associative_limit_2d_and_3d_agree_on_the_tilted_wall() {
+    for dimension in [2, 3] {
+        for (fos, duration) in [(2.0, 0.5), (3.0, 1.0)] {
+            let scene = tilted_wall(fos, 8, duration, ", open_at_strength: true", dimension);
+            let (summary, out) =
+                common::run_scene(&scene, &format!("tilted_above_{dimension}_{fos}"));
+            let report = summary.settling.clone().expect("the settling is reported");
+            let moved = farthest(&out, dimension);
+            println!("{dimension}D at FS {fos}: {report:?}; moved {moved} m");
+            let said = |words: &str| summary.warnings.iter().any(|w| w.contains(words));
+            assert!(!said("may not stand"), "{:?}", summary.warnings);
+            if fos < 2.5 {
+                assert!(report.settled, "{dimension}D at FS {fos}: {report:?}");
+                assert!(
+                    moved > 1e-3,
+                    "{dimension}D at FS {fos}: the wall moved {moved} m"
+                );
+            } else {
+                assert!(report.settled || report.stalled, "{dimension}D: {report:?}");
+                assert!(report.steps <= 8, "{dimension}D: {report:?}");
+                assert_eq!(
+                    report.stalled,
+                    said("settling stalled"),
+                    "{:?}",
+                    summary.warnings
+                );
+                assert!(
+                    moved < 1e-4,
+                    "{dimension}D at FS {fos}: the wall moved {moved} m"
+                );
+            }
+            let _ = std::fs::remove_dir_all(&out);
+        }
+    }
+}
+
 /// Runs `settled` (a scene with `settle`) and the same scene unsettled,
 /// asks that the settling was undone within `most_steps`, warning so, and
 /// that the two runs' histories are the same to the last digit; returns

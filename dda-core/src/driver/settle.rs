@@ -12,6 +12,8 @@
 //! inertia such a step takes the block wherever that bound lets it, so a
 //! settling that moves a block so far, or whose steps agree on no contact
 //! states, gives up and is undone: the run starts from the model as it was.
+//! One whose steps stall, moving nothing while their Newton iterations
+//! stop out of balance, ends there: the model is at rest to within that.
 
 use std::time::{Duration, Instant};
 
@@ -40,6 +42,16 @@ pub const SETTLED_SHARE: f64 = 1e-3;
 /// and whose step then barely moved).
 pub const SETTLED_BALANCE: f64 = 1e-6;
 
+/// A settling step whose Newton iterations failed, that moved no point
+/// farther than the open-close tolerance and took less than this share
+/// off its first residual has stalled (1e-3); two in a row end the
+/// settling. Contacts held exactly at their friction strength with no
+/// slip, their friction's direction set by round-off, stall a static
+/// step's iterations (a tilted wall of deformable bricks at a factor of
+/// safety of 3 stopped at 3.4e-4 of its loads, its steps moving nothing,
+/// for all 20 of its steps), where a dynamic step's inertia carries them.
+pub const STALLED_SHARE: f64 = 1e-3;
+
 /// What a settling did.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Settling {
@@ -62,6 +74,11 @@ pub struct Settling {
     /// slides or topples, or it gave up after two steps in a row that did
     /// so or ended unconverged; the run starts from the model as it was.
     pub undone: bool,
+    /// Whether, not settled, it stalled: two steps in a row whose Newton
+    /// iterations failed moved nothing and barely cut their residual
+    /// ([`STALLED_SHARE`]). The model is at rest to within `balance` of
+    /// its loads; the run starts there and shows whether it stands.
+    pub stalled: bool,
     /// The counters of its steps, which the run's own leave out.
     pub statistics: Statistics,
     pub wall_time: Duration,
@@ -85,8 +102,10 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
     /// not settle, having moved a block as one falls, slides or topples, is
     /// undone (`Settling::undone`): the run starts from the model as it
     /// was, at rest. It gives up after two such steps in a row, or two
-    /// whose open-close passes did not agree, and is undone too. The run's
-    /// counters and energy check start after it. Implicit integrator only.
+    /// whose open-close passes did not agree, and is undone too. Two steps
+    /// in a row that stall ([`STALLED_SHARE`]) end it where they are. The
+    /// run's counters and energy check start after it. Implicit integrator
+    /// only.
     pub fn settle(&mut self, most_steps: usize) -> Result<Settling, DdaError> {
         if self.settings.integrator == Integrator::Explicit {
             return Err(DdaError::Setting {
@@ -124,6 +143,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
             balance: f64::NAN,
             settled: false,
             undone: false,
+            stalled: false,
             statistics: Statistics::default(),
             wall_time: Duration::ZERO,
         };
@@ -132,6 +152,7 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
         let falling = BOUND_BLOCK_SHARE * self.block_size;
         let mut fell = false;
         let mut gave_up = false;
+        let mut stuck = false;
         let failed = |s: &Statistics| (s.cuts(), s.unconverged_steps, s.newton_failures);
         while settling.steps < most_steps.max(1) {
             self.dt_next = SETTLE_STEP;
@@ -160,6 +181,13 @@ impl<S: BlockSystem<N, T>, const N: usize, const T: usize> Driver<S, N, T> {
                 settling.settled = true;
                 break;
             }
+            let failed_newton = self.stats.newton_failures > before.2;
+            let stalled = failed_newton && still && end > (1.0 - STALLED_SHARE) * start;
+            if stalled && stuck {
+                settling.stalled = true;
+                break;
+            }
+            stuck = stalled;
             // Two static steps in a row that moved a block as one falls,
             // slides or topples, or whose contacts found no states they
             // agree on even at the smallest step: the model does not stand,
