@@ -6,8 +6,8 @@ for which contact forces in equilibrium exist, with rigid bricks, no
 tension, and Coulomb friction at each joint's two ends (forces at a flat
 joint's ends stand for any compressive distribution along it). A wall
 whose multiplier is below 1 cannot stand, whatever its stiffness or time
-step. Above 1 it may: with friction that does not dilate, the true limit
-can lie higher than this (associative) one.
+step. Above 1 it may: with friction that does not dilate, the factor of
+safety a wall needs can lie higher than this (associative) analysis says.
 
 Joints that slide without dilating can also topple a wall this analysis
 holds up: `stair_wedge` finds the wedge that breaks off at the downhill
@@ -148,10 +148,11 @@ def toe_multiplier(length, courses, base, tilt=30.0):
     the downhill load's."""
     blocks = bricks(length, courses)
     toe = (length, base * BRICK[1])
-    weight = lambda b: (b[1] - b[0]) * (b[3] - b[2])
-    down = sum(weight(blocks[i]) * ((blocks[i][2] + blocks[i][3]) / 2 - toe[1])
+    # Each brick's weight is its area times one density, which cancels.
+    area = lambda b: (b[1] - b[0]) * (b[3] - b[2])
+    down = sum(area(blocks[i]) * ((blocks[i][2] + blocks[i][3]) / 2 - toe[1])
                for i in stair_wedge(length, courses, base))
-    into = sum(weight(blocks[i]) * (toe[0] - (blocks[i][0] + blocks[i][1]) / 2)
+    into = sum(area(blocks[i]) * (toe[0] - (blocks[i][0] + blocks[i][1]) / 2)
                for i in stair_wedge(length, courses, base))
     return into * math.cos(math.radians(tilt)) / (down * math.sin(math.radians(tilt)))
 
