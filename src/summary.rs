@@ -189,7 +189,9 @@ impl From<&dda_core::Settling> for SettleReport {
 impl SettleReport {
     /// The warning of a settling that did not settle, if it did not.
     pub fn warning(&self) -> Option<String> {
-        if self.stalled {
+        // One that moved a block far before it stalled was undone: the
+        // run starts from the model as it was, which the message below says.
+        if self.stalled && !self.undone {
             return Some(format!(
                 "the model's settling stalled after {} static steps (analysis.settle): its last two moved it no farther than the contact tolerance (the last {:.3e} m, the largest {:.3e} m) and their Newton iterations stopped {:.1e} of the loads out of balance, as contacts held exactly at their friction strength can stop a static step's; the model is at rest to within that, and the run starts there and shows whether it stands",
                 self.steps, self.last_step, self.largest_step, self.balance
@@ -563,5 +565,46 @@ impl Known {
                 *slot = Some(value);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SettleReport;
+
+    fn report(stalled: bool, undone: bool) -> SettleReport {
+        SettleReport {
+            steps: 5,
+            settled: false,
+            undone,
+            stalled,
+            largest_step: if undone { 0.05 } else { 6.9e-6 },
+            last_step: 0.0,
+            balance: 3.4e-4,
+            open_close_iterations: 5,
+            factorizations: 13,
+            wall_time: 0.05,
+        }
+    }
+
+    /// A stalled settling says the model is at rest to within its
+    /// balance; one undone as well (it moved a block far before it
+    /// stalled) says the run starts from the model as it was.
+    #[test]
+    fn a_stalled_settling_warns_of_its_stall_unless_it_was_undone() {
+        let stalled = report(true, false).warning().unwrap();
+        assert!(
+            stalled.contains("stalled") && stalled.contains("3.4e-4"),
+            "{stalled}"
+        );
+        let undone = report(true, true).warning().unwrap();
+        assert!(
+            undone.contains("undone") && !undone.contains("stalled"),
+            "{undone}"
+        );
+        assert!(report(false, false)
+            .warning()
+            .unwrap()
+            .contains("may not stand"));
     }
 }
