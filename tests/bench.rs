@@ -647,7 +647,7 @@ fn a_3d_walls_bricks_share_one_topology() {
 }
 
 /// `dda bench --targets` on small walls (10 × 10 compared, 20 × 20 the
-/// largest, 0.05 s simulated): every target has its row (18), written to the
+/// largest, 0.05 s simulated): every target has its row (19), written to the
 /// JSON as it goes; the compared wall's verdict follows MuJoCo's time; the
 /// timed rows name the runs they are the median of; and a MuJoCo run of
 /// another wall is refused.
@@ -681,10 +681,10 @@ fn targets_report_every_target_with_its_verdict() {
         ..options(mujoco(1e6))
     };
     let report = targets(&twice, Some(&json)).unwrap();
-    assert_eq!(report.targets.len(), 18, "{report:#?}");
+    assert_eq!(report.targets.len(), 19, "{report:#?}");
     let written: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(written["targets"].as_array().unwrap().len(), 18);
+    assert_eq!(written["targets"].as_array().unwrap().len(), 19);
     assert_eq!(written["repeats"], 2);
     // The 20 × 20 wall's steps (its six rows) and the growth to it (six).
     let medians = (report.targets.iter())
@@ -695,6 +695,20 @@ fn targets_report_every_target_with_its_verdict() {
         assert!(t.met.is_some(), "{t:?}");
         assert!(!t.measured.is_empty());
     }
+    // The compared wall's passes at dt 1 ms: both kinds at both penalties.
+    let passes = (report.targets.iter())
+        .find(|t| t.target.contains("open-close passes a step"))
+        .expect("the passes' row");
+    assert_eq!(
+        passes.measured.matches("passes a step").count(),
+        4,
+        "{passes:?}"
+    );
+    assert_eq!(
+        passes.measured.matches("penalty 1e9").count(),
+        2,
+        "{passes:?}"
+    );
     let compared = &report.targets[..2];
     // Each kind's static settlement, as the wall at rest's row reads it.
     let at_rest = &(report.targets.iter())

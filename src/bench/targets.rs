@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 use super::largest_step;
 use super::scaling::{exponent, kind_name};
 use super::simulate::{simulate, SimulateOptions, SimulateRow};
+use super::walls::FIXED_PENALTY;
 use super::{bench, BenchOptions, BenchRow};
 use crate::scene::BlockKind;
 use dda_core::Solver;
@@ -28,6 +29,8 @@ const NTDDA_SPEEDUP: f64 = 10.0;
 /// The drift that counts a wall at rest as standing, m: it settles
 /// micrometres (ntdda's 10 × 10 wall drifted 0.155 m within 0.2 s).
 const STANDING_DRIFT: f64 = 1e-4;
+/// Open-close passes a step the compared wall may take at dt 1 ms (2).
+const FEW_PASSES: f64 = 2.0;
 /// The largest walls' time a step, ms, and the process's peak memory, MB.
 const LARGEST_MS: f64 = 100.0;
 const MEMORY_MB: f64 = 2000.0;
@@ -307,6 +310,79 @@ fn standing(options: &TargetOptions, at_1ms: &[SimulateRow]) -> anyhow::Result<T
     })
 }
 
+/// One run's open-close work: how it was stepped, its kind, passes a step,
+/// unconverged steps and cuts, and whether it ran its whole time.
+struct Passes {
+    how: String,
+    kind: BlockKind,
+    passes: f64,
+    unconverged: usize,
+    cuts: usize,
+    completed: bool,
+}
+
+/// The compared wall at dt 1 ms, both kinds, at the automatic penalty
+/// (`at_1ms`) and at the bench's fixed one (`fixed`): its open-close
+/// passes a step. The counts do not wander as times do, so `fixed` is
+/// one run.
+fn few_passes(
+    options: &TargetOptions,
+    at_1ms: &[SimulateRow],
+    fixed: &[BenchRow],
+) -> anyhow::Result<Target> {
+    let n = options.compared;
+    let mut runs = Vec::new();
+    for kind in KINDS {
+        let r = row_of(at_1ms, n, kind, sim_key)?;
+        runs.push(Passes {
+            how: format!("automatic penalty ({:.2e})", r.penalty),
+            kind,
+            passes: r.per_step.passes_per_step,
+            unconverged: r.unconverged_steps,
+            cuts: r.cuts,
+            completed: r.completed,
+        });
+    }
+    for kind in KINDS {
+        let r = row_of(fixed, n, kind, steps_key)?;
+        runs.push(Passes {
+            how: format!("penalty {FIXED_PENALTY:.0e}"),
+            kind,
+            passes: r.per_step.passes_per_step,
+            unconverged: r.unconverged_steps,
+            cuts: r.cuts,
+            completed: true,
+        });
+    }
+    Ok(few_passes_of(n, options.seconds, &runs))
+}
+
+/// [`few_passes`]' target from its runs: met where every run ran its
+/// whole time within `FEW_PASSES` passes a step and left no step
+/// unconverged.
+fn few_passes_of(n: usize, seconds: f64, runs: &[Passes]) -> Target {
+    let readings: Vec<String> = (runs.iter())
+        .map(|r| {
+            format!(
+                "{}, {}: {:.2} passes a step, {} unconverged steps, {} cuts",
+                r.how,
+                kind_name(r.kind),
+                r.passes,
+                r.unconverged,
+                r.cuts
+            )
+        })
+        .collect();
+    let met = (runs.iter()).all(|r| r.completed && r.passes <= FEW_PASSES && r.unconverged == 0);
+    Target {
+        target: format!(
+            "{n} × {n} wall at dt 1 ms, {seconds} s, both kinds, at the automatic penalty and at {FIXED_PENALTY:.0e}: at most {FEW_PASSES} open-close passes a step, no unconverged step"
+        ),
+        measured: readings.join("; "),
+        met: Some(met),
+    }
+}
+
 /// The compared wall's static settlement (m), each kind in `KINDS`' order.
 fn settlements(options: &TargetOptions) -> anyhow::Result<Vec<f64>> {
     (KINDS.iter())
@@ -495,9 +571,19 @@ pub fn targets(options: &TargetOptions, json: Option<&Path>) -> anyhow::Result<T
         let row = row_of(&automatic, c, kind, sim_key)?;
         out.add(against_mujoco(row, options.mujoco.as_ref(), Some(at)))?;
     }
-    let at_1ms = simulated(options, vec![options.standing, options.ntdda], vec![1e-3])?;
+    let at_1ms = simulated(
+        options,
+        vec![options.standing, options.ntdda, c],
+        vec![1e-3],
+    )?;
     out.add(against_ntdda(options, &automatic, &at_1ms)?)?;
     out.add(standing(options, &at_1ms)?)?;
+    let fixed_steps = (options.seconds / 1e-3).round() as usize;
+    out.add(few_passes(
+        options,
+        &at_1ms,
+        &stepped(vec![c], 2, fixed_steps, 1)?,
+    )?)?;
     out.add(standing_steps_from(options, &settled)?)?;
     let steps_2d = stepped(vec![c, l], 2, options.steps_2d, options.repeats)?;
     let steps_3d = stepped(vec![c, l], 3, options.steps_3d, options.repeats)?;
@@ -617,6 +703,38 @@ mod tests {
             "{beside:?}"
         );
         assert_eq!(beside.met, Some(true));
+    }
+
+    /// Met only where every run stays within two passes a step, leaves
+    /// no step unconverged and runs its whole time.
+    #[test]
+    fn the_compared_wall_at_1_ms_needs_few_passes_in_every_run() {
+        let run = |passes, unconverged, completed| Passes {
+            how: "penalty 1e9".into(),
+            kind: BlockKind::Rigid,
+            passes,
+            unconverged,
+            cuts: 0,
+            completed,
+        };
+        let verdict = |runs: &[Passes]| few_passes_of(40, 1.0, runs).met;
+        assert_eq!(verdict(&[run(1.0, 0, true), run(2.0, 0, true)]), Some(true));
+        assert_eq!(
+            verdict(&[run(1.0, 0, true), run(2.055, 0, true)]),
+            Some(false)
+        );
+        assert_eq!(verdict(&[run(1.0, 1, true)]), Some(false));
+        assert_eq!(verdict(&[run(1.0, 0, false)]), Some(false));
+        let target = few_passes_of(40, 1.0, &[run(2.055, 0, true)]);
+        assert!(
+            target.measured
+                == "penalty 1e9, rigid: 2.06 passes a step, 0 unconverged steps, 0 cuts",
+            "{target:?}"
+        );
+        assert!(
+            target.target.starts_with("40 × 40 wall at dt 1 ms, 1 s"),
+            "{target:?}"
+        );
     }
 
     #[test]

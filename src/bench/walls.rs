@@ -9,6 +9,10 @@ use crate::scene::{BlockKind, Coords, GroundMotionSpec, MotionSpec, Scene};
 /// The bricks' depth in the 3D wall (one brick deep), m.
 pub const DEPTH_3D: f64 = 0.25;
 
+/// The penalty of the walls stepped at dt 1 ms ([`Stepping::Fixed`]), N/m
+/// per m of contact in 2D, N/m per m² in 3D.
+pub const FIXED_PENALTY: f64 = 1e9;
+
 /// How a wall's time step and penalty are chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub enum Stepping {
@@ -43,7 +47,7 @@ pub fn wall(
     anyhow::ensure!(n >= 1, "a wall needs at least one course of one brick");
     let length = 0.5 * n as f64;
     let fixed = match stepping {
-        Stepping::Fixed => "dt: 0.001, penalty: 1e9, ".to_string(),
+        Stepping::Fixed => format!("dt: 0.001, penalty: {FIXED_PENALTY:?}, "),
         Stepping::Automatic => String::new(),
         Stepping::Given(dt) => format!("dt: {dt:?}, "),
     };
