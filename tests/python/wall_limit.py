@@ -150,10 +150,9 @@ def toe_multiplier(length, courses, base, tilt=30.0):
     toe = (length, base * BRICK[1])
     # Each brick's weight is its area times one density, which cancels.
     area = lambda b: (b[1] - b[0]) * (b[3] - b[2])
-    down = sum(area(blocks[i]) * ((blocks[i][2] + blocks[i][3]) / 2 - toe[1])
-               for i in stair_wedge(length, courses, base))
-    into = sum(area(blocks[i]) * (toe[0] - (blocks[i][0] + blocks[i][1]) / 2)
-               for i in stair_wedge(length, courses, base))
+    wedge = [blocks[i] for i in stair_wedge(length, courses, base)]
+    down = sum(area(b) * ((b[2] + b[3]) / 2 - toe[1]) for b in wedge)
+    into = sum(area(b) * (toe[0] - (b[0] + b[1]) / 2) for b in wedge)
     return into * math.cos(math.radians(tilt)) / (down * math.sin(math.radians(tilt)))
 
 
