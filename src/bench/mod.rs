@@ -72,6 +72,9 @@ pub struct BenchRow {
     /// unconverged, over the timed steps of the median run.
     pub cuts: usize,
     pub unconverged_steps: usize,
+    /// The most open-close passes one timed step took, its cut attempts'
+    /// included (median run).
+    pub most_passes: usize,
     /// The largest centroid displacement of any brick since the wall was
     /// built, m.
     pub drift: f64,
@@ -214,6 +217,7 @@ struct Run {
     ms_per_step: f64,
     seconds_per_simulated_second: f64,
     stats: Statistics,
+    most_passes: usize,
     drift: f64,
     blocks: usize,
     contacts: usize,
@@ -238,14 +242,18 @@ fn time_steps<D: Timed>(driver: &mut D, steps: usize) -> anyhow::Result<Run> {
     let before = driver.statistics().clone();
     let t0 = driver.time();
     let started = Instant::now();
+    let mut most_passes = 0;
     for _ in 0..steps {
+        let passes = driver.statistics().open_close_iterations;
         driver.step(dt)?;
+        most_passes = most_passes.max(driver.statistics().open_close_iterations - passes);
     }
     let wall = started.elapsed().as_secs_f64();
     Ok(Run {
         ms_per_step: wall * 1e3 / steps as f64,
         seconds_per_simulated_second: wall / (driver.time() - t0),
         stats: difference(driver.statistics(), &before),
+        most_passes,
         drift: drift(driver, &start),
         blocks: driver.block_count(),
         contacts: driver.contact_count(),
@@ -352,6 +360,7 @@ fn bench_one(
         per_step: PerStep::of(stats),
         cuts: stats.cuts(),
         unconverged_steps: stats.unconverged_steps,
+        most_passes: median.most_passes,
         drift: median.drift,
         peak_memory_mb: peak_memory_mb(),
         iterations_per_solve: stats.iterative_iterations as f64

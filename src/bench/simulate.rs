@@ -84,6 +84,9 @@ pub struct SimulateRow {
     pub ms_per_step: f64,
     pub cuts: usize,
     pub unconverged_steps: usize,
+    /// The most open-close passes one step took, its cut attempts'
+    /// included.
+    pub most_passes: usize,
     /// The run's work per step and where its time went.
     #[serde(flatten)]
     pub per_step: PerStep,
@@ -245,10 +248,14 @@ fn simulate_driver<D: Timed>(
     let mut last_line = started;
     let mut last_written = started;
     let mut largest = 0.0f64;
+    let (mut passes, mut most_passes) = (driver.statistics().open_close_iterations, 0);
     let end = driver.time() + options.seconds;
     let mut logged = Ok(());
     let advanced = driver.advance_while(end, &mut |d: &D| {
         largest = largest.max(drift(d, &start));
+        let passes_now = d.statistics().open_close_iterations;
+        most_passes = most_passes.max(passes_now - passes);
+        passes = passes_now;
         let now = Instant::now();
         if let Some(log) = &mut log {
             log.on_step(d);
@@ -308,6 +315,7 @@ fn simulate_driver<D: Timed>(
         ms_per_step: wall_s * 1e3 / stats.steps.max(1) as f64,
         cuts: stats.cuts(),
         unconverged_steps: stats.unconverged_steps,
+        most_passes,
         per_step: PerStep::of(stats),
         drift: largest,
         end_drift: drift(driver, &start),
@@ -348,6 +356,7 @@ pub(crate) mod tests {
             ms_per_step: wall_s * 1e3 / 106.0,
             cuts: 0,
             unconverged_steps: 0,
+            most_passes: 1,
             per_step: Default::default(),
             drift,
             end_drift: drift,
