@@ -13,13 +13,13 @@ pub fn print_steps(rows: &[BenchRow], steps: usize, repeats: usize) {
         runs(repeats)
     );
     println!(
-        "{:>4} {:>15} {:>7} {:>9} {:>8} {:>10} {:>7} {:>8} {:>7} {:>7} {:>7} {:>5} {:>9} {:>9} {:>7}",
+        "{:>4} {:>15} {:>7} {:>9} {:>8} {:>10} {:>7} {:>8} {:>7} {:>5} {:>7} {:>7} {:>5} {:>9} {:>9} {:>7}",
         "n", "bricks", "blocks", "contacts", "unknowns", "ms/step", "× base", "s/sim s", "passes",
-        "newton", "factor.", "cuts", "drift m", "analyses", "MB"
+        "most", "newton", "factor.", "cuts", "drift m", "analyses", "MB"
     );
     for r in rows {
         println!(
-            "{:>4} {:>15} {:>7} {:>9} {:>8} {:>10.2} {:>7.2} {:>8.2} {:>7.2} {:>7.2} {:>7.2} {:>5} {:>9.2e} {:>9.2} {:>7.0}",
+            "{:>4} {:>15} {:>7} {:>9} {:>8} {:>10.2} {:>7.2} {:>8.2} {:>7.2} {:>5} {:>7.2} {:>7.2} {:>5} {:>9.2e} {:>9.2} {:>7.0}",
             r.courses,
             series_name(r.dimension, r.kind),
             r.blocks,
@@ -29,6 +29,7 @@ pub fn print_steps(rows: &[BenchRow], steps: usize, repeats: usize) {
             r.ratio_to_baseline,
             r.seconds_per_simulated_second,
             r.per_step.passes_per_step,
+            r.most_passes,
             r.per_step.newton_per_step,
             r.per_step.factorizations_per_step,
             r.cuts,
@@ -119,7 +120,7 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
         );
     }
     println!(
-        "{:>4} {:>15} {:>7} {:>10} {:>9} {:>9} {:>9} {:>10} {:>8} {:>9} {:>7} {:>7} {:>7} {:>6} {:>11} {:>10} {:>10} {:>7}",
+        "{:>4} {:>15} {:>7} {:>10} {:>9} {:>9} {:>9} {:>10} {:>8} {:>9} {:>7} {:>5} {:>7} {:>7} {:>6} {:>11} {:>10} {:>10} {:>7}",
         "n",
         "bricks",
         "blocks",
@@ -131,6 +132,7 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
         "steps",
         "ms/step",
         "passes",
+        "most",
         "newton",
         "factor.",
         "cuts",
@@ -141,7 +143,7 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
     );
     for r in rows {
         println!(
-            "{:>4} {:>15} {:>7} {:>10.3e} {:>9.2e} {:>9.4} {:>9.2} {:>10.3} {:>8} {:>9.2} {:>7.2} {:>7.2} {:>7.2} {:>6} {:>11} {:>10.3e} {:>10.3e} {:>7.0}",
+            "{:>4} {:>15} {:>7} {:>10.3e} {:>9.2e} {:>9.4} {:>9.2} {:>10.3} {:>8} {:>9.2} {:>7.2} {:>5} {:>7.2} {:>7.2} {:>6} {:>11} {:>10.3e} {:>10.3e} {:>7.0}",
             r.courses,
             series_name(r.dimension, r.kind),
             r.blocks,
@@ -153,6 +155,7 @@ pub fn print_simulate(rows: &[SimulateRow], repeats: usize) {
             r.steps,
             r.ms_per_step,
             r.per_step.passes_per_step,
+            r.most_passes,
             r.per_step.newton_per_step,
             r.per_step.factorizations_per_step,
             r.cuts,
