@@ -720,6 +720,14 @@ fn targets_report_every_target_with_its_verdict() {
         2,
         "{passes:?}"
     );
+    // Beside them, the four walls settled first: a small wall at rest,
+    // settled, takes one pass a step.
+    assert!(
+        passes.measured.contains(
+            "the same 4 walls settled first (analysis.settle), one run each, not judged: at most 1 pass in one step, 0 unconverged steps"
+        ),
+        "{passes:?}"
+    );
     let compared = &report.targets[..2];
     // Each kind's static settlement, as the wall at rest's row reads it.
     let at_rest = &(report.targets.iter())

@@ -188,7 +188,10 @@ pub fn simulate(options: &SimulateOptions) -> anyhow::Result<Vec<SimulateRow>> {
     Ok(rows)
 }
 
-fn run(
+/// One run of the `n` × `n` wall of `kind` in `dimension`, stepped as
+/// `stepping` says, for `options.seconds` (the `repeat`-th of its runs:
+/// its step log is named so).
+pub(crate) fn run(
     n: usize,
     dimension: u32,
     kind: BlockKind,
