@@ -217,7 +217,19 @@ fn simulated(
     sizes: Vec<usize>,
     dts: Vec<f64>,
 ) -> anyhow::Result<Vec<SimulateRow>> {
-    simulate(&SimulateOptions {
+    simulate(&simulating(options, sizes, dts, false))
+}
+
+/// The runs of the walls of `sizes` in 2D, both kinds, for the targets'
+/// simulated time at `dts` (the automatic step where empty), each wall
+/// settled first where `settle`.
+fn simulating(
+    options: &TargetOptions,
+    sizes: Vec<usize>,
+    dts: Vec<f64>,
+    settle: bool,
+) -> SimulateOptions {
+    SimulateOptions {
         sizes,
         kinds: KINDS.to_vec(),
         dimensions: vec![2],
@@ -228,9 +240,9 @@ fn simulated(
         solver: Solver::Direct,
         dts,
         shake: None,
-        settle: false,
+        settle,
         step_log: None,
-    })
+    }
 }
 
 /// The walls of `sizes`, both kinds, `steps` steps timed at dt 1 ms,
@@ -324,6 +336,21 @@ struct Passes {
     completed: bool,
 }
 
+impl Passes {
+    /// A simulated run's, at its penalty, named by `how` it was stepped.
+    fn of(how: &str, r: &SimulateRow) -> Self {
+        Self {
+            how: format!("{how} ({:.2e})", r.penalty),
+            kind: r.kind,
+            passes: r.per_step.passes_per_step,
+            most: r.most_passes,
+            unconverged: r.unconverged_steps,
+            cuts: r.cuts,
+            completed: r.completed,
+        }
+    }
+}
+
 /// The compared wall at dt 1 ms, both kinds, at the automatic penalty
 /// (`at_1ms`) and at the bench's fixed one (`fixed`): its open-close
 /// passes a step. The counts do not wander as times do, so `fixed` is
@@ -338,16 +365,10 @@ fn few_passes(
     let n = options.compared;
     let mut runs = Vec::new();
     for kind in KINDS {
-        let r = row_of(at_1ms, n, kind, sim_key)?;
-        runs.push(Passes {
-            how: format!("automatic penalty ({:.2e})", r.penalty),
-            kind,
-            passes: r.per_step.passes_per_step,
-            most: r.most_passes,
-            unconverged: r.unconverged_steps,
-            cuts: r.cuts,
-            completed: r.completed,
-        });
+        runs.push(Passes::of(
+            "automatic penalty",
+            row_of(at_1ms, n, kind, sim_key)?,
+        ));
     }
     for kind in KINDS {
         let r = row_of(fixed, n, kind, steps_key)?;
@@ -361,33 +382,12 @@ fn few_passes(
             completed: true,
         });
     }
-    let settle = SimulateOptions {
-        sizes: vec![n],
-        kinds: KINDS.to_vec(),
-        dimensions: vec![2],
-        seconds: options.seconds,
-        max_wall: options.max_wall,
-        repeats: 1,
-        progress_every: Some(Duration::from_secs(5)),
-        solver: Solver::Direct,
-        dts: Vec::new(),
-        shake: None,
-        settle: true,
-        step_log: None,
-    };
+    let settle = simulating(options, vec![n], Vec::new(), true);
     let mut settled = Vec::new();
     for stepping in [Stepping::Given(1e-3), Stepping::Fixed] {
         for kind in KINDS {
             let r = super::simulate::run(n, 2, kind, stepping, &settle, 0)?;
-            settled.push(Passes {
-                how: format!("settled, penalty {:.2e}", r.penalty),
-                kind,
-                passes: r.per_step.passes_per_step,
-                most: r.most_passes,
-                unconverged: r.unconverged_steps,
-                cuts: r.cuts,
-                completed: r.completed,
-            });
+            settled.push(Passes::of("settled, penalty", &r));
         }
     }
     Ok(few_passes_of(n, options.seconds, &runs, &settled))
