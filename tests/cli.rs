@@ -160,6 +160,21 @@ fn check_says_a_scene_settles_first() {
     );
 }
 
+/// A scene released onto its contacts, undamped and not settled, is told
+/// both remedies for the bounces: damping, and a settled start.
+#[test]
+fn check_advises_damping_or_a_settled_start_for_a_released_scene() {
+    let result = dda(&["check", "examples/arch_heyman_2d.ron"]);
+    assert!(result.status.success());
+    let stderr = String::from_utf8(result.stderr).unwrap();
+    assert!(
+        stderr.contains("a block landing on, or released onto, its contacts bounces")
+            && stderr.contains("analysis.contact_damping: 1.0 ends impacts")
+            && stderr.contains("analysis.settle starts a model released onto its contacts at rest"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn check_rejects_a_bad_scene_on_stderr() {
     let result = dda(&["check", &data("overlapping.ron")]);

@@ -182,7 +182,7 @@ enum Motion<'a> {
 }
 
 /// The note on a model run without contact damping.
-pub const UNDAMPED_NOTE: &str = "contact damping is off (Shi's undamped penalty springs): a block landing on, or released onto, its contacts bounces on them, and near its friction limit (a factor of safety below about 1.1) the bounces can start a slide of millimetres to metres; analysis.contact_damping: 1.0 ends impacts and holds such blocks (docs/limits.md)";
+pub const UNDAMPED_NOTE: &str = "contact damping is off (Shi's undamped penalty springs): a block landing on, or released onto, its contacts bounces on them, and near its friction limit (a factor of safety below about 1.1) the bounces can start a slide of millimetres to metres; analysis.contact_damping: 1.0 ends impacts and holds such blocks, and analysis.settle starts a model released onto its contacts at rest (docs/limits.md)";
 
 /// [`UNDAMPED_NOTE`] once the model has settled: nothing is released onto
 /// its contacts any more.
