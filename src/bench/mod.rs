@@ -212,6 +212,30 @@ pub(crate) fn drift<D: Timed>(driver: &D, start: &[[f64; 3]]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The most open-close passes one step took, read after each step from
+/// the driver's running count (a cut step's attempts included).
+pub(crate) struct MostPasses {
+    counted: usize,
+    pub most: usize,
+}
+
+impl MostPasses {
+    /// From the driver's count now, before the steps read.
+    pub fn from(stats: &Statistics) -> Self {
+        Self {
+            counted: stats.open_close_iterations,
+            most: 0,
+        }
+    }
+
+    /// After a step: its passes weighed against the most so far.
+    pub fn step(&mut self, stats: &Statistics) {
+        let now = stats.open_close_iterations;
+        self.most = self.most.max(now - self.counted);
+        self.counted = now;
+    }
+}
+
 /// One timed run of a wall.
 struct Run {
     ms_per_step: f64,
@@ -242,18 +266,17 @@ fn time_steps<D: Timed>(driver: &mut D, steps: usize) -> anyhow::Result<Run> {
     let before = driver.statistics().clone();
     let t0 = driver.time();
     let started = Instant::now();
-    let mut most_passes = 0;
+    let mut passes = MostPasses::from(driver.statistics());
     for _ in 0..steps {
-        let passes = driver.statistics().open_close_iterations;
         driver.step(dt)?;
-        most_passes = most_passes.max(driver.statistics().open_close_iterations - passes);
+        passes.step(driver.statistics());
     }
     let wall = started.elapsed().as_secs_f64();
     Ok(Run {
         ms_per_step: wall * 1e3 / steps as f64,
         seconds_per_simulated_second: wall / (driver.time() - t0),
         stats: difference(driver.statistics(), &before),
-        most_passes,
+        most_passes: passes.most,
         drift: drift(driver, &start),
         blocks: driver.block_count(),
         contacts: driver.contact_count(),

@@ -12,7 +12,8 @@ use serde::Serialize;
 use dda_core::Solver;
 
 use super::{
-    centroids, check_walls, drift, peak_memory_mb, scaling, shake, wall, PerStep, Stepping, Timed,
+    centroids, check_walls, drift, peak_memory_mb, scaling, shake, wall, MostPasses, PerStep,
+    Stepping, Timed,
 };
 use crate::observe::Observer;
 use crate::output::plain_number;
@@ -251,14 +252,12 @@ fn simulate_driver<D: Timed>(
     let mut last_line = started;
     let mut last_written = started;
     let mut largest = 0.0f64;
-    let (mut passes, mut most_passes) = (driver.statistics().open_close_iterations, 0);
+    let mut passes = MostPasses::from(driver.statistics());
     let end = driver.time() + options.seconds;
     let mut logged = Ok(());
     let advanced = driver.advance_while(end, &mut |d: &D| {
         largest = largest.max(drift(d, &start));
-        let passes_now = d.statistics().open_close_iterations;
-        most_passes = most_passes.max(passes_now - passes);
-        passes = passes_now;
+        passes.step(d.statistics());
         let now = Instant::now();
         if let Some(log) = &mut log {
             log.on_step(d);
@@ -318,7 +317,7 @@ fn simulate_driver<D: Timed>(
         ms_per_step: wall_s * 1e3 / stats.steps.max(1) as f64,
         cuts: stats.cuts(),
         unconverged_steps: stats.unconverged_steps,
-        most_passes,
+        most_passes: passes.most,
         per_step: PerStep::of(stats),
         drift: largest,
         end_drift: drift(driver, &start),
