@@ -357,10 +357,12 @@ fn a_wall_written_between_its_steps_steps_evenly_and_keeps_its_factor() {
         assert!((h - even).abs() < 1e-12, "step {i}: {h} s, not {even}");
     }
     assert_eq!(stats.open_close_cuts + stats.unconverged_steps, 0);
-    // Measured 7 (the wall settling in its first 0.2 s); with a short step
-    // at each output time, whose factor fits neither it nor the next, 48.
+    // Measured 12 (the wall settling in its first 0.2 s; 7 while a bed
+    // joint's springs stood for its overlap twice, stiffer); with a short
+    // step at each output time, whose factor fits neither it nor the next,
+    // 48, two for each of the 20 output times beside the settling's.
     assert!(
-        stats.factorizations <= 10,
+        stats.factorizations <= 16,
         "{} factorisations in {} steps",
         stats.factorizations,
         stats.steps

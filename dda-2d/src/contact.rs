@@ -294,8 +294,13 @@ fn lengths(v: &Block, p: usize, w: &Block, e: usize) -> (f64, f64) {
     (0.0, side.norm() / 2.0)
 }
 
-/// Boundary length a vertex stands for against an edge: half of each of its
-/// edges that runs along the entered edge, clipped to that edge.
+/// Boundary length a vertex stands for against an edge: for each of its
+/// edges that runs along the entered edge, half of the stretch where the
+/// two overlap. Each end of that stretch is a contact (this vertex, and a
+/// vertex of one block or the other at the far end), so the two stand for
+/// it once: a joint is `penalty` stiff per metre however its blocks
+/// overlap. Half of the vertex's own edge, clipped, counted a half-offset
+/// overlap twice (the running bond's bed joints).
 fn contact_length(v: &Block, p: usize, w: &Block, e: usize) -> f64 {
     let p1 = v.vertices()[p];
     let (q1, q2) = (w.vertices()[e], w.vertices()[next(e, w)]);
@@ -303,14 +308,14 @@ fn contact_length(v: &Block, p: usize, w: &Block, e: usize) -> f64 {
     let tangent = (q2 - q1) / l;
     let mut total = 0.0;
     for other in [v.vertices()[prev(p, v)], v.vertices()[next(p, v)]] {
-        let half = (other - p1) / 2.0;
-        if half.norm() == 0.0 || (half.normalize().dot(&tangent)).abs() < ANGLE_TOLERANCE.cos() {
+        let side = other - p1;
+        if side.norm() == 0.0 || (side.normalize().dot(&tangent)).abs() < ANGLE_TOLERANCE.cos() {
             continue;
         }
         let s0 = tangent.dot(&(p1 - q1));
-        let s1 = s0 + tangent.dot(&half);
+        let s1 = s0 + tangent.dot(&side);
         let (lo, hi) = (s0.min(s1).max(0.0), s0.max(s1).min(l));
-        total += (hi - lo).max(0.0);
+        total += (hi - lo).max(0.0) / 2.0;
     }
     total
 }
@@ -480,6 +485,34 @@ mod tests {
             (total - 2.0).abs() < 1e-12,
             "the two corners stand for the 2 m base: {total}"
         );
+    }
+
+    /// Two blocks overlapping along part of their edges (a running bond's
+    /// bed joint at offset 1): one corner of each stands at an end of the
+    /// overlap, and together they stand for it once.
+    #[test]
+    fn a_partial_overlap_is_stood_for_once() {
+        for offset in [0.1, 0.5, 1.0, 1.5, 1.9] {
+            let blocks = vec![
+                block(&[(0.0, -1.0), (2.0, -1.0), (2.0, 0.0), (0.0, 0.0)]),
+                block(&[
+                    (offset, 0.0),
+                    (offset + 2.0, 0.0),
+                    (offset + 2.0, 1.0),
+                    (offset, 1.0),
+                ]),
+            ];
+            let contacts = pair_contacts(&blocks, 1, 0, 0.01, 0);
+            assert_eq!(contacts.len(), 2, "offset {offset}");
+            let overlap = 2.0 - offset;
+            for c in &contacts {
+                assert!(
+                    (c.length - overlap / 2.0).abs() < 1e-12,
+                    "offset {offset}: a corner stands for {}, half the {overlap} m overlap",
+                    c.length
+                );
+            }
+        }
     }
 
     /// The vertices found by examining only those near the other block are

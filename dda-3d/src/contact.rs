@@ -293,8 +293,12 @@ impl<'a> Pair<'a> {
                 let areas = sb
                     .vertex_faces(q)
                     .iter()
-                    .map(|&f| vertex_areas(a, p, b, f))
-                    .chain(sa.vertex_faces(p).iter().map(|&g| vertex_areas(b, q, a, g)))
+                    .map(|&f| vertex_areas(a, p, b, f, range))
+                    .chain(
+                        sa.vertex_faces(p)
+                            .iter()
+                            .map(|&g| vertex_areas(b, q, a, g, range)),
+                    )
                     .fold((0.0, 0.0), widest);
                 out.push(contact(
                     (i, p as u32),
@@ -335,7 +339,7 @@ impl<'a> Pair<'a> {
                 let areas = edge
                     .faces
                     .iter()
-                    .map(|&f| vertex_areas(bx, p, by, f))
+                    .map(|&f| vertex_areas(bx, p, by, f, range))
                     .fold((0.0, 0.0), widest);
                 out.push(contact(
                     (x, p as u32),
@@ -357,7 +361,7 @@ impl<'a> Pair<'a> {
                     return;
                 }
                 let en = face_entrance(bx, p, by, f, false);
-                let areas = vertex_areas(bx, p, by, f);
+                let areas = vertex_areas(bx, p, by, f, range);
                 out.push(contact((x, p as u32), (y, f as u32), law, areas, vec![en]));
             }
             // Edge-edge crossings away from corners, between convex edges
@@ -781,16 +785,29 @@ fn widest(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
 /// stack.
 const WHOLE_FACE: usize = 5;
 
+/// Corners closer than this share of a face's size are one (a vertex and
+/// the corner of the other block it meets).
+const MERGED_CORNERS: f64 = 1e-9;
+
 /// Area a vertex stands for against a face: for each face at the vertex
 /// lying on the contact plane (facing the entered face within 3°), the
-/// vertex's share of it (the quadrilateral of the vertex, the midpoints of
-/// its two sides and the face's centroid: a quarter of a rectangle, a third of
-/// a triangle), clipped to the entered face (the clipped part's area on its
-/// own face, not on the entered one's plane). Second, the area its springs
+/// part of where the two faces overlap nearer the vertex than any other
+/// corner of either face within `range` of the overlap (a quarter of a
+/// rectangular overlap with a corner at each of its corners), on its own
+/// face, not on the entered one's plane.
+/// Those corners are the two blocks' vertex contacts, so together they
+/// stand for the overlap once: a joint is `penalty` stiff per square metre
+/// however its blocks overlap (the edge-edge contacts where its edges cross
+/// add their own springs). A corner's share of its own face clipped to the
+/// entered one counted a half-offset overlap twice, as in a running bond's
+/// bed joints. Against a concave face, or from one of more than
+/// [`WHOLE_FACE`] corners, the vertex's share of its own face (the
+/// quadrilateral of the vertex, the midpoints of its two sides and the
+/// face's centroid) clipped to the entered one. Second, the area its springs
 /// stand for: the same where it has one; for a corner touching the face (no
 /// face of it on the plane), its whole share of the face most nearly facing
 /// the entered one, the area that face would bring into contact.
-fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
+fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize, range: f64) -> (f64, f64) {
     let (sx, sy) = (x.shape(), y.shape());
     let n = sy.normal(f);
     let frame = sy.face_frame(f);
@@ -818,6 +835,56 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
         if facing < ANGLE_TOLERANCE.cos() {
             continue;
         }
+        let face = &sy.faces()[f];
+        if whole && !outlined {
+            for (o, k) in outline.iter_mut().zip(face) {
+                *o = on_plane(k);
+            }
+            outlined = true;
+        }
+        let own = &sx.faces()[g];
+        if whole && sx.is_convex_face(g) && own.len() <= WHOLE_FACE {
+            let mut polygon = [Point2::origin(); WHOLE_FACE];
+            for (o, k) in polygon.iter_mut().zip(own) {
+                *o = frame.to_plane(&sx.vertices()[*k]);
+            }
+            let polygon = &polygon[..own.len()];
+            let (lo, hi) = planar::bounds(polygon);
+            let corner = frame.to_plane(&sx.vertices()[p]);
+            let merge = MERGED_CORNERS * (hi - lo).norm();
+            let outline = &outline[..face.len()];
+            // The two faces' corners within the range of the overlap are
+            // its contacts that stand for area (this vertex among them);
+            // where the faces' edges cross, the overlap's corners are
+            // edge-edge contacts, which do not. Its corners told apart
+            // instead (a face's corner or a crossing) flipped as a strained
+            // or turning prism's faces' edges parted by round-off. A corner
+            // within the range of this vertex is its own, one contact with
+            // it: set apart by a micrometre's strain, the two halved its
+            // share along a line turning with that strain.
+            let near = range.max(merge);
+            let area = if planar::bounds_meet(&(lo, hi), &planar::bounds(outline)) {
+                planar::clip_on_stack(polygon, outline, true, |overlap| {
+                    if overlap.len() < 3 {
+                        return 0.0;
+                    }
+                    let mut sites = [Point2::origin(); 2 * WHOLE_FACE];
+                    let mut n = 0;
+                    for v in polygon.iter().chain(outline) {
+                        if planar::distance_to_convex(overlap, v) <= near {
+                            sites[n] = *v;
+                            n += 1;
+                        }
+                    }
+                    planar::site_cell_area(overlap, &corner, &sites[..n], near)
+                })
+                .expect("two faces of at most five corners clip on the stack")
+            } else {
+                0.0
+            };
+            total += area / facing;
+            continue;
+        }
         let share = share(g);
         let reach = planar::bounds(&share);
         // Clipped in f's plane, then taken back to g's own: the corner's
@@ -835,13 +902,6 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize) -> (f64, f64) {
             }
         };
         let area = if whole {
-            let face = &sy.faces()[f];
-            if !outlined {
-                for (o, k) in outline.iter_mut().zip(face) {
-                    *o = on_plane(k);
-                }
-                outlined = true;
-            }
             clipped(&outline[..face.len()])
         } else {
             (sy.face_triangles(f).iter())
@@ -898,6 +958,57 @@ pub(crate) mod tests {
             db[k - 12] = h
         }
         (da, db)
+    }
+
+    /// Two boxes, one on the other, overlapping along part of their faces (a
+    /// running bond's bed joint, offset along the wall and, for a second
+    /// case, across it as well), the pair turned as a whole: the corners at
+    /// the overlap's ends stand for its area once.
+    #[test]
+    fn a_partial_overlap_is_stood_for_once() {
+        let turn = Rotation3::from_euler_angles(0.3, -0.2, 0.5);
+        let place = |x: f64, y: f64, z: f64| turn * Point3::new(x, y, z);
+        for (along, across) in [
+            (0.1, 0.0),
+            (0.25, 0.0),
+            (0.4, 0.0),
+            (0.25, 1e-6),
+            (0.25, 0.0625),
+        ] {
+            let blocks = vec![
+                block(
+                    place(0.25, 0.0, -0.125),
+                    Vector3::new(0.5, 0.25, 0.25),
+                    turn,
+                ),
+                block(
+                    place(0.25 + along, across, 0.125),
+                    Vector3::new(0.5, 0.25, 0.25),
+                    turn,
+                ),
+            ];
+            let overlap = (0.5 - along) * (0.25 - across);
+            let contacts = pair_contacts(&blocks, 1, 0, 0.01, 0);
+            let areas: Vec<f64> = contacts.iter().map(|c| c.length).collect();
+            let total: f64 = areas.iter().sum();
+            assert!(
+                (total - overlap).abs() < 1e-12,
+                "offset ({along}, {across}): the corners stand for {total} m², {areas:?}, of the {overlap} m² overlap"
+            );
+            // Offset across by more than the range, two of the overlap's
+            // corners are edges' crossings, which stand for no area: the two
+            // corners that are the blocks' stand for half of it each. Within
+            // the range (a strained brick a micrometre wider), a corner just
+            // off the other face still stands for its quarter, moved by half
+            // the offset.
+            let corners = if across < 0.01 { 4.0 } else { 2.0 };
+            for a in areas.iter().filter(|a| **a > 0.0) {
+                assert!(
+                    (a - overlap / corners).abs() < 1e-12 + across * 0.25,
+                    "{areas:?}"
+                );
+            }
+        }
     }
 
     /// A tilted base and a tilted cube whose lowest corner (vertex 0) sits on

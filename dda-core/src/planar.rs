@@ -166,20 +166,30 @@ pub fn clip_convex(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> Vec<Point2<
     out
 }
 
-/// The signed area of [`clip_convex`]'s polygon. A small clip is made
-/// between two arrays on the stack: the 3D narrow phase weighs tens of
-/// thousands of corners' shares of faces a step, each against a face of up
-/// to five corners or a triangle.
-pub fn clipped_area(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> f64 {
-    const SMALL: usize = 32;
+/// The most corners [`clipped_area`] and [`clip_on_stack`] clip on the
+/// stack.
+const SMALL: usize = 32;
+
+/// `read` of [`clip_convex`]'s polygon, made between two arrays on the
+/// stack; `None` where it might not fit (then clip on the heap). With
+/// `convex_subject`, each cut adds at most one corner; a concave subject's
+/// may grow by half at each.
+pub fn clip_on_stack<R>(
+    subject: &[Point2<f64>],
+    clip: &[Point2<f64>],
+    convex_subject: bool,
+    read: impl FnOnce(&[Point2<f64>]) -> R,
+) -> Option<R> {
     // A cut keeps at most the i vertices inside and adds one per crossing
     // edge, at most 2 min(i, n − i) and at most n: n grows at most to 3n/2.
-    let room = (0..clip.len()).try_fold(subject.len(), |n, _| {
-        Some(n + n / 2).filter(|&m| m <= SMALL)
-    });
-    if room.is_none() {
-        return signed_area(&clip_convex(subject, clip));
-    }
+    let room = if convex_subject {
+        Some(subject.len() + clip.len()).filter(|&m| m <= SMALL)
+    } else {
+        (0..clip.len()).try_fold(subject.len(), |n, _| {
+            Some(n + n / 2).filter(|&m| m <= SMALL)
+        })
+    };
+    room?;
     let (mut a_buffer, mut b_buffer) = ([Point2::origin(); SMALL], [Point2::origin(); SMALL]);
     let (mut out, mut input) = (&mut a_buffer, &mut b_buffer);
     let mut n = subject.len();
@@ -196,7 +206,62 @@ pub fn clipped_area(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> f64 {
             n += 1;
         });
     }
-    signed_area(&out[..n])
+    Some(read(&out[..n]))
+}
+
+/// The signed area of [`clip_convex`]'s polygon. A small clip is made on
+/// the stack ([`clip_on_stack`]): the 3D narrow phase weighs tens of
+/// thousands of corners' shares of faces a step, each against a face of up
+/// to five corners or a triangle.
+pub fn clipped_area(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> f64 {
+    clip_on_stack(subject, clip, false, signed_area)
+        .unwrap_or_else(|| signed_area(&clip_convex(subject, clip)))
+}
+
+/// The area of the convex polygon `poly` nearer the point `own` than any
+/// of `sites` (those within `merge` of `own` are its own): half of a
+/// rectangle between two sites at the ends of a side's midline, a quarter
+/// of it among four at its corners.
+pub fn site_cell_area(
+    poly: &[Point2<f64>],
+    own: &Point2<f64>,
+    sites: &[Point2<f64>],
+    merge: f64,
+) -> f64 {
+    if poly.len() > SMALL {
+        return 0.0;
+    }
+    let (mut cell, mut input) = ([Point2::origin(); SMALL], [Point2::origin(); SMALL]);
+    let mut m = poly.len();
+    cell[..m].copy_from_slice(poly);
+    // Cut by each other site's bisector, keeping the own site's side.
+    for other in sites.iter().filter(|s| (*s - own).norm() > merge) {
+        if m == 0 {
+            break;
+        }
+        let (mid, away) = (nalgebra::center(own, other), own - other);
+        let along = nalgebra::Vector2::new(away.y, -away.x);
+        std::mem::swap(&mut cell, &mut input);
+        let kept = m;
+        m = 0;
+        cut(&input[..kept], &mid, &(mid + along), |p| {
+            if m < SMALL {
+                cell[m] = p;
+                m += 1;
+            }
+        });
+    }
+    signed_area(&cell[..m]).abs()
+}
+
+/// How far `p` lies from the convex polygon `poly` (either orientation):
+/// zero inside it or on it.
+pub fn distance_to_convex(poly: &[Point2<f64>], p: &Point2<f64>) -> f64 {
+    let turn = signed_area(poly).signum();
+    if edges(poly).all(|(a, b)| orient(a, b, p) * turn >= 0.0) {
+        return 0.0;
+    }
+    (edges(poly).map(|(a, b)| point_segment(p, a, b).0)).fold(f64::INFINITY, f64::min)
 }
 
 /// One cut of [`clip_convex`]: the vertices of `input` on the left of the
@@ -595,5 +660,34 @@ mod tests {
         let heap = signed_area(&clip_convex(&share, &triangle));
         assert!(heap > 0.0 && heap < 0.5);
         assert_eq!(clipped_area(&share, &triangle), heap);
+    }
+
+    /// A rectangle's cells about four sites at its corners are its
+    /// quarters, whichever way round and with a clip's repeated corner;
+    /// about two at a side's ends, its halves; a site repeated is one.
+    /// Distances to a convex polygon: zero inside or on it.
+    #[test]
+    fn sites_share_a_convex_polygon() {
+        let rectangle = pts(&[(0.0, 0.0), (4.0, 0.0), (4.0, 1.0), (0.0, 1.0)]);
+        let repeated = pts(&[(0.0, 0.0), (1e-15, 0.0), (4.0, 0.0), (4.0, 1.0), (0.0, 1.0)]);
+        let reversed: Vec<_> = rectangle.iter().rev().copied().collect();
+        for poly in [&rectangle, &repeated, &reversed] {
+            let total: f64 = (rectangle.iter())
+                .map(|own| site_cell_area(poly, own, &rectangle, 1e-9))
+                .sum();
+            assert!((total - 4.0).abs() < 1e-12, "{total}");
+            for own in &rectangle {
+                let quarter = site_cell_area(poly, own, &rectangle, 1e-9);
+                assert!((quarter - 1.0).abs() < 1e-12, "{quarter}");
+            }
+            let ends = [rectangle[0], rectangle[3], rectangle[3]];
+            let half = site_cell_area(poly, &ends[0], &ends, 1e-9);
+            assert!((half - 2.0).abs() < 1e-12, "{half}");
+        }
+        assert_eq!(distance_to_convex(&rectangle, &Point2::new(1.0, 0.5)), 0.0);
+        assert_eq!(distance_to_convex(&reversed, &Point2::new(4.0, 0.5)), 0.0);
+        assert!(
+            (distance_to_convex(&rectangle, &Point2::new(5.0, 2.0)) - 2f64.sqrt()).abs() < 1e-15
+        );
     }
 }
