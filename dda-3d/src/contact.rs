@@ -386,17 +386,23 @@ impl<'a> Pair<'a> {
                     return;
                 }
                 if let Some(en) = edge_edge(a, ea, edge_a.ends, b, eb, edge_b.ends, range) {
-                    // A crossing stands for no area; its springs for a
+                    // A crossing between two faces facing each other stands
+                    // for its part of their overlap; elsewhere (edges
+                    // crossing at an angle) for no area, its springs for a
                     // square of half the shorter edge.
                     let shorter = [(edge_a.ends, sa), (edge_b.ends, sb)]
                         .iter()
                         .map(|([u, v], s)| (s.vertices()[*u] - s.vertices()[*v]).norm())
                         .fold(f64::INFINITY, f64::min);
+                    let areas = match crossing_area(a, ea, b, eb, range) {
+                        Some(area) if area > 0.0 => (area, area),
+                        _ => (0.0, (shorter / 2.0).powi(2)),
+                    };
                     out.push(contact(
                         (i, EDGE | ea as u32),
                         (j, eb as u32),
                         law,
-                        (0.0, (shorter / 2.0).powi(2)),
+                        areas,
                         vec![en],
                     ));
                 }
@@ -785,22 +791,97 @@ fn widest(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
 /// stack.
 const WHOLE_FACE: usize = 5;
 
-/// Corners closer than this share of a face's size are one (a vertex and
-/// the corner of the other block it meets).
+/// Points of an overlap closer than this share of its face's size are one
+/// (a clip repeats a point lying on a cut).
 const MERGED_CORNERS: f64 = 1e-9;
 
+/// The area a contact at `at` stands for where the convex faces `own` and
+/// `entered` (at most [`WHOLE_FACE`] corners each, in the entered face's
+/// plane) overlap: the part nearer it than any other corner of the overlap
+/// (a quarter of a rectangular one). Each corner of the overlap is a
+/// contact: a corner of either face over the other (a vertex contact) or
+/// where their edges cross (an edge-edge one), so together they stand for
+/// the overlap once, and a joint is `penalty` stiff per square metre
+/// however its blocks overlap. Corners within `range` of each other are
+/// one contact (a corner just off the other face, as a loaded brick's
+/// spreads past the one on it, and the crossing beside it); corners
+/// turning by less than the contact's angle tolerance are none (edges that
+/// near parallel make no crossing).
+fn overlap_cell(own: &[Point2<f64>], entered: &[Point2<f64>], at: &Point2<f64>, range: f64) -> f64 {
+    let (lo, hi) = planar::bounds(own);
+    let merge = MERGED_CORNERS * (hi - lo).norm();
+    let near = range.max(merge);
+    planar::clip_on_stack(own, entered, true, |overlap| {
+        planar::corners_on_stack(overlap, merge, ANGLE_TOLERANCE.sin(), |corners| {
+            if corners.len() < 3 {
+                return 0.0;
+            }
+            // The contact's own corner, so that the cells tile the overlap.
+            let own = (corners.iter())
+                .min_by(|c, d| (*c - at).norm().total_cmp(&(*d - at).norm()))
+                .filter(|c| (*c - at).norm() <= near)
+                .unwrap_or(at);
+            planar::site_cell_area(overlap, own, corners, near)
+        })
+        .unwrap_or(0.0)
+    })
+    .expect("two faces of at most five corners clip on the stack")
+}
+
+/// The area an edge-edge crossing of `a`'s edge `ea` and `b`'s edge `eb`
+/// stands for: its part of the overlap of a face of each at the two edges
+/// facing each other ([`overlap_cell`]); `None` where no two such faces
+/// face each other, convex and of at most [`WHOLE_FACE`] corners.
+fn crossing_area(a: &Block, ea: usize, b: &Block, eb: usize, range: f64) -> Option<f64> {
+    let (sa, sb) = (a.shape(), b.shape());
+    let mut best: Option<f64> = None;
+    for &g in &sa.edges()[ea].faces {
+        for &f in &sb.edges()[eb].faces {
+            let facing = -sa.normal(g).dot(&sb.normal(f));
+            let (own, entered) = (&sa.faces()[g], &sb.faces()[f]);
+            if facing < ANGLE_TOLERANCE.cos()
+                || !sa.is_convex_face(g)
+                || !sb.is_convex_face(f)
+                || own.len() > WHOLE_FACE
+                || entered.len() > WHOLE_FACE
+            {
+                continue;
+            }
+            let frame = sb.face_frame(f);
+            let mut polygon = [Point2::origin(); WHOLE_FACE];
+            for (o, k) in polygon.iter_mut().zip(own) {
+                *o = frame.to_plane(&sa.vertices()[*k]);
+            }
+            let mut outline = [Point2::origin(); WHOLE_FACE];
+            for (o, k) in outline.iter_mut().zip(entered) {
+                *o = frame.to_plane(&sb.vertices()[*k]);
+            }
+            // Where the two edges cross, in the entered face's plane.
+            let [u, v] = sa.edges()[ea]
+                .ends
+                .map(|k| frame.to_plane(&sa.vertices()[k]));
+            let [w, z] = sb.edges()[eb]
+                .ends
+                .map(|k| frame.to_plane(&sb.vertices()[k]));
+            let (d, e) = (v - u, z - w);
+            let across = d.perp(&e);
+            if across == 0.0 {
+                continue;
+            }
+            let at = u + d * ((w - u).perp(&e) / across);
+            let area = overlap_cell(&polygon[..own.len()], &outline[..entered.len()], &at, range);
+            best = Some(best.map_or(area / facing, |b: f64| b.max(area / facing)));
+        }
+    }
+    best
+}
+
 /// Area a vertex stands for against a face: for each face at the vertex
-/// lying on the contact plane (facing the entered face within 3°), the
-/// part of where the two faces overlap nearer the vertex than any other
-/// corner of either face within `range` of the overlap (a quarter of a
-/// rectangular overlap with a corner at each of its corners), on its own
-/// face, not on the entered one's plane.
-/// Those corners are the two blocks' vertex contacts, so together they
-/// stand for the overlap once: a joint is `penalty` stiff per square metre
-/// however its blocks overlap (the edge-edge contacts where its edges cross
-/// add their own springs). A corner's share of its own face clipped to the
-/// entered one counted a half-offset overlap twice, as in a running bond's
-/// bed joints. Against a concave face, or from one of more than
+/// lying on the contact plane (facing the entered face within 3°), its part
+/// of where the two faces overlap ([`overlap_cell`]), on its own face, not
+/// on the entered one's plane. A corner's share of its own face clipped to
+/// the entered one counted a half-offset overlap twice, as in a running
+/// bond's bed joints. Against a concave face, or from one of more than
 /// [`WHOLE_FACE`] corners, the vertex's share of its own face (the
 /// quadrilateral of the vertex, the midpoints of its two sides and the
 /// face's centroid) clipped to the entered one. Second, the area its springs
@@ -851,34 +932,9 @@ fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize, range: f64) -> (f64, f
             let polygon = &polygon[..own.len()];
             let (lo, hi) = planar::bounds(polygon);
             let corner = frame.to_plane(&sx.vertices()[p]);
-            let merge = MERGED_CORNERS * (hi - lo).norm();
             let outline = &outline[..face.len()];
-            // The two faces' corners within the range of the overlap are
-            // its contacts that stand for area (this vertex among them);
-            // where the faces' edges cross, the overlap's corners are
-            // edge-edge contacts, which do not. Its corners told apart
-            // instead (a face's corner or a crossing) flipped as a strained
-            // or turning prism's faces' edges parted by round-off. A corner
-            // within the range of this vertex is its own, one contact with
-            // it: set apart by a micrometre's strain, the two halved its
-            // share along a line turning with that strain.
-            let near = range.max(merge);
             let area = if planar::bounds_meet(&(lo, hi), &planar::bounds(outline)) {
-                planar::clip_on_stack(polygon, outline, true, |overlap| {
-                    if overlap.len() < 3 {
-                        return 0.0;
-                    }
-                    let mut sites = [Point2::origin(); 2 * WHOLE_FACE];
-                    let mut n = 0;
-                    for v in polygon.iter().chain(outline) {
-                        if planar::distance_to_convex(overlap, v) <= near {
-                            sites[n] = *v;
-                            n += 1;
-                        }
-                    }
-                    planar::site_cell_area(overlap, &corner, &sites[..n], near)
-                })
-                .expect("two faces of at most five corners clip on the stack")
+                overlap_cell(polygon, outline, &corner, range)
             } else {
                 0.0
             };
@@ -996,17 +1052,13 @@ pub(crate) mod tests {
                 "offset ({along}, {across}): the corners stand for {total} m², {areas:?}, of the {overlap} m² overlap"
             );
             // Offset across by more than the range, two of the overlap's
-            // corners are edges' crossings, which stand for no area: the two
-            // corners that are the blocks' stand for half of it each. Within
-            // the range (a strained brick a micrometre wider), a corner just
-            // off the other face still stands for its quarter, moved by half
-            // the offset.
-            let corners = if across < 0.01 { 4.0 } else { 2.0 };
+            // corners are where the faces' edges cross, edge-edge contacts
+            // standing for their quarters too. Within the range (a strained
+            // brick a micrometre wider), a corner just off the other face
+            // stands for its quarter, moved by half the offset.
+            let slack = if across < 0.01 { across * 0.25 } else { 0.0 };
             for a in areas.iter().filter(|a| **a > 0.0) {
-                assert!(
-                    (a - overlap / corners).abs() < 1e-12 + across * 0.25,
-                    "{areas:?}"
-                );
+                assert!((a - overlap / 4.0).abs() < 1e-12 + slack, "{areas:?}");
             }
         }
     }

@@ -254,14 +254,46 @@ pub fn site_cell_area(
     signed_area(&cell[..m]).abs()
 }
 
-/// How far `p` lies from the convex polygon `poly` (either orientation):
-/// zero inside it or on it.
-pub fn distance_to_convex(poly: &[Point2<f64>], p: &Point2<f64>) -> f64 {
-    let turn = signed_area(poly).signum();
-    if edges(poly).all(|(a, b)| orient(a, b, p) * turn >= 0.0) {
-        return 0.0;
+/// `read` of the corners of a polygon: its points, less those within
+/// `merge` of the last kept (a clip repeats a point lying on a cut) and
+/// those turning by less than the angle whose sine is `straight` (where a
+/// side runs along a cut to round-off, a clip may leave a point anywhere
+/// along it); `None` for a polygon of more than the stack's room.
+pub fn corners_on_stack<R>(
+    poly: &[Point2<f64>],
+    merge: f64,
+    straight: f64,
+    read: impl FnOnce(&[Point2<f64>]) -> R,
+) -> Option<R> {
+    if poly.len() > SMALL {
+        return None;
     }
-    (edges(poly).map(|(a, b)| point_segment(p, a, b).0)).fold(f64::INFINITY, f64::min)
+    let mut corners = [Point2::origin(); SMALL];
+    let mut m = 0;
+    for p in poly {
+        if m == 0 || (p - corners[m - 1]).norm() > merge {
+            corners[m] = *p;
+            m += 1;
+        }
+    }
+    while m > 1 && (corners[m - 1] - corners[0]).norm() <= merge {
+        m -= 1;
+    }
+    // Straight corners dropped until none is left: each drop may make its
+    // neighbours' turns straight.
+    let mut k = 0;
+    while m >= 3 && k < m {
+        let (prev, next) = (corners[(k + m - 1) % m], corners[(k + 1) % m]);
+        let (a, b) = (corners[k] - prev, next - corners[k]);
+        if a.perp(&b).abs() <= straight * a.norm() * b.norm() {
+            corners.copy_within(k + 1..m, k);
+            m -= 1;
+            k = k.saturating_sub(1);
+        } else {
+            k += 1;
+        }
+    }
+    Some(read(&corners[..m]))
 }
 
 /// One cut of [`clip_convex`]: the vertices of `input` on the left of the
@@ -665,7 +697,6 @@ mod tests {
     /// A rectangle's cells about four sites at its corners are its
     /// quarters, whichever way round and with a clip's repeated corner;
     /// about two at a side's ends, its halves; a site repeated is one.
-    /// Distances to a convex polygon: zero inside or on it.
     #[test]
     fn sites_share_a_convex_polygon() {
         let rectangle = pts(&[(0.0, 0.0), (4.0, 0.0), (4.0, 1.0), (0.0, 1.0)]);
@@ -684,10 +715,16 @@ mod tests {
             let half = site_cell_area(poly, &ends[0], &ends, 1e-9);
             assert!((half - 2.0).abs() < 1e-12, "{half}");
         }
-        assert_eq!(distance_to_convex(&rectangle, &Point2::new(1.0, 0.5)), 0.0);
-        assert_eq!(distance_to_convex(&reversed, &Point2::new(4.0, 0.5)), 0.0);
-        assert!(
-            (distance_to_convex(&rectangle, &Point2::new(5.0, 2.0)) - 2f64.sqrt()).abs() < 1e-15
-        );
+        // A clip's repeated point and one left along a side are no corners.
+        let messy = pts(&[
+            (0.0, 0.0),
+            (1e-15, 0.0),
+            (3.1, 1e-12),
+            (4.0, 0.0),
+            (4.0, 1.0),
+            (0.0, 1.0),
+        ]);
+        let found = corners_on_stack(&messy, 1e-9, 1e-6, |c| c.to_vec()).unwrap();
+        assert_eq!(found, rectangle);
     }
 }
