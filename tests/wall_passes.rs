@@ -114,8 +114,12 @@ fn run(kind: &str, undeclared: bool) -> Run {
     assert_eq!(stats.steps, STEPS, "{kind}: a step was cut");
     assert_eq!(stats.open_close_cuts, 0, "{kind}");
     assert_eq!(stats.unconverged_steps, 0, "{kind}");
-    // Settling onto 40 courses of springs, not falling: under a millimetre.
-    assert!(settled < 1e-3, "{kind}: {settled} m");
+    // Settling onto 40 courses of springs, not falling: their static
+    // closure at this penalty is ρ·g·h·n(n + 1)/(2p) = 3.6 mm, where a fall
+    // would drop g·t²/2 = 49 mm in the 0.1 s (measured 1.6 mm rigid, 2.1
+    // deformable; 1 mm or less while a bed joint's springs stood for its
+    // overlap twice).
+    assert!(settled < 5e-3, "{kind}: {settled} m");
     if !undeclared {
         // Head joints the last two steps' motion carries open start the step
         // open instead of costing a pass (measured: 1.72 passes a step
