@@ -133,14 +133,19 @@ fn run(kind: &str, undeclared: bool) -> Run {
     }
 }
 
+/// The deformable wall: its head joints pass between locked and sliding as
+/// it settles, and with the law declaring where it yields it takes 1.33
+/// passes a step against 2.23 (measured). The rigid wall, used while a
+/// half-offset bed joint's springs stood for its overlap twice, now
+/// settles in one pass a step with either law.
 #[test]
-fn a_rigid_wall_settles_alike_in_fewer_passes_when_friction_yields_at_its_strength() {
-    let declared = run("Rigid", false);
-    let undeclared = run("Rigid", true);
+fn a_wall_settles_alike_in_fewer_passes_when_friction_yields_at_its_strength() {
+    let declared = run("Deformable", false);
+    let undeclared = run("Deformable", true);
     // The same physics: the wall sinks alike, within a ten-thousandth
-    // (measured: about 1e-5 of its 0.61 mm). Single bricks may differ more: a
-    // head joint at no normal force slides by an undetermined amount,
-    // which the Newton tolerance decides.
+    // (measured: the same to seven digits, 1.609452 mm). Single bricks may
+    // differ more: a head joint at no normal force slides by an
+    // undetermined amount, which the Newton tolerance decides.
     let apart = (declared.sank - undeclared.sank).abs();
     assert!(apart < 1e-4 * declared.sank, "sank {apart} m apart");
     // Each of the first 100 steps has some locked-sliding changes.
