@@ -162,12 +162,15 @@ impl LinearSolver for ShortCorrections {
 /// A large kept factor whose inexact corrections fall short is neither
 /// given up for a new one, which would be corrected as inexactly, nor kept
 /// making short moves: its later moves are solved exactly. The settling
-/// wall, on corrections a quarter of the exact ones, takes fewer moves
-/// where the solver owns to them than where it does not (whose factors,
-/// leaving 0.75 of the residual a move, are kept), and settles alike.
+/// 20 × 20 deformable wall, on corrections a quarter of the exact ones,
+/// takes fewer moves where the solver owns to them than where it does not
+/// (whose factors, leaving 0.75 of the residual a move, are kept), and
+/// settles alike (measured: 313 moves against 375, 4.4e-14 m apart). The
+/// rigid wall, used while a half-offset bed joint's springs stood for its
+/// overlap twice, now takes one move a step either way.
 #[test]
 fn a_large_factor_whose_corrections_fall_short_is_solved_exactly() {
-    let scene = wall(20, 2, Stepping::Fixed, BlockKind::Rigid).unwrap();
+    let scene = wall(20, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
     let steps = 50;
     let short = |owned| {
         let solver = SparseCholesky::default();
