@@ -173,17 +173,19 @@ fn a_later_pass_in_3d_moves_on_the_factor_with_the_changed_springs() {
 /// Beyond the floor, a later pass's springs count as the factor's where
 /// they changed no matrix entry by more than `LARGE_FACTOR_DRIFT` of its
 /// largest: the sliding contacts whose shear stiffness the return map
-/// changed from one pass to the next are left to the moves. The 20 × 20
-/// deformable wall over 0.3 s at dt 1 ms, posing beyond the floor and
-/// under it: 179 later passes on the factor against 99, 317
-/// factorisations against 397, for 2,662 moves against 2,494; the walls
-/// end 5.5e-13 m apart. With no floor the two runs are the same.
+/// changed from one pass to the next are left to the moves. The 3D
+/// 20-course deformable wall over 0.3 s at dt 1 ms, posing beyond the
+/// floor and under it: 63 later passes on the factor against 2, 231
+/// factorisations against 286, for 2,018 moves against 1,915 (5.4 %); the
+/// walls end 3.8e-13 m apart. With no floor the two runs are the same.
+/// (The 20 × 20 wall, used while a half-offset bed joint's springs stood
+/// for its overlap twice, now makes 86 such passes against 53.)
 #[test]
 fn beyond_the_floor_small_changes_are_left_to_the_moves() {
-    let scene = wall(20, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
+    let scene = wall(20, 3, Stepping::Fixed, BlockKind::Deformable).unwrap();
     let steps = 300;
-    let (beyond, at_beyond, _) = run_on(&scene, steps, false, 64, false);
-    let (under, at_under, _) = run_on(&scene, steps, false, 64, true);
+    let (beyond, at_beyond, _) = run_on(&scene, steps, true, 64, false);
+    let (under, at_under, _) = run_on(&scene, steps, true, 64, true);
     let gap = apart(&at_beyond, &at_under);
     report(
         ["beyond the floor", "under it"],
@@ -192,8 +194,8 @@ fn beyond_the_floor_small_changes_are_left_to_the_moves() {
         gap,
         steps,
     );
-    assert!(beyond.changed_spring_passes >= under.changed_spring_passes + 60);
-    fewer_factorisations(&beyond, &under, 60, under.newton_iterations / 10);
+    assert!(beyond.changed_spring_passes >= under.changed_spring_passes + 40);
+    fewer_factorisations(&beyond, &under, 40, under.newton_iterations / 10);
     assert!(gap < 1e-11, "centroids {gap} m apart");
 }
 
