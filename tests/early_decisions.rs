@@ -135,23 +135,49 @@ fn a_pass_ends_at_its_early_decision_in_3d() {
     assert!(gap < 1e-12, "centroids {gap} m apart");
 }
 
-/// The 30 × 30 deformable wall at dt 1 ms with its automatic penalty, its
-/// first 60 steps: as it rings, joints open one after another over a
-/// step's passes, and passes with many contacts sliding end on the whole
-/// tangent. Those read their decisions early too. Measured: 11 passes
-/// ended early, 2 of them on the whole tangent (none before whole-tangent
-/// passes read them); 650 → 618 moves, 75 → 73 of them on the whole
-/// tangent, in the same 74 passes; the walls 1.9e-13 m apart.
+/// Passes with many contacts sliding end on the whole tangent; those read
+/// their decisions early too. A wall that rings no longer has such passes
+/// (the 30 × 30 one, used while a half-offset bed joint's springs stood
+/// for its overlap twice, makes 11 whole-tangent moves in its first 60
+/// steps and ends none early), so this is the 10 × 10 deformable wall
+/// shaken at 5 m/s² (2 Hz; its bed joints slide at 6.87) at dt 2 ms, its
+/// first 0.2 s. Measured: 46 passes ended early, 12 of them on the whole
+/// tangent; 1,822 → 1,458 moves, 174 → 132 on the whole tangent.
+///
+/// On a sliding wall the rule does not leave the same wall: 149 passes
+/// against 136, and the walls end 3.4e-5 m apart, where its bricks moved
+/// up to 2.2e-4 m against its base. A contact held near its strength is
+/// locked or sliding as the passes that reach it decide, both consistent
+/// at the step's end, and the early decision reaches it by another path;
+/// the residual tolerance alone (1e-8 or 1e-12 for 1e-10) parts the walls
+/// by 1e-8 and 6e-11 m. The bound, 5e-5 m, is under a quarter of the
+/// bricks' relative motion; `docs/limits.md` says so.
 #[test]
 fn a_whole_tangent_pass_ends_at_its_early_decision() {
-    let scene = wall(30, 2, Stepping::Given(1e-3), BlockKind::Deformable).unwrap();
-    let (on, off, gap) = both(&scene, 60, false, false, 8);
+    let mut scene = wall(10, 2, Stepping::Given(2e-3), BlockKind::Deformable).unwrap();
+    dda::bench::shake(&mut scene, 5.0, 1.0);
+    let (on, at_on) = run(&scene, 200, false, false, 1e-5);
+    let (off, at_off) = run(&scene, 200, false, false, 0.0);
+    let gap = apart(&at_on, &at_off);
     println!(
-        "whole tangent: {} passes ended early, {} moves; without: {} moves",
-        on.whole_tangent_early_decisions, on.whole_tangent_moves, off.whole_tangent_moves
+        "whole tangent: {} of {} passes ended early, {} moves, {} in all; without: {} and {}; \
+         {} passes against {}; {gap:.2e} m apart",
+        on.whole_tangent_early_decisions,
+        on.early_decisions,
+        on.whole_tangent_moves,
+        on.newton_iterations,
+        off.whole_tangent_moves,
+        off.newton_iterations,
+        on.open_close_iterations,
+        off.open_close_iterations,
     );
+    for s in [&on, &off] {
+        assert_eq!(s.steps, 100);
+        assert_eq!(s.cuts() + s.unconverged_steps, 0);
+    }
     assert_eq!(off.whole_tangent_early_decisions, 0);
-    assert!(on.whole_tangent_early_decisions >= 1, "{on:?}");
-    assert!(on.newton_iterations < off.newton_iterations);
-    assert!(gap < 1e-12, "centroids {gap} m apart");
+    assert!(on.whole_tangent_early_decisions >= 6, "{on:?}");
+    assert!(on.whole_tangent_moves < off.whole_tangent_moves);
+    fewer_moves(&on, &off);
+    assert!(gap < 5e-5, "centroids {gap} m apart");
 }
