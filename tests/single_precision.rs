@@ -252,12 +252,16 @@ fn a_large_earlier_factor_makes_even_a_first_move_in_single_precision() {
 /// when every move after a pass's first shortfall had its own (3 times in
 /// this run). (A pass ending one move after its factorisation, followed by
 /// another pass, would look the same; this wall has none.) The settling
-/// wall, its head joints sliding, converges at every step and settles as
-/// on the exact solver.
+/// 20 × 20 deformable wall, its head joints sliding, converges at every
+/// step and settles as on the exact solver: over 150 steps, 2 of them
+/// give a factor up after a move, 125 factorisations and 1,087 moves
+/// against the small factor's 89 and 1,080, the walls 4.2e-13 m apart.
+/// (The rigid one, used while a half-offset bed joint's springs stood for
+/// its overlap twice, now solves every step on the factor it starts on.)
 #[test]
 fn a_large_factor_gives_way_to_a_kept_one() {
-    let scene = wall(20, 2, Stepping::Fixed, BlockKind::Rigid).unwrap();
-    let steps = 50;
+    let scene = wall(20, 2, Stepping::Fixed, BlockKind::Deformable).unwrap();
+    let steps = 150;
     let log = Arc::new(Mutex::new(String::new()));
     let logged = LargeLogged {
         solver: SparseCholesky::default(),
