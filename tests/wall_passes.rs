@@ -460,10 +460,12 @@ fn a_standing_wall_keeps_its_factor_through_round_off() {
     println!("{factorizations} factorisations and {moves} moves in 200 steps");
     assert!(factorizations <= 20, "{factorizations} factorisations");
     assert!(moves <= 600, "{moves} moves");
-    // It stands where the wall solved to a thousandth of the residual,
-    // with every move made (no increment ends a pass), stands (measured:
-    // 7.4e-15 m apart).
-    let (_, _, finer) = standing_wall(1e-13, 1e-30);
+    // It stands where the wall solved to a thousandth of the residual and
+    // a millionth of the increment stands (measured: 0 m apart). Finer
+    // still is round-off: the standing wall's first residual in a step is
+    // so small that its moves stall at 1e-9 to 3e-9 of it, 6e-22 w0 each,
+    // and with the increment at 1e-22 passes fail and steps are cut.
+    let (_, _, finer) = standing_wall(1e-13, 1e-20);
     let apart = (centroids.iter().zip(&finer))
         .map(|(a, b)| (a - b).norm())
         .fold(0.0, f64::max);
