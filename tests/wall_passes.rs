@@ -357,51 +357,58 @@ fn a_wall_at_a_fine_contact_tolerance_solves_passes_with_many_sliding_contacts()
     assert!(stats.coupled_solves > 0, "{stats:?}");
 }
 
-/// The 40 × 40 deformable wall at dt 1 ms and its automatic penalty, to
-/// its 25th step: its first whole-tangent pass (step 23), on its large
-/// factor, ends with moves that need only lower the residual a few times
-/// to reach the pass's tolerance, and GMRES solves them only so far
-/// (`forcing`). Measured: 3 whole-tangent moves, 26 products; 35
-/// with each such move solved to 1e-3 of its right-hand side. Each step
-/// starts at rest: started from their foreseen motion, the wall's first
-/// 25 steps make no whole-tangent move at all.
+/// The 10 × 10 deformable wall shaken near its sliding limit (a 2 Hz sine
+/// of 6.5 m/s², against 6.87 for its bed joints) at dt 2 ms, its first
+/// quarter second: its whole-tangent passes end with moves that need only
+/// lower the residual a few times to reach the pass's tolerance, and GMRES
+/// solves them only so far (`forcing`). Measured: 223 whole-tangent moves,
+/// 1,142 products (5.12 a move); 1,215 (5.45) with each such move solved
+/// to 1e-3 of its right-hand side, in the same moves and passes. (The
+/// 40 × 40 wall's first 25 steps at dt 1 ms, used while a half-offset bed
+/// joint's springs stood for its overlap twice: 3 such moves, 26 products
+/// against 35; it now makes none.)
 #[test]
 fn a_whole_tangent_move_near_the_tolerance_is_solved_only_as_far_as_it_needs() {
-    let scene = dda::bench::wall(40, 2, Stepping::Given(1e-3), BlockKind::Deformable).unwrap();
-    let mut model = scene.build().unwrap();
-    let driver = &mut model.driver;
-    driver.set_warm_starts(false);
-    driver.advance_to(0.025 - 1e-9).unwrap();
-    let stats = driver.statistics();
+    let stats = shaken_wall(6.5);
     println!(
         "{} steps, {} whole-tangent moves, {} GMRES products",
         stats.steps, stats.whole_tangent_moves, stats.whole_tangent_products
     );
-    assert_eq!(stats.steps, 25);
+    assert_eq!(stats.steps, 125);
     assert_eq!(stats.open_close_cuts + stats.unconverged_steps, 0);
-    assert!(stats.whole_tangent_moves >= 3, "{stats:?}");
+    assert!(stats.whole_tangent_moves >= 150, "{stats:?}");
     assert!(
-        stats.whole_tangent_products <= 30,
-        "{} products",
-        stats.whole_tangent_products
+        stats.whole_tangent_products * 10 <= stats.whole_tangent_moves * 53,
+        "{} products in {} moves",
+        stats.whole_tangent_products,
+        stats.whole_tangent_moves
     );
 }
 
-/// The 70 × 70 deformable wall's first 0.1 s at its automatic step: its
-/// whole-tangent passes crawl through the friction's kinks, their line
-/// searches keeping 1/32 to 1/2 of a move, and each search starts at four
-/// times the share the pass's last one kept (`LINE_SEARCH_GROWTH`), not at
-/// the whole move. Measured: 71 line-search residuals, 47 whole-tangent
-/// moves and 212 GMRES products; 84, 51 and 228 with every search started
-/// at the whole move. Its symmetric iterations hand over to the whole
-/// tangent after one rising move (`RISES_BEFORE_WHOLE_TANGENT`): 135 moves
-/// and 11 factorisations in all; 153 and 17 after three. A factor
-/// preconditions the whole-tangent moves while GMRES needs at most ten
-/// products (`PRECONDITIONED_PRODUCTS`): kept whatever GMRES needs, 265
-/// products and 9 factorisations.
+/// The 10 × 10 deformable wall shaken at its base by a 2 Hz sine of
+/// `amplitude` m/s² at dt 2 ms, over its first quarter second.
+fn shaken_wall(amplitude: f64) -> dda_core::Statistics {
+    let mut scene = dda::bench::wall(10, 2, Stepping::Given(2e-3), BlockKind::Deformable).unwrap();
+    dda::bench::shake(&mut scene, amplitude, 1.0);
+    let mut model = scene.build().unwrap();
+    model.driver.advance_to(0.25).unwrap();
+    model.driver.statistics().clone()
+}
+
+/// The 10 × 10 deformable wall shaken past its sliding limit (a 2 Hz sine
+/// of 7.5 m/s², against 6.87 for its bed joints) at dt 2 ms, its first
+/// quarter second: as it slides on its base its whole-tangent passes crawl
+/// through the friction's kinks, their line searches keeping part of a
+/// move, and each search starts at four times the share the pass's last
+/// one kept (`LINE_SEARCH_GROWTH`), not at the whole move. Measured: 723
+/// whole-tangent moves and 1,231 line-search residuals (1.70 a move), no
+/// cut; with every search started at the whole move, 720 and 1,455 (2.02)
+/// and a cut. (The 70 × 70 wall's first 0.1 s at its automatic step, used
+/// while a half-offset bed joint's springs stood for its overlap twice:
+/// 71 residuals in 47 moves against 84 in 51; it now makes none.)
 #[test]
 fn a_crawling_pass_starts_each_line_search_near_its_last_share() {
-    let stats = deformable_wall_at_its_automatic_step(70, 0.1);
+    let stats = shaken_wall(7.5);
     println!(
         "{} steps, {} moves, {} factorisations, {} whole-tangent moves, {} line-search residuals, {} GMRES products",
         stats.steps,
@@ -412,15 +419,13 @@ fn a_crawling_pass_starts_each_line_search_near_its_last_share() {
         stats.whole_tangent_products
     );
     assert_eq!(stats.open_close_cuts + stats.unconverged_steps, 0);
-    assert!(stats.whole_tangent_moves >= 40, "{stats:?}");
-    for (count, bound, what) in [
-        (stats.newton_iterations, 144, "moves"),
-        (stats.factorizations, 14, "factorisations"),
-        (stats.line_search_residuals, 76, "line-search residuals"),
-        (stats.whole_tangent_products, 240, "GMRES products"),
-    ] {
-        assert!(count <= bound, "{count} {what}, at most {bound}");
-    }
+    assert!(stats.whole_tangent_moves >= 500, "{stats:?}");
+    assert!(
+        stats.line_search_residuals * 100 <= stats.whole_tangent_moves * 185,
+        "{} line-search residuals in {} whole-tangent moves",
+        stats.line_search_residuals,
+        stats.whole_tangent_moves
+    );
 }
 
 /// The 10 × 10 rigid wall standing at dt 1 ms with its automatic penalty,
@@ -644,28 +649,26 @@ fn a_slow_carried_factor_resumes_bit_for_bit() {
 /// over its first quarter second, as the first peak passes: hundreds of
 /// its contacts cross between locked and sliding, and hundreds of its
 /// moves are on the whole tangent. Beyond 16 couplings each is GMRES's,
-/// preconditioned by the factor at hand, small as it is. Measured: 558
-/// whole-tangent moves in 125 steps, 18 of them making a factor. With the
-/// Sherman-Morrison-Woodbury formula up to 64 couplings, each such move
-/// making its own factor, 190 in 489; with small factors not
-/// preconditioning (the formula then taking every coupling, with a factor
-/// at each move), 363 in 485 (before small factors were kept in passes
-/// with many sliding contacts, below). With both as they were (64, and a small
-/// factor made at each such move for GMRES on it), the first simulated
-/// second took 15.7 s against 8.4 (`dda bench --sizes 10 --simulate 1
-/// --dt 0.002 --shake 6.5`).
+/// preconditioned by the factor at hand, small as it is. Measured: 223
+/// whole-tangent moves in 125 steps, 3 of them making a factor; 291
+/// factorisations in all. While a half-offset bed joint's springs stood
+/// for its overlap twice the wall rang more: 558 such moves, 18 making a
+/// factor; with the Sherman-Morrison-Woodbury formula up to 64
+/// couplings, each such move making its own factor, 190 in 489; with
+/// small factors not preconditioning (the formula then taking every
+/// coupling, with a factor at each move), 363 in 485 (before small
+/// factors were kept in passes with many sliding contacts, below). With
+/// both as they were (64, and a small factor made at each such move for
+/// GMRES on it), the first simulated second took 15.7 s against 8.4
+/// (`dda bench --sizes 10 --simulate 1 --dt 0.002 --shake 6.5`).
 ///
 /// Its symmetric passes, with more than 64 contacts sliding, keep their
-/// small factor as a large one's pass does: 327 factorisations in all.
-/// With a small factor giving way to a new one at every later move once
-/// a kept move falls short, 492.
+/// small factor as a large one's pass does: 291 factorisations in all
+/// (327 on the twice-stiff joints, where a small factor giving way to a
+/// new one at every later move once a kept move fell short made 492).
 #[test]
 fn a_wall_shaken_near_its_sliding_limit_keeps_its_factor_through_whole_tangent_moves() {
-    let mut scene = dda::bench::wall(10, 2, Stepping::Given(2e-3), BlockKind::Deformable).unwrap();
-    dda::bench::shake(&mut scene, 6.5, 1.0);
-    let mut model = scene.build().unwrap();
-    model.driver.advance_to(0.25).unwrap();
-    let stats = model.driver.statistics();
+    let stats = &shaken_wall(6.5);
     println!(
         "{} steps, {} moves, {} factorisations; {} whole-tangent moves, {} factorisations and {} GMRES products among them",
         stats.steps,
@@ -676,7 +679,10 @@ fn a_wall_shaken_near_its_sliding_limit_keeps_its_factor_through_whole_tangent_m
         stats.whole_tangent_products
     );
     assert_eq!(stats.unconverged_steps, 0);
-    assert!(stats.whole_tangent_moves >= 4 * stats.steps, "{stats:?}");
+    assert!(
+        2 * stats.whole_tangent_moves >= 3 * stats.steps,
+        "{stats:?}"
+    );
     assert!(stats.factorizations <= 3 * stats.steps, "{stats:?}");
     assert!(
         10 * stats.whole_tangent_factorizations <= stats.whole_tangent_moves,
