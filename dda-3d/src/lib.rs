@@ -10,6 +10,7 @@
 //! the driver can choose among them ([`contact`] explains the rules,
 //! including how non-convex blocks are handled).
 
+mod area;
 pub mod block;
 pub mod broad_phase;
 pub mod contact;
