@@ -17,6 +17,8 @@ use dda_core::planar;
 use nalgebra::{Point2, Point3};
 
 use crate::block::Block;
+use crate::face::FaceFrame;
+use crate::polyhedron::Polyhedron;
 
 /// The most corners of an entered face clipped against whole (a face of
 /// more is clipped triangle by triangle): a corner's share of four corners
@@ -61,6 +63,16 @@ fn overlap_cell(own: &[Point2<f64>], entered: &[Point2<f64>], at: &Point2<f64>, 
     .expect("two faces of at most five corners clip on the stack")
 }
 
+/// The corners of `shape`'s face `face` (at most [`WHOLE_FACE`]) in
+/// `frame`'s plane, the rest left at the origin.
+fn in_plane(frame: &FaceFrame, shape: &Polyhedron, face: &[usize]) -> [Point2<f64>; WHOLE_FACE] {
+    let mut corners = [Point2::origin(); WHOLE_FACE];
+    for (c, k) in corners.iter_mut().zip(face) {
+        *c = frame.to_plane(&shape.vertices()[*k]);
+    }
+    corners
+}
+
 /// The area an edge-edge crossing of `a`'s edge `ea` and `b`'s edge `eb`
 /// stands for: its part of the overlap of a face of each at the two edges
 /// facing each other ([`overlap_cell`]); `None` where no two such faces
@@ -81,14 +93,8 @@ pub(crate) fn crossing_area(a: &Block, ea: usize, b: &Block, eb: usize, range: f
                 continue;
             }
             let frame = sb.face_frame(f);
-            let mut polygon = [Point2::origin(); WHOLE_FACE];
-            for (o, k) in polygon.iter_mut().zip(own) {
-                *o = frame.to_plane(&sa.vertices()[*k]);
-            }
-            let mut outline = [Point2::origin(); WHOLE_FACE];
-            for (o, k) in outline.iter_mut().zip(entered) {
-                *o = frame.to_plane(&sb.vertices()[*k]);
-            }
+            let polygon = in_plane(&frame, sa, own);
+            let outline = in_plane(&frame, sb, entered);
             // Where the two edges cross, in the entered face's plane.
             let [u, v] = sa.edges()[ea]
                 .ends
@@ -130,8 +136,7 @@ pub(crate) fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize, range: f64)
     // found facing it (for most groups none is): whole where it is convex
     // (one clip instead of one a triangle), else its triangles.
     let whole = sy.is_convex_face(f) && sy.faces()[f].len() <= WHOLE_FACE;
-    let mut outline = [Point2::origin(); WHOLE_FACE];
-    let mut outlined = false;
+    let mut outline = None;
     let share = |g: usize| -> [Point2<f64>; 4] {
         let face = &sx.faces()[g];
         let k = face.iter().position(|&v| v == p).unwrap_or(0);
@@ -150,22 +155,16 @@ pub(crate) fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize, range: f64)
             continue;
         }
         let face = &sy.faces()[f];
-        if whole && !outlined {
-            for (o, k) in outline.iter_mut().zip(face) {
-                *o = on_plane(k);
-            }
-            outlined = true;
+        if whole && outline.is_none() {
+            outline = Some(in_plane(&frame, sy, face));
         }
+        let outline = outline.as_ref().map(|o| &o[..face.len()]);
         let own = &sx.faces()[g];
-        if whole && sx.is_convex_face(g) && own.len() <= WHOLE_FACE {
-            let mut polygon = [Point2::origin(); WHOLE_FACE];
-            for (o, k) in polygon.iter_mut().zip(own) {
-                *o = frame.to_plane(&sx.vertices()[*k]);
-            }
+        if let Some(outline) = outline.filter(|_| sx.is_convex_face(g) && own.len() <= WHOLE_FACE) {
+            let polygon = in_plane(&frame, sx, own);
             let polygon = &polygon[..own.len()];
             let (lo, hi) = planar::bounds(polygon);
             let corner = frame.to_plane(&sx.vertices()[p]);
-            let outline = &outline[..face.len()];
             let area = if planar::bounds_meet(&(lo, hi), &planar::bounds(outline)) {
                 overlap_cell(polygon, outline, &corner, range)
             } else {
@@ -190,12 +189,11 @@ pub(crate) fn vertex_areas(x: &Block, p: usize, y: &Block, f: usize, range: f64)
                 0.0
             }
         };
-        let area = if whole {
-            clipped(&outline[..face.len()])
-        } else {
-            (sy.face_triangles(f).iter())
+        let area = match outline {
+            Some(outline) => clipped(outline),
+            None => (sy.face_triangles(f).iter())
                 .map(|t| clipped(&t.each_ref().map(on_plane)))
-                .sum::<f64>()
+                .sum::<f64>(),
         };
         total += area / facing;
     }
